@@ -1,0 +1,1 @@
+//! Soft-fingertip finite-element model: hyperelastic hemisphere, rod contact, loads on the chip.

@@ -1,0 +1,94 @@
+//! Top-level argument tree and the error -> exit-code policy shared by every subcommand.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use crate::cmd;
+
+/// Firmware and host toolkit for the MEMS force/moment sensor in a soft fingertip.
+#[derive(Debug, Parser)]
+#[command(name = "tactile", version, about, long_about = None, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// List serial ports with their USB serial numbers.
+    List(cmd::list::Args),
+    /// Print a sensor's device info / configuration frame.
+    Info(cmd::info::Args),
+    /// Record one or several sensors to the recording CSV and an MCAP file.
+    Log(cmd::log::Args),
+    /// Digital tare: average samples at rest and subtract them on the device.
+    Tare(cmd::tare::Args),
+    /// Change a sensor's sample rate, filter or calibration.
+    Config(cmd::config::Args),
+    /// Re-decode a raw capture or MCAP file to the recording CSV.
+    Replay(cmd::replay::Args),
+    /// Plot a recording to PNG and SVG.
+    Plot(cmd::plot::Args),
+    /// Print the chip's sensitivities, crosstalk and strength for the geometry in hardware/.
+    Chip(cmd::chip::Args),
+    /// Run the soft-fingertip finite-element model of a rod compression.
+    Fe(cmd::fe::Args),
+    /// Write the baseline model's recording of the standard compression test.
+    Simulate(cmd::simulate::Args),
+    /// Locate where a recording and the simulation disagree and name the missing physics.
+    Diagnose(cmd::diagnose::Args),
+    /// Generate recordings with concealed effects, diagnose them blind and score the result.
+    Prove(cmd::prove::Args),
+}
+
+/// Exit codes, after BSD sysexits so scripts can tell a bad file from a missing port.
+pub mod exit {
+    pub const SOFTWARE: u8 = 70;
+    pub const USAGE: u8 = 64;
+    pub const DATA: u8 = 65;
+    pub const NO_INPUT: u8 = 66;
+    pub const UNAVAILABLE: u8 = 69;
+    pub const IO: u8 = 74;
+    pub const NO_PERM: u8 = 77;
+}
+
+/// Something that knows which exit code it deserves. Error types of the library implement
+/// this; [`report`] finds the first one in an `anyhow` chain.
+pub trait ExitStatus {
+    fn exit_code(&self) -> u8;
+}
+
+/// Print `err` as one line on stderr and choose the exit code. A broken pipe is success:
+/// `tactile replay x.mcap | head` must not fail.
+pub fn report(err: &anyhow::Error) -> ExitCode {
+    if is_broken_pipe(err) {
+        return ExitCode::SUCCESS;
+    }
+    let line = err.chain().map(|e| e.to_string()).collect::<Vec<_>>().join(": ");
+    eprintln!("tactile: error: {line}");
+    ExitCode::from(exit_code(err))
+}
+
+fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    err.chain().any(|e| {
+        e.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+fn exit_code(err: &anyhow::Error) -> u8 {
+    for cause in err.chain() {
+        if let Some(code) = crate::cmd::exit_code_of(cause) {
+            return code;
+        }
+        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
+            return match io.kind() {
+                std::io::ErrorKind::NotFound => exit::NO_INPUT,
+                std::io::ErrorKind::PermissionDenied => exit::NO_PERM,
+                _ => exit::IO,
+            };
+        }
+    }
+    1
+}

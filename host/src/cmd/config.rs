@@ -1,0 +1,8 @@
+//! `tactile config`.
+
+#[derive(Debug, clap::Args)]
+pub struct Args {}
+
+pub fn run(_args: Args) -> anyhow::Result<()> {
+    anyhow::bail!("`tactile config` is not available in this build yet")
+}

@@ -1,0 +1,8 @@
+//! `tactile log`.
+
+#[derive(Debug, clap::Args)]
+pub struct Args {}
+
+pub fn run(_args: Args) -> anyhow::Result<()> {
+    anyhow::bail!("`tactile log` is not available in this build yet")
+}

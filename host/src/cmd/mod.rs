@@ -1,0 +1,39 @@
+//! One module per subcommand: its `Args` (clap) and `run`.
+
+pub mod chip;
+pub mod config;
+pub mod diagnose;
+pub mod fe;
+pub mod info;
+pub mod list;
+pub mod log;
+pub mod plot;
+pub mod prove;
+pub mod replay;
+pub mod simulate;
+pub mod tare;
+
+use crate::cli::Command;
+
+pub fn run(command: Command) -> anyhow::Result<()> {
+    match command {
+        Command::List(a) => list::run(a),
+        Command::Info(a) => info::run(a),
+        Command::Log(a) => log::run(a),
+        Command::Tare(a) => tare::run(a),
+        Command::Config(a) => config::run(a),
+        Command::Replay(a) => replay::run(a),
+        Command::Plot(a) => plot::run(a),
+        Command::Chip(a) => chip::run(a),
+        Command::Fe(a) => fe::run(a),
+        Command::Simulate(a) => simulate::run(a),
+        Command::Diagnose(a) => diagnose::run(a),
+        Command::Prove(a) => prove::run(a),
+    }
+}
+
+/// The exit code a library error asks for, if `cause` is one of ours. Each module that owns an
+/// error type adds its downcast here.
+pub fn exit_code_of(_cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+    None
+}

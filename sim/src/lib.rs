@@ -1,0 +1,2 @@
+//! The emulated sensor: mechanics -> beam stress -> piezoresistors -> bridges -> amplifier -> ADC.
+#![cfg_attr(not(feature = "std"), no_std)]

@@ -1,0 +1,1 @@
+//! End-to-end and hardware-in-the-loop tests live in `tests/tests/`; shared helpers here.
