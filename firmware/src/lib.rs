@@ -10,3 +10,4 @@ pub mod ads131m04;
 pub mod dsp;
 pub mod mcp4728;
 pub mod offset;
+pub mod stream;
