@@ -10,7 +10,7 @@
 //! Stability: for 0 < f_c < f_s/2 the exact poles lie inside the unit circle; in f32 the
 //! coefficients are additionally checked against the stability triangle |a2| < 1, |a1| < 1 + a2,
 //! and cut-offs whose sections would sit too close to z = 1 for f32 (f_c / f_s below
-//! [`MIN_CUTOFF_RATIO`]) are refused by [`super::FilterSpec::validate`].
+//! [`MIN_CUTOFF_RATIO`]) are refused by [`super::FilterChain::build`].
 
 use core::f32::consts::PI;
 

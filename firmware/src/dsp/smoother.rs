@@ -11,7 +11,7 @@ pub struct Smoother {
 }
 
 impl Smoother {
-    /// `alpha` in (0, 1]; 1 passes the input through. Checked by [`super::FilterSpec::validate`].
+    /// `alpha` in (0, 1]; 1 passes the input through. Checked by [`super::FilterChain::build`].
     pub fn new(alpha: f32) -> Self {
         Self { alpha, y: 0.0, primed: false }
     }

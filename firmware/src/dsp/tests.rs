@@ -9,6 +9,15 @@
 //! 5e-3 at 1e-3 (f32 coefficient rounding moves the poles slightly).
 
 use super::*;
+use protocol::FilterConfig;
+
+fn bw(order: u8, cutoff_hz: f32) -> FilterConfig {
+    FilterConfig { smoother_alpha: 1.0, butterworth_order: order, cutoff_hz }
+}
+
+fn smoother(alpha: f32) -> FilterConfig {
+    FilterConfig { smoother_alpha: alpha, butterworth_order: 0, cutoff_hz: 0.0 }
+}
 use std::f64::consts::PI;
 
 /// f64 reference design and filter (same equations, independent code path in f64).
@@ -65,7 +74,7 @@ fn input(n: usize) -> Vec<f32> {
 }
 
 fn max_error(order: u8, ratio: f32) -> f64 {
-    let mut f32_filter = FilterSpec::Butterworth { order, cutoff_hz: ratio * 1000.0 }.build(1000.0).unwrap();
+    let mut f32_filter = FilterChain::build(&bw(order, ratio * 1000.0), 1000.0).unwrap();
     let mut reference = Reference::new(order, f64::from(ratio));
     let x = input(20_000);
     reference.prime(f64::from(x[0]));
@@ -145,7 +154,7 @@ fn every_accepted_cutoff_is_stable_and_decays() {
 #[test]
 fn out_of_range_settings_are_refused() {
     let fs = 1000.0;
-    let bw = |order, cutoff_hz| FilterSpec::Butterworth { order, cutoff_hz }.build(fs);
+    let bw = |order, cutoff_hz| FilterChain::build(&bw(order, cutoff_hz), fs);
     assert_eq!(bw(2, 450.0), Err(FilterError::CutoffOutOfRange));
     assert_eq!(bw(4, 0.0), Err(FilterError::CutoffOutOfRange));
     assert_eq!(bw(4, -5.0), Err(FilterError::CutoffOutOfRange));
@@ -153,11 +162,23 @@ fn out_of_range_settings_are_refused() {
     assert_eq!(bw(2, 0.5), Err(FilterError::CutoffOutOfRange));
     assert_eq!(bw(3, 100.0), Err(FilterError::OrderUnsupported));
     assert!(bw(2, 449.9).is_ok());
-    let sm = |alpha| FilterSpec::Smoother { alpha }.build(fs);
+    let sm = |alpha| FilterChain::build(&smoother(alpha), fs);
     assert_eq!(sm(0.0), Err(FilterError::AlphaOutOfRange));
     assert_eq!(sm(1.01), Err(FilterError::AlphaOutOfRange));
     assert_eq!(sm(f32::NAN), Err(FilterError::AlphaOutOfRange));
     assert!(sm(1.0).is_ok());
+    assert!(bw(0, f32::NAN).is_ok(), "cut-off ignored with the low-pass off");
+}
+
+#[test]
+fn smoother_then_butterworth_is_the_cascade() {
+    let config = FilterConfig { smoother_alpha: 0.3, butterworth_order: 2, cutoff_hz: 50.0 };
+    let mut chain = FilterChain::build(&config, 1000.0).unwrap();
+    let mut s = Smoother::new(0.3);
+    let mut b = Butterworth::design(2, 0.05).unwrap();
+    for x in input(300) {
+        assert_eq!(chain.step(x), b.step(s.step(x)));
+    }
 }
 
 #[test]
@@ -174,12 +195,12 @@ fn smoother_matches_its_closed_form_step_response() {
 
 #[test]
 fn priming_starts_at_the_first_sample() {
-    let mut f = FilterSpec::Butterworth { order: 4, cutoff_hz: 10.0 }.build(1000.0).unwrap();
+    let mut f = FilterChain::build(&bw(4, 10.0), 1000.0).unwrap();
     for _ in 0..10 {
         assert!((f.step(3.0e6) - 3.0e6).abs() < 1.0);
     }
     f.reset();
     assert!((f.step(-2.0) + 2.0).abs() < 1e-5);
-    let mut s = FilterSpec::Smoother { alpha: 0.1 }.build(1000.0).unwrap();
+    let mut s = FilterChain::build(&smoother(0.1), 1000.0).unwrap();
     assert_eq!(s.step(7.0), 7.0);
 }
