@@ -7,6 +7,7 @@
 #![cfg_attr(not(test), no_std)]
 
 pub mod ads131m04;
+pub mod device;
 pub mod dsp;
 pub mod mcp4728;
 pub mod offset;

@@ -15,18 +15,10 @@ use crate::mcp4728::CODE_MAX;
 /// Channels searched (the three bridges).
 pub const CHANNELS: usize = 3;
 
-/// Outcome reported in the status (mirrors the protocol's null state).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum NullState {
-    /// No search has run since power-up.
-    Off,
-    Searching,
-    /// Every channel found a code that straddles mid-scale.
-    Nulled,
-    /// At least one channel cannot reach mid-scale within the DAC range (its code is left at the
-    /// end nearest mid-scale), or the DAC could not be written.
-    Failed,
-}
+/// Outcome reported in the status: Off (no search since power-up), Searching, Nulled (every
+/// channel straddles mid-scale), Failed (a channel cannot reach mid-scale within the DAC range,
+/// its code left at the end nearest mid-scale, or the DAC could not be written).
+pub use protocol::NullState;
 
 /// What the caller must do after a sample.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

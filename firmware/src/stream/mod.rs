@@ -1,5 +1,7 @@
-//! Streaming: acquisition queue, frame batching with drop accounting, transmit buffer.
+//! Streaming: acquisition queue (interrupt → main loop) and the transmit buffer (framing → port).
 
 pub mod queue;
+pub mod tx;
 
 pub use queue::{Acquirer, Drain, Overruns, RawSample, SampleQueue, QUEUE_LEN};
+pub use tx::TxBuffer;

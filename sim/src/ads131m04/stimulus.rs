@@ -21,6 +21,9 @@ pub struct StimulusParams {
     pub period: [u32; 4],
     /// Change of the ADC input per trim-DAC code step for the bridge channels, volts per code.
     pub trim_v_per_code: [f32; 3],
+    /// Conversions at rest (bridge signals zero) before the waves start: the sensor lies unloaded
+    /// while the firmware nulls and tares after power-up.
+    pub rest: u64,
 }
 
 impl StimulusParams {
@@ -32,6 +35,7 @@ impl StimulusParams {
         amplitude_v: [0.3, 0.2, 0.1, 0.01],
         period: [400, 1000, 250, 20_000],
         trim_v_per_code: [-3.0e-4, -3.0e-4, -3.0e-4],
+        rest: 2000,
     };
 }
 
@@ -61,9 +65,10 @@ impl Stimulus {
     /// Volts at the four ADC inputs for conversion `index`.
     pub fn volts(&self, index: u64) -> [f32; 4] {
         let p = &self.params;
+        let signal = self.signal_v(index);
         let mut v = [0.0; 4];
         for ch in 0..4 {
-            v[ch] = p.offset_v[ch] + p.amplitude_v[ch] * Self::triangle(index, p.period[ch]);
+            v[ch] = p.offset_v[ch] + signal[ch];
         }
         for ch in 0..3 {
             let steps = f32::from(self.trim_codes[ch]) - f32::from(TRIM_MID_CODE);
@@ -73,10 +78,18 @@ impl Stimulus {
     }
 
     /// The signal part alone (offsets and trim excluded), what a perfectly nulled and tared
-    /// channel shows.
+    /// channel shows: zero for the bridges during the rest period, the triangle waves after it
+    /// (counted from the end of the rest). The temperature channel's wave runs from index 0.
     pub fn signal_v(&self, index: u64) -> [f32; 4] {
         let p = &self.params;
-        core::array::from_fn(|ch| p.amplitude_v[ch] * Self::triangle(index, p.period[ch]))
+        core::array::from_fn(|ch| {
+            if ch < 3 && index < p.rest {
+                0.0
+            } else {
+                let t = if ch < 3 { index - p.rest } else { index };
+                p.amplitude_v[ch] * Self::triangle(t, p.period[ch])
+            }
+        })
     }
 }
 
@@ -100,11 +113,20 @@ mod tests {
     }
 
     #[test]
+    fn bridges_rest_then_move() {
+        let s = Stimulus::new(StimulusParams::QEMU_BOARD);
+        assert_eq!(&s.signal_v(1999)[..3], &[0.0; 3]);
+        assert_eq!(s.volts(0)[0], 0.35);
+        assert_eq!(s.signal_v(2000)[0], -0.3);
+        assert_eq!(s.signal_v(2200)[0], 0.3);
+    }
+
+    #[test]
     fn trim_moves_the_bridge_channels_only() {
         let mut s = Stimulus::new(StimulusParams::QEMU_BOARD);
-        let before = s.volts(7);
+        let before = s.volts(2007);
         s.trim_codes = [TRIM_MID_CODE + 1000; 4];
-        let after = s.volts(7);
+        let after = s.volts(2007);
         for ch in 0..3 {
             assert!((after[ch] - before[ch] - (-0.3)).abs() < 1e-5, "ch {ch}");
         }
