@@ -94,3 +94,29 @@ extern "C" {
 #[no_mangle]
 #[used]
 pub static __INTERRUPTS: [unsafe extern "C" fn(); 32] = [DefaultHandler; 32];
+
+/// The device configuration of the QEMU board. The "sensor" here is the sim crate's stimulus
+/// bench: volts at the ADC inputs are the signal, so the amplifier gain and calibration are unity
+/// and loads read as ADC-input volts. Clock and reference are the emulated chip's own constants.
+pub fn device_config() -> firmware::device::DeviceConfig {
+    use firmware::ads131m04::{Osr, Pga};
+    use firmware::offset::{DriftSettings, NullTiming};
+    firmware::device::DeviceConfig {
+        chip_serial: 0,
+        clkin_hz: sim::ads131m04::CLKIN_HZ,
+        vref_mv: (sim::ads131m04::VREF_V * 1000.0) as u16,
+        pga: [Pga::X1; 4],
+        amp_gain: [1.0; 3],
+        excitation_v: 1.0,
+        calibration: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        osr: Osr::Osr4096, // 1000 samples/s at 8.192 MHz
+        batch: protocol::MAX_BATCH as u8,
+        filter: protocol::FilterConfig::NONE,
+        // 20 samples per measurement, 14 measurements: the power-up null takes 0.28 s, inside the
+        // stimulus's rest period (2000 samples).
+        null_timing: NullTiming { settle: 4, average: 16 },
+        drift: DriftSettings { window: 2000, rate: 1.0e-4, limit: 20_000 },
+        dac_initial: [sim::ads131m04::stimulus::TRIM_MID_CODE; 4],
+        null_at_power_up: true,
+    }
+}

@@ -131,6 +131,8 @@ impl Device {
 
     /// Write the initial DAC codes and, if configured, start the power-up auto-null.
     pub fn power_up(&mut self, hw: &mut impl Frontend) -> Result<(), HardwareError> {
+        // A lone delimiter first, so the host's first frame is clean (SPEC: receiving).
+        self.tx.push_frame(&[0]);
         hw.set_trim(self.dac)?;
         if self.cfg.null_at_power_up {
             self.start_null(hw)?;
