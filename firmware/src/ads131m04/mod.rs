@@ -88,6 +88,11 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
         dev
     }
 
+    /// The DRDY pin, e.g. to clear its interrupt flag in the DRDY interrupt.
+    pub fn drdy_mut(&mut self) -> &mut DRDY {
+        &mut self.drdy
+    }
+
     /// Give the bus and pin back.
     pub fn release(self) -> (SPI, DRDY) {
         (self.spi, self.drdy)
