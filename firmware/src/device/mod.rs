@@ -10,14 +10,14 @@ pub mod config;
 
 use heapless::Deque;
 use protocol::{
-    encode, Accumulator, FilterConfig, Info, Malformed, Message, Outcome, Reply, Request, Sample, SampleFrame, Status,
+    encode, Accumulator, FilterConfig, Info, Malformed, Message, Outcome, Reply, Request, Sample, Status,
     CODE_MAX, CODE_MIN, MAX_FRAME, PROTOCOL_VERSION,
 };
 
 use crate::ads131m04::Osr;
 use crate::dsp::FilterChain;
 use crate::offset::{AutoNull, DriftTracker, NullState, NullStep, Tare};
-use crate::stream::{RawSample, TxBuffer};
+use crate::stream::{FrameBuilder, RawSample, TxBuffer};
 pub use config::{DeviceConfig, FW_VERSION};
 
 /// Transmit buffer size: six full sample frames (168 bytes each) of slack for a busy link.
@@ -70,7 +70,8 @@ pub struct Device {
     streaming: bool,
     epoch: u8,
     seq: u32,
-    frame: Option<SampleFrame>,
+    /// The open sample frame (empty between frames).
+    frame: FrameBuilder,
     /// Status accumulated over the open frame.
     saturated: u8,
     overrun: bool,
@@ -104,7 +105,7 @@ impl Device {
             streaming: false,
             epoch: 0,
             seq: 0,
-            frame: None,
+            frame: FrameBuilder::new(),
             saturated: 0,
             overrun: false,
             adc_error: false,
@@ -193,7 +194,6 @@ impl Device {
             self.elapsed_ns += self.period_ns * u64::from(steps);
         }
         self.last_index = Some(raw.index);
-        let t_us = (self.elapsed_ns / 1000) as u32;
         self.adc_error |= raw.read_error;
         for (ch, &code) in raw.codes.iter().enumerate() {
             if code >= CODE_MAX || code <= CODE_MIN {
@@ -202,9 +202,9 @@ impl Device {
         }
         let sample = self.process([raw.codes[0], raw.codes[1], raw.codes[2]], hw);
         if self.streaming {
-            self.add_to_frame(sample, t_us, raw.codes[3]);
+            self.add_to_frame(sample, raw.codes[3]);
         }
-        if self.frame.is_none() {
+        if self.frame.is_empty() {
             self.apply_pending(hw);
         }
     }
@@ -230,10 +230,10 @@ impl Device {
         let offset = self.tare.offset();
         let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
         let corrected = self.drift.apply(tared);
-        let ch = core::array::from_fn(|ch| {
-            let y = self.filters[ch].step(corrected[ch] as f32);
-            (libm::roundf(y) as i32).clamp(CODE_MIN, CODE_MAX)
-        });
+        if self.filters[0].is_pass_through() {
+            return Sample { ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)) };
+        }
+        let ch = core::array::from_fn(|ch| round_to_code(self.filters[ch].step(corrected[ch] as f32)));
         Sample { ch }
     }
 
@@ -263,21 +263,21 @@ impl Device {
         self.filters.iter_mut().for_each(FilterChain::reset);
     }
 
-    fn add_to_frame(&mut self, sample: Sample, t_us: u32, temp: i32) {
-        let frame = self.frame.get_or_insert_with(|| SampleFrame::new(0, t_us, Status::default(), temp));
-        // Cannot overflow: the frame is closed as soon as it holds `batch` ≤ MAX_BATCH samples.
-        let _ = frame.push(sample);
-        if frame.len() >= usize::from(self.batch) {
+    fn add_to_frame(&mut self, sample: Sample, temp: i32) {
+        if self.frame.is_empty() {
+            // The time stamp is only needed when a frame opens: the 64-bit division stays off
+            // the per-sample path.
+            self.frame.open((self.elapsed_ns / 1000) as u32, temp);
+        }
+        self.frame.push(sample.ch);
+        if self.frame.len() >= usize::from(self.batch) {
             self.close_frame();
         }
     }
 
-    /// Finish the open frame: fill in sequence and status, encode, queue or drop it whole.
+    /// Finish the open frame: sequence and status, encode, queue it whole or drop it whole.
     fn close_frame(&mut self) {
-        let Some(mut frame) = self.frame.take() else { return };
-        frame.seq = self.seq;
-        self.seq = self.seq.wrapping_add(1);
-        frame.status = Status {
+        let status = Status {
             saturated: self.saturated,
             null_state: self.null.state(),
             tare_active: self.tare.active(),
@@ -287,13 +287,11 @@ impl Device {
             config_epoch: self.epoch,
             dropped: self.dropped,
         };
-        self.saturated = 0;
         let mut wire = [0u8; MAX_FRAME];
-        let queued = match encode(&Message::Sample(frame), &mut wire) {
-            Ok(n) => self.tx.push_frame(&wire[..n]),
-            Err(_) => false,
-        };
-        if queued {
+        let n = self.frame.finish(self.seq, &status, &mut wire);
+        self.seq = self.seq.wrapping_add(1);
+        self.saturated = 0;
+        if self.tx.push_frame(&wire[..n]) {
             self.dropped = 0;
             self.overrun = false;
             self.adc_error = false;
@@ -337,7 +335,7 @@ impl Device {
     /// Call from the main loop when idle: applies waiting commands if no frame is open (e.g. while
     /// stopped, or when no samples arrive) and retries replies that did not fit the buffer.
     pub fn poll(&mut self, hw: &mut impl Frontend) {
-        if self.frame.is_none() {
+        if self.frame.is_empty() {
             self.apply_pending(hw);
         }
         self.flush_replies();
@@ -401,6 +399,15 @@ impl Device {
             config_epoch: self.epoch,
         }
     }
+}
+
+/// Nearest code, halves away from zero, clamped to the 24-bit range. `as` converts with the FPU
+/// (VCVT, saturating) where libm's roundf would be a software routine on the per-sample path;
+/// below 2^23 the ± 0.5 is exact in f32, and larger values are clamped anyway.
+#[inline]
+fn round_to_code(y: f32) -> i32 {
+    let r = if y >= 0.0 { y + 0.5 } else { y - 0.5 };
+    (r as i32).clamp(CODE_MIN, CODE_MAX)
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 use super::*;
 use crate::ads131m04::Pga;
 use crate::offset::{DriftSettings, NullTiming};
-use protocol::{Command, NackCode, NullState, CRC};
+use protocol::{Command, NackCode, NullState, SampleFrame, CRC};
 
 #[derive(Default)]
 struct MockFrontend {

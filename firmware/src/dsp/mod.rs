@@ -52,6 +52,11 @@ impl FilterChain {
         Ok(Self { smoother, butterworth })
     }
 
+    /// Whether the chain leaves samples unchanged (smoother and low-pass both off).
+    pub fn is_pass_through(&self) -> bool {
+        self.smoother.is_none() && self.butterworth.is_none()
+    }
+
     /// Filter one sample.
     #[inline]
     pub fn step(&mut self, mut x: f32) -> f32 {

@@ -63,7 +63,9 @@ impl DriftTracker {
             if residual.abs() < self.settings.window as f32 {
                 self.correction[ch] = (self.correction[ch] + self.settings.rate * residual).clamp(-limit, limit);
             }
-            tared[ch] - libm::roundf(self.correction[ch]) as i32
+            // Nearest integer (halves away from zero) with the FPU's conversion, not libm.
+            let c = self.correction[ch];
+            tared[ch] - (if c >= 0.0 { c + 0.5 } else { c - 0.5 }) as i32
         })
     }
 }
