@@ -241,7 +241,11 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             return Err(Error::Crc { computed, received });
         }
         let response = u16::from_be_bytes([rx[0], rx[1]]);
-        let codes = core::array::from_fn(|ch| self.word.decode(&rx[(ch + 1) * wb..(ch + 2) * wb]));
+        let codes = match self.word {
+            // The common case, with the word length known at compile time.
+            WordLength::Bits24 => core::array::from_fn(|ch| WordLength::Bits24.decode(&rx[3 + 3 * ch..6 + 3 * ch])),
+            word => core::array::from_fn(|ch| word.decode(&rx[(ch + 1) * wb..(ch + 2) * wb])),
+        };
         Ok(Frame { response, codes })
     }
 

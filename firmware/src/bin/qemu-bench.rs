@@ -94,6 +94,43 @@ mod target {
         dev.on_rx(&wire[..n]);
     }
 
+    /// Run A: N conversions through driver, queue and device core; returns (ticks, wire bytes,
+    /// frames dropped).
+    fn streaming_run(syst: &mut SYST, drift: bool) -> (u32, usize, u32) {
+        let chip_a = chip();
+        let (spi_a, drdy_a) = handles(&chip_a);
+        let mut adc_a = Ads131m04::new(spi_a, drdy_a);
+        adc_a.init(&ADC_CONFIG).unwrap();
+        let mut config = board::device_config();
+        config.null_at_power_up = false;
+        let mut dev = Device::new(config);
+        let mut hw = NoHardware;
+        let mut queue = SampleQueue::new();
+        let (mut producer, mut consumer) = queue.split();
+        request(&mut dev, Command::SetFilter(FilterConfig { smoother_alpha: 1.0, butterworth_order: 4, cutoff_hz: 50.0 }));
+        request(&mut dev, Command::Tare { samples: 32 });
+        request(&mut dev, Command::SetDriftTracking { enabled: drift });
+        request(&mut dev, Command::Start);
+        let mut index = 0u32;
+        let mut sent = 0usize;
+        let mut run = |count: u32, dev: &mut Device, sent: &mut usize| {
+            for _ in 0..count {
+                chip_a.borrow_mut().convert();
+                let conv = adc_a.read().unwrap();
+                let _ = producer.enqueue(RawSample { index, codes: conv.codes, read_error: false });
+                index = index.wrapping_add(1);
+                while let Some(raw) = consumer.dequeue() {
+                    dev.on_sample(&raw, &mut hw);
+                }
+                *sent += dev.tx().drain(|_| true);
+            }
+        };
+        run(64, &mut dev, &mut sent); // warm-up: commands applied, tare done
+        let before = sent;
+        let t = ticks(syst, || run(N, &mut dev, &mut sent));
+        (t, sent - before, dev.counters().frames_dropped)
+    }
+
     #[entry]
     fn main() -> ! {
         let mut cp = cortex_m::Peripherals::take().unwrap();
@@ -128,47 +165,18 @@ mod target {
             }
         });
 
-        // A: the whole streaming path.
-        let chip_a = chip();
-        let (spi_a, drdy_a) = handles(&chip_a);
-        let mut adc_a = Ads131m04::new(spi_a, drdy_a);
-        adc_a.init(&ADC_CONFIG).unwrap();
-        let mut config = board::device_config();
-        config.null_at_power_up = false;
-        let mut dev = Device::new(config);
-        let mut hw = NoHardware;
-        let mut queue = SampleQueue::new();
-        let (mut producer, mut consumer) = queue.split();
-        request(&mut dev, Command::SetFilter(FilterConfig { smoother_alpha: 1.0, butterworth_order: 4, cutoff_hz: 50.0 }));
-        request(&mut dev, Command::Tare { samples: 32 });
-        request(&mut dev, Command::SetDriftTracking { enabled: true });
-        request(&mut dev, Command::Start);
-        let mut index = 0u32;
-        let mut sent = 0usize;
-        let mut run = |count: u32, dev: &mut Device, sent: &mut usize| {
-            for _ in 0..count {
-                chip_a.borrow_mut().convert();
-                let conv = adc_a.read().unwrap();
-                let _ = producer.enqueue(RawSample { index, codes: conv.codes, read_error: false });
-                index = index.wrapping_add(1);
-                while let Some(raw) = consumer.dequeue() {
-                    dev.on_sample(&raw, &mut hw);
-                }
-                *sent += dev.tx().drain(|_| true);
-            }
-        };
-        run(64, &mut dev, &mut sent); // warm-up: commands applied, tare done
-        let before = sent;
-        let t_a = ticks(&mut cp.SYST, || run(N, &mut dev, &mut sent));
-        let bytes = sent - before;
+        // A: the whole streaming path, with the default offset cut (tare) and with drift tracking.
+        let (t_a, bytes, dropped) = streaming_run(&mut cp.SYST, false);
+        let (t_drift, _, _) = streaming_run(&mut cp.SYST, true);
 
         let per_sample = |t: u32| (t as f32) * per_tick as f32 / N as f32;
         let firmware = per_sample(t_a) - per_sample(t_b);
         let driver = per_sample(t_c) - per_sample(t_b);
-        hprintln!("conversions per run: {} ({} wire bytes, {} frames dropped, checksum {})", N, bytes, dev.counters().frames_dropped, sum);
+        hprintln!("conversions per run: {} ({} wire bytes, {} frames dropped, checksum {})", N, bytes, dropped, sum);
         hprintln!("emulated chip alone (excluded): {} instructions/sample", per_sample(t_b));
         hprintln!("driver read + SPI CRC check: {} instructions/sample", driver);
         hprintln!("queue, offset cut, 2 biquads x 3 ch, framing, CRC-32C, COBS: {} instructions/sample", firmware - driver);
+        hprintln!("with drift tracking on (off by default): {} instructions/sample", per_sample(t_drift) - per_sample(t_b));
         hprintln!("firmware instructions/sample: {} (goal 400, ratio {})", firmware, firmware / 400.0);
         debug::exit(debug::EXIT_SUCCESS);
         loop {}

@@ -23,7 +23,7 @@ mod target {
     use cortex_m_rt::{entry, exception};
     use cortex_m_semihosting::{debug, hprintln};
     use critical_section::Mutex;
-    use firmware::dsp::FilterChain;
+    use firmware::dsp::FilterBank;
     use protocol::FilterConfig;
     use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue, QUEUE_LEN};
     use panic_probe as _;
@@ -94,23 +94,23 @@ mod target {
         let mut y64 = [0f64; 2048];
         for (order, ratio) in [(2u8, 0.01f32), (4, 0.01), (4, 0.1), (2, 0.4)] {
             let config = FilterConfig { smoother_alpha: 1.0, butterworth_order: order, cutoff_hz: ratio * 1000.0 };
-            let mut f = FilterChain::build(&config, 1000.0).unwrap();
+            let mut f = FilterBank::build(&config, 1000.0).unwrap();
             reference(order, f64::from(ratio), &x, &mut y64);
-            let worst = x.iter().zip(&y64).map(|(&xi, &r)| libm::fabs(f64::from(f.step(xi)) - r)).fold(0.0, f64::max);
+            let worst = x.iter().zip(&y64).map(|(&xi, &r)| libm::fabs(f64::from(f.step([xi, -xi, xi])[0]) - r)).fold(0.0, f64::max);
             hprintln!("     butterworth order {} fc/fs {}: max |f32 - f64| = {}", order, ratio, worst);
             check("butterworth f32 on the FPU within 2e-5 of f64", worst <= 2e-5);
         }
         let config = FilterConfig { smoother_alpha: 0.05, butterworth_order: 0, cutoff_hz: 0.0 };
-        let mut s = FilterChain::build(&config, 1000.0).unwrap();
-        s.step(0.0);
+        let mut s = FilterBank::build(&config, 1000.0).unwrap();
+        s.step([0.0; 3]);
         let mut worst = 0.0f64;
         for n in 1..400 {
             let exact = 1.0 - libm::pow(0.95, f64::from(n));
-            worst = worst.max(libm::fabs(f64::from(s.step(1.0)) - exact));
+            worst = worst.max(libm::fabs(f64::from(s.step([1.0; 3])[2]) - exact));
         }
         check("smoother step response within 1e-5 of closed form", worst <= 1e-5);
         let config = FilterConfig { smoother_alpha: 1.0, butterworth_order: 2, cutoff_hz: 450.0 };
-        let refused = FilterChain::build(&config, 1000.0).is_err();
+        let refused = FilterBank::build(&config, 1000.0).is_err();
         check("cut-off at 0.45 fs refused", refused);
     }
 

@@ -16,7 +16,7 @@ use protocol::{Command, NackCode, Reply, Request, MAX_BATCH};
 
 use super::{Device, Frontend};
 use crate::ads131m04::Osr;
-use crate::dsp::FilterChain;
+use crate::dsp::FilterBank;
 use crate::offset::NullState;
 
 /// A nack for `req`.
@@ -41,8 +41,7 @@ impl Device {
             Command::Stop => self.streaming = false,
             Command::SetRate { hz } => self.set_rate(hz, hw)?,
             Command::SetFilter(config) => {
-                let chain = FilterChain::build(&config, self.rate_hz() as f32).map_err(|_| NackCode::OutOfRange)?;
-                self.filters = [chain; 3];
+                self.filters = FilterBank::build(&config, self.rate_hz() as f32).map_err(|_| NackCode::OutOfRange)?;
                 self.filter_config = config;
                 self.bump();
             }
@@ -91,11 +90,11 @@ impl Device {
 
     fn set_rate(&mut self, hz: u32, hw: &mut impl Frontend) -> Result<(), NackCode> {
         let osr = Osr::for_rate(hz, self.cfg.clkin_hz).ok_or(NackCode::OutOfRange)?;
-        let chain = FilterChain::build(&self.filter_config, hz as f32).map_err(|_| NackCode::OutOfRange)?;
+        let filters = FilterBank::build(&self.filter_config, hz as f32).map_err(|_| NackCode::OutOfRange)?;
         hw.set_osr(osr).map_err(|_| NackCode::Hardware)?;
         self.osr = osr;
         self.period_ns = self.period_ns_for(osr);
-        self.filters = [chain; 3];
+        self.filters = filters;
         self.bump();
         Ok(())
     }

@@ -15,7 +15,7 @@ use protocol::{
 };
 
 use crate::ads131m04::Osr;
-use crate::dsp::FilterChain;
+use crate::dsp::FilterBank;
 use crate::offset::{AutoNull, DriftTracker, NullState, NullStep, Tare};
 use crate::stream::{FrameBuilder, RawSample, TxBuffer};
 pub use config::{DeviceConfig, FW_VERSION};
@@ -62,7 +62,7 @@ pub struct Device {
     batch: u8,
     filter_config: FilterConfig,
     calibration: protocol::Calibration,
-    filters: [FilterChain; 3],
+    filters: FilterBank,
     tare: Tare,
     drift: DriftTracker,
     null: AutoNull,
@@ -97,7 +97,7 @@ impl Device {
             batch: cfg.batch.clamp(1, protocol::MAX_BATCH as u8),
             filter_config: FilterConfig::NONE,
             calibration: cfg.calibration,
-            filters: [FilterChain::NONE; 3],
+            filters: FilterBank::NONE,
             tare: Tare::new(),
             drift: DriftTracker::new(cfg.drift),
             null: AutoNull::new(cfg.null_timing, [cfg.dac_initial[0], cfg.dac_initial[1], cfg.dac_initial[2]]),
@@ -123,8 +123,8 @@ impl Device {
         };
         dev.period_ns = dev.period_ns_for(dev.osr);
         // A power-up filter that does not fit the rate leaves the filters off (visible in info).
-        if let Ok(chain) = FilterChain::build(&cfg.filter, dev.rate_hz() as f32) {
-            dev.filters = [chain; 3];
+        if let Ok(filters) = FilterBank::build(&cfg.filter, dev.rate_hz() as f32) {
+            dev.filters = filters;
             dev.filter_config = cfg.filter;
         }
         dev
@@ -230,11 +230,11 @@ impl Device {
         let offset = self.tare.offset();
         let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
         let corrected = self.drift.apply(tared);
-        if self.filters[0].is_pass_through() {
+        if self.filters.is_pass_through() {
             return Sample { ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)) };
         }
-        let ch = core::array::from_fn(|ch| round_to_code(self.filters[ch].step(corrected[ch] as f32)));
-        Sample { ch }
+        let y = self.filters.step(corrected.map(|c| c as f32));
+        Sample { ch: y.map(round_to_code) }
     }
 
     fn write_null_codes(&mut self, codes: [u16; 3], hw: &mut impl Frontend) {
@@ -260,7 +260,7 @@ impl Device {
     }
 
     fn reset_filters(&mut self) {
-        self.filters.iter_mut().for_each(FilterChain::reset);
+        self.filters.reset();
     }
 
     fn add_to_frame(&mut self, sample: Sample, temp: i32) {
@@ -287,11 +287,10 @@ impl Device {
             config_epoch: self.epoch,
             dropped: self.dropped,
         };
-        let mut wire = [0u8; MAX_FRAME];
-        let n = self.frame.finish(self.seq, &status, &mut wire);
+        let queued = self.frame.finish_into(self.seq, &status, &mut self.tx);
         self.seq = self.seq.wrapping_add(1);
         self.saturated = 0;
-        if self.tx.push_frame(&wire[..n]) {
+        if queued {
             self.dropped = 0;
             self.overrun = false;
             self.adc_error = false;

@@ -10,7 +10,9 @@
 //! Stability: for 0 < f_c < f_s/2 the exact poles lie inside the unit circle; in f32 the
 //! coefficients are additionally checked against the stability triangle |a2| < 1, |a1| < 1 + a2,
 //! and cut-offs whose sections would sit too close to z = 1 for f32 (f_c / f_s below
-//! [`MIN_CUTOFF_RATIO`]) are refused by [`super::FilterChain::build`].
+//! [`MIN_CUTOFF_RATIO`]) are refused by [`super::FilterBank::build`].
+//!
+//! Coefficients and state are kept apart so that one set of coefficients serves all channels.
 
 use core::f32::consts::PI;
 
@@ -23,13 +25,15 @@ pub const MIN_CUTOFF_RATIO: f32 = 1.0e-3;
 /// Most sections in a cascade (order 4).
 pub const MAX_SECTIONS: usize = 2;
 
-/// One second-order section, transposed direct form II.
+/// State of one section for one channel (transposed direct form II).
+pub type State = [f32; 2];
+
+/// Coefficients of one second-order section.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Biquad {
     pub b: [f32; 3],
     /// a1, a2 (a0 = 1).
     pub a: [f32; 2],
-    s: [f32; 2],
 }
 
 impl Biquad {
@@ -42,7 +46,7 @@ impl Biquad {
         // a's makes the DC gain exactly 1 in f32: at low f_c/f_s, 1 + a1 + a2 is a small
         // difference of numbers near 2, and K²/D alone would miss it by up to ~0.5 %.
         let b0 = (1.0 + a[0] + a[1]) / 4.0;
-        Self { b: [b0, 2.0 * b0, b0], a, s: [0.0; 2] }
+        Self { b: [b0, 2.0 * b0, b0], a }
     }
 
     /// Whether the f32 coefficients satisfy the stability triangle.
@@ -51,37 +55,36 @@ impl Biquad {
         a2.abs() < 1.0 && a1.abs() < 1.0 + a2
     }
 
-    /// Set the state to the steady state of a constant input `x` (DC gain 1: output = x).
-    pub fn prime(&mut self, x: f32) {
+    /// The steady state for a constant input `x` (DC gain 1: output = x).
+    pub fn primed(&self, x: f32) -> State {
         let [_, b1, b2] = self.b;
         let [a1, a2] = self.a;
-        self.s[1] = (b2 - a2) * x;
-        self.s[0] = (b1 - a1) * x + self.s[1];
+        let s1 = (b2 - a2) * x;
+        [(b1 - a1) * x + s1, s1]
     }
 
-    /// Filter one sample.
-    #[inline]
-    pub fn step(&mut self, x: f32) -> f32 {
-        let y = self.b[0] * x + self.s[0];
-        self.s[0] = self.b[1] * x - self.a[0] * y + self.s[1];
-        self.s[1] = self.b[2] * x - self.a[1] * y;
+    /// Filter one sample of one channel.
+    #[inline(always)]
+    pub fn step(&self, s: &mut State, x: f32) -> f32 {
+        let y = self.b[0] * x + s[0];
+        s[0] = self.b[1] * x - self.a[0] * y + s[1];
+        s[1] = self.b[2] * x - self.a[1] * y;
         y
     }
 }
 
-/// Quality factors of the sections of an order-`order` Butterworth low-pass (order 2 or 4).
+/// Quality factor of section `k` of an order-`order` Butterworth low-pass (order 2 or 4).
 pub fn section_q(order: u8, k: usize) -> f32 {
     let n = f32::from(order);
     let theta = (2.0 * k as f32 + 1.0) * PI / (2.0 * n);
     1.0 / (2.0 * libm::cosf(theta))
 }
 
-/// A low-pass cascade of one (order 2) or two (order 4) sections.
+/// The sections of a low-pass: one (order 2) or two (order 4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Butterworth {
     sections: [Biquad; MAX_SECTIONS],
     len: usize,
-    primed: bool,
 }
 
 impl Butterworth {
@@ -98,30 +101,11 @@ impl Butterworth {
         for (i, section) in sections.iter_mut().enumerate().take(len) {
             *section = Biquad::low_pass(k, section_q(order, i));
         }
-        sections[..len].iter().all(Biquad::is_stable).then_some(Self { sections, len, primed: false })
+        sections[..len].iter().all(Biquad::is_stable).then_some(Self { sections, len })
     }
 
     /// Sections in use.
     pub fn sections(&self) -> &[Biquad] {
         &self.sections[..self.len]
-    }
-
-    /// Filter one sample; the first sample primes every section to its steady state.
-    #[inline]
-    pub fn step(&mut self, x: f32) -> f32 {
-        if !self.primed {
-            self.sections.iter_mut().for_each(|s| s.prime(x));
-            self.primed = true;
-        }
-        let mut y = x;
-        for section in &mut self.sections[..self.len] {
-            y = section.step(y);
-        }
-        y
-    }
-
-    /// Forget the history; the next sample primes again.
-    pub fn reset(&mut self) {
-        self.primed = false;
     }
 }

@@ -73,8 +73,27 @@ fn input(n: usize) -> Vec<f32> {
         .collect()
 }
 
+/// The bank with the same signal on all channels; every channel must give the same output.
+struct Single(FilterBank);
+
+impl Single {
+    fn build(config: &FilterConfig, fs: f32) -> Result<Self, FilterError> {
+        FilterBank::build(config, fs).map(Single)
+    }
+
+    fn step(&mut self, x: f32) -> f32 {
+        let y = self.0.step([x, x, x]);
+        assert!(y[0] == y[1] && y[1] == y[2]);
+        y[0]
+    }
+
+    fn reset(&mut self) {
+        self.0.reset();
+    }
+}
+
 fn max_error(order: u8, ratio: f32) -> f64 {
-    let mut f32_filter = FilterChain::build(&bw(order, ratio * 1000.0), 1000.0).unwrap();
+    let mut f32_filter = Single::build(&bw(order, ratio * 1000.0), 1000.0).unwrap();
     let mut reference = Reference::new(order, f64::from(ratio));
     let x = input(20_000);
     reference.prime(f64::from(x[0]));
@@ -137,8 +156,9 @@ fn every_accepted_cutoff_is_stable_and_decays() {
     let mut ratio = 1e-3f32;
     while ratio < 0.45 {
         for order in [2u8, 4] {
-            let mut f = Butterworth::design(order, ratio).unwrap();
-            assert!(f.sections().iter().all(Biquad::is_stable));
+            let design = Butterworth::design(order, ratio).unwrap();
+            assert!(design.sections().iter().all(Biquad::is_stable));
+            let mut f = Single::build(&bw(order, ratio * 1000.0), 1000.0).unwrap();
             f.step(0.0);
             let mut y = f.step(1.0);
             for _ in 0..200_000 {
@@ -154,7 +174,7 @@ fn every_accepted_cutoff_is_stable_and_decays() {
 #[test]
 fn out_of_range_settings_are_refused() {
     let fs = 1000.0;
-    let bw = |order, cutoff_hz| FilterChain::build(&bw(order, cutoff_hz), fs);
+    let bw = |order, cutoff_hz| FilterBank::build(&bw(order, cutoff_hz), fs);
     assert_eq!(bw(2, 450.0), Err(FilterError::CutoffOutOfRange));
     assert_eq!(bw(4, 0.0), Err(FilterError::CutoffOutOfRange));
     assert_eq!(bw(4, -5.0), Err(FilterError::CutoffOutOfRange));
@@ -162,7 +182,7 @@ fn out_of_range_settings_are_refused() {
     assert_eq!(bw(2, 0.5), Err(FilterError::CutoffOutOfRange));
     assert_eq!(bw(3, 100.0), Err(FilterError::OrderUnsupported));
     assert!(bw(2, 449.9).is_ok());
-    let sm = |alpha| FilterChain::build(&smoother(alpha), fs);
+    let sm = |alpha| FilterBank::build(&smoother(alpha), fs);
     assert_eq!(sm(0.0), Err(FilterError::AlphaOutOfRange));
     assert_eq!(sm(1.01), Err(FilterError::AlphaOutOfRange));
     assert_eq!(sm(f32::NAN), Err(FilterError::AlphaOutOfRange));
@@ -173,11 +193,31 @@ fn out_of_range_settings_are_refused() {
 #[test]
 fn smoother_then_butterworth_is_the_cascade() {
     let config = FilterConfig { smoother_alpha: 0.3, butterworth_order: 2, cutoff_hz: 50.0 };
-    let mut chain = FilterChain::build(&config, 1000.0).unwrap();
+    let mut chain = Single::build(&config, 1000.0).unwrap();
     let mut s = Smoother::new(0.3);
-    let mut b = Butterworth::design(2, 0.05).unwrap();
+    let b = Butterworth::design(2, 0.05).unwrap();
+    let mut state = b.sections()[0].primed(0.0);
+    let mut first = true;
     for x in input(300) {
-        assert_eq!(chain.step(x), b.step(s.step(x)));
+        let smoothed = s.step(x);
+        if first {
+            state = b.sections()[0].primed(smoothed);
+            first = false;
+        }
+        assert_eq!(chain.step(x), b.sections()[0].step(&mut state, smoothed));
+    }
+}
+
+#[test]
+fn channels_are_filtered_independently() {
+    let mut bank = FilterBank::build(&bw(4, 20.0), 1000.0).unwrap();
+    let mut single = Single::build(&bw(4, 20.0), 1000.0).unwrap();
+    let x = input(500);
+    for (i, &xi) in x.iter().enumerate() {
+        let y = bank.step([xi, -2.0 * xi, 0.25]);
+        let reference = single.step(xi);
+        assert_eq!(y[0], reference, "sample {i}");
+        assert!((y[2] - 0.25).abs() < 1e-6);
     }
 }
 
@@ -195,12 +235,12 @@ fn smoother_matches_its_closed_form_step_response() {
 
 #[test]
 fn priming_starts_at_the_first_sample() {
-    let mut f = FilterChain::build(&bw(4, 10.0), 1000.0).unwrap();
+    let mut f = Single::build(&bw(4, 10.0), 1000.0).unwrap();
     for _ in 0..10 {
         assert!((f.step(3.0e6) - 3.0e6).abs() < 1.0);
     }
     f.reset();
     assert!((f.step(-2.0) + 2.0).abs() < 1e-5);
-    let mut s = FilterChain::build(&smoother(0.1), 1000.0).unwrap();
+    let mut s = Single::build(&smoother(0.1), 1000.0).unwrap();
     assert_eq!(s.step(7.0), 7.0);
 }

@@ -6,9 +6,12 @@
 //! crate builds a `SampleFrame`, writes it through a bounds-checked cursor, computes the CRC a
 //! byte at a time and uses a general COBS routine, which together cost ~260 instructions per sample
 //! on the Cortex-M4, more than half the firmware's budget. Here: fixed offsets, CRC-32C sliced by
-//! four (4 KiB of tables), and a COBS pass specialised to bodies shorter than 254 bytes.
+//! four (4 KiB of tables), and a COBS pass specialised to bodies shorter than 254 bytes that
+//! skips zero-free words.
 
 use protocol::{Status, CRC_LEN, MAX_BATCH, MAX_FRAME, SAMPLE_HEADER_LEN, SAMPLE_LEN};
+
+use super::TxBuffer;
 
 /// Largest sample-frame body plus its CRC.
 const PAYLOAD_MAX: usize = SAMPLE_HEADER_LEN + MAX_BATCH * SAMPLE_LEN + CRC_LEN;
@@ -60,23 +63,21 @@ pub fn crc32c(bytes: &[u8]) -> u32 {
     !crc
 }
 
-/// COBS of `src` (shorter than 254 bytes) into `dst`, which must hold `src.len() + 1` bytes;
-/// returns the encoded length (no delimiter).
-fn cobs_short(src: &[u8], dst: &mut [u8]) -> usize {
-    let dst = &mut dst[..src.len() + 1];
+/// COBS of `src` (shorter than 254 bytes, so one block) into `dst` (at least `src.len() + 1`
+/// bytes), copying and scanning in one pass: each zero becomes the code byte of its block.
+fn cobs_short(src: &[u8], dst: &mut [u8]) {
+    let n = src.len();
+    let dst = &mut dst[..n + 1];
     let mut code_at = 0;
-    let mut out = 1;
-    for &b in src {
+    for (j, &b) in src.iter().enumerate() {
         if b == 0 {
-            dst[code_at] = (out - code_at) as u8;
-            code_at = out;
+            dst[code_at] = (j + 1 - code_at) as u8;
+            code_at = j + 1;
         } else {
-            dst[out] = b;
+            dst[j + 1] = b;
         }
-        out += 1;
     }
-    dst[code_at] = (out - code_at) as u8;
-    out
+    dst[code_at] = (n + 1 - code_at) as u8;
 }
 
 /// A sample frame being filled.
@@ -126,12 +127,40 @@ impl FrameBuilder {
         self.len += 1;
     }
 
+    /// Wire length of the frame as it stands: body, CRC, one COBS byte, delimiter.
+    pub fn wire_len(&self) -> usize {
+        SAMPLE_HEADER_LEN + self.len * SAMPLE_LEN + CRC_LEN + 2
+    }
+
     /// Finish the frame into `out` (COBS(body ‖ CRC) ‖ 0x00); returns the wire length and
     /// empties the builder. An empty frame encodes to nothing (returns 0).
     pub fn finish(&mut self, seq: u32, status: &Status, out: &mut [u8; MAX_FRAME]) -> usize {
         if self.len == 0 {
             return 0;
         }
+        let n = self.wire_len();
+        self.encode(seq, status, &mut out[..n]);
+        n
+    }
+
+    /// Finish the frame straight into the transmit buffer; false (frame dropped, builder emptied
+    /// all the same) if the buffer lacks room for the whole frame.
+    pub fn finish_into<const N: usize>(&mut self, seq: u32, status: &Status, tx: &mut TxBuffer<N>) -> bool {
+        let n = self.wire_len();
+        if self.len == 0 {
+            return false;
+        }
+        let Some(dst) = tx.reserve(n) else {
+            self.len = 0;
+            return false;
+        };
+        self.encode(seq, status, dst);
+        tx.commit(n);
+        true
+    }
+
+    /// Header, CRC, COBS and delimiter into `dst` (exactly the wire length).
+    fn encode(&mut self, seq: u32, status: &Status, dst: &mut [u8]) {
         let h = &mut self.body[..SAMPLE_HEADER_LEN];
         h[0] = protocol::kind::SAMPLE;
         h[1..5].copy_from_slice(&seq.to_le_bytes());
@@ -149,10 +178,10 @@ impl FrameBuilder {
         let body_len = SAMPLE_HEADER_LEN + self.len * SAMPLE_LEN;
         let crc = crc32c(&self.body[..body_len]);
         self.body[body_len..body_len + CRC_LEN].copy_from_slice(&crc.to_le_bytes());
-        let n = cobs_short(&self.body[..body_len + CRC_LEN], &mut out[..]);
-        out[n] = 0;
+        let payload = &self.body[..body_len + CRC_LEN];
+        cobs_short(payload, dst);
+        dst[payload.len() + 1] = 0;
         self.len = 0;
-        n + 1
     }
 }
 
@@ -203,8 +232,20 @@ mod tests {
                 reference.push(Sample { ch }).unwrap();
                 builder.push(ch);
             }
-            let len = builder.finish(seq, &status, &mut wire);
-            assert_eq!(&wire[..len], &encode_vec(&Message::Sample(reference)).unwrap()[..], "round {round}");
+            let expected = encode_vec(&Message::Sample(reference)).unwrap();
+            if round % 2 == 0 {
+                let len = builder.finish(seq, &status, &mut wire);
+                assert_eq!(&wire[..len], &expected[..], "round {round}");
+            } else {
+                let mut tx = TxBuffer::<256>::new();
+                assert!(builder.finish_into(seq, &status, &mut tx));
+                let mut got = Vec::new();
+                tx.drain(|b| {
+                    got.push(b);
+                    true
+                });
+                assert_eq!(got, expected, "round {round}");
+            }
         }
     }
 }

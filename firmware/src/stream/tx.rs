@@ -2,11 +2,13 @@
 //! a frame on the wire is never cut short: when the link cannot keep up, the framer drops the
 //! whole frame and counts it. The port side takes bytes one at a time without waiting.
 
-/// Byte ring holding complete encoded frames. `N` must be a power of two (index masking keeps
-/// the per-byte cost of the port side to a load, a store and an add).
+/// Byte FIFO holding complete encoded frames, linear rather than circular: the framer encodes
+/// straight into the free space ([`Self::reserve`]), so a frame needs contiguous room. When the
+/// buffer runs empty both indices return to 0 (the usual case when the link keeps up); otherwise a
+/// frame that does not fit at the end moves the unsent bytes to the front first.
 pub struct TxBuffer<const N: usize> {
     buf: [u8; N],
-    /// Free-running read and write counters; `write - read` bytes are queued.
+    /// Next byte to send; bytes `read..write` are queued.
     read: usize,
     write: usize,
 }
@@ -18,22 +20,17 @@ impl<const N: usize> Default for TxBuffer<N> {
 }
 
 impl<const N: usize> TxBuffer<N> {
-    const MASK: usize = {
-        assert!(N.is_power_of_two(), "TxBuffer size must be a power of two");
-        N - 1
-    };
-
     pub const fn new() -> Self {
         Self { buf: [0; N], read: 0, write: 0 }
     }
 
     /// Bytes waiting.
     pub fn len(&self) -> usize {
-        self.write.wrapping_sub(self.read)
+        self.write - self.read
     }
 
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.read == self.write
     }
 
     /// Free space in bytes.
@@ -41,41 +38,68 @@ impl<const N: usize> TxBuffer<N> {
         N - self.len()
     }
 
+    /// `len` contiguous bytes to write a frame into, if the buffer has that much room; the frame
+    /// becomes visible to the port only at [`Self::commit`].
+    pub fn reserve(&mut self, len: usize) -> Option<&mut [u8]> {
+        if len > self.free() {
+            return None;
+        }
+        if self.write + len > N {
+            self.buf.copy_within(self.read..self.write, 0);
+            self.write -= self.read;
+            self.read = 0;
+        }
+        Some(&mut self.buf[self.write..self.write + len])
+    }
+
+    /// Publish `len` bytes written into the last reservation.
+    pub fn commit(&mut self, len: usize) {
+        debug_assert!(self.write + len <= N, "commit beyond the reservation");
+        self.write += len;
+    }
+
     /// Append a whole frame if it fits; otherwise append nothing and return false.
     pub fn push_frame(&mut self, frame: &[u8]) -> bool {
-        if frame.len() > self.free() {
-            return false;
+        match self.reserve(frame.len()) {
+            Some(dst) => {
+                dst.copy_from_slice(frame);
+                self.commit(frame.len());
+                true
+            }
+            None => false,
         }
-        let start = self.write & Self::MASK;
-        let first = frame.len().min(N - start);
-        self.buf[start..start + first].copy_from_slice(&frame[..first]);
-        self.buf[..frame.len() - first].copy_from_slice(&frame[first..]);
-        self.write = self.write.wrapping_add(frame.len());
-        true
     }
 
     /// The next byte to send, without removing it.
     pub fn peek(&self) -> Option<u8> {
-        (!self.is_empty()).then(|| self.buf[self.read & Self::MASK])
+        (!self.is_empty()).then(|| self.buf[self.read])
     }
 
     /// Remove and return the next byte.
     pub fn pop(&mut self) -> Option<u8> {
         let b = self.peek()?;
-        self.read = self.read.wrapping_add(1);
+        self.read += 1;
+        if self.read == self.write {
+            self.read = 0;
+            self.write = 0;
+        }
         Some(b)
     }
 
     /// Hand bytes to `send` until it refuses one (port full) or the buffer is empty; returns the
     /// count sent.
     pub fn drain(&mut self, mut send: impl FnMut(u8) -> bool) -> usize {
-        let mut sent = 0;
-        while self.read != self.write {
-            if !send(self.buf[self.read & Self::MASK]) {
+        let start = self.read;
+        for &b in &self.buf[self.read..self.write] {
+            if !send(b) {
                 break;
             }
-            self.read = self.read.wrapping_add(1);
-            sent += 1;
+            self.read += 1;
+        }
+        let sent = self.read - start;
+        if self.read == self.write {
+            self.read = 0;
+            self.write = 0;
         }
         sent
     }
@@ -89,10 +113,10 @@ mod tests {
     fn frames_go_in_whole_or_not_at_all() {
         let mut tx = TxBuffer::<8>::new();
         tx.push_frame(&[9, 9, 9, 0]);
-        tx.drain(|_| true); // start off zero: the frames below wrap around the end
+        tx.drain(|b| b == 9); // leave the delimiter queued: the buffer must compact below
         assert!(tx.push_frame(&[1, 2, 3, 0]));
         assert!(!tx.push_frame(&[4, 5, 6, 7, 0]));
-        assert_eq!(tx.len(), 4);
+        assert_eq!(tx.len(), 5);
         let mut out = Vec::new();
         let mut budget = 2;
         tx.drain(|b| {
@@ -103,12 +127,13 @@ mod tests {
             out.push(b);
             true
         });
-        assert_eq!(out, [1, 2]);
-        assert!(tx.push_frame(&[4, 5, 6, 7, 0]) || tx.free() < 5);
+        assert_eq!(out, [0, 1]);
+        assert!(tx.push_frame(&[4, 5, 6, 7, 0]), "compaction makes room");
         tx.drain(|b| {
             out.push(b);
             true
         });
-        assert_eq!(out, [1, 2, 3, 0, 4, 5, 6, 7, 0]);
+        assert_eq!(out, [0, 1, 2, 3, 0, 4, 5, 6, 7, 0]);
+        assert!(tx.is_empty() && tx.free() == 8);
     }
 }
