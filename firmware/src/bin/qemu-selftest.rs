@@ -1,8 +1,8 @@
 //! On-target tests under QEMU `mps2-an386` (Cortex-M4F, hard-float): the pieces that must run on
 //! the real core. Results go out over semihosting; the exit code is the verdict (0 = all passed).
 //!
-//! Run: `cargo run --release --bin qemu-selftest --config 'target.thumbv7em-none-eabihf.runner="scripts/qemu-run.sh"'`
-//! (scripts/test-firmware.sh does this).
+//! Run: `scripts/test-firmware.sh` (builds it, then runs `qemu-system-arm -machine mps2-an386
+//! -semihosting-config enable=on,target=native -icount shift=0 -kernel <elf>`).
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(not(target_os = "none"))]

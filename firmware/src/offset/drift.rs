@@ -61,7 +61,9 @@ impl DriftTracker {
         core::array::from_fn(|ch| {
             let residual = tared[ch] as f32 - self.correction[ch];
             if residual.abs() < self.settings.window as f32 {
-                self.correction[ch] = (self.correction[ch] + self.settings.rate * residual).clamp(-limit, limit);
+                // max/min rather than f32::clamp: clamp's NaN/ordering panic would pull float
+                // formatting (~20 KiB of flash) into the firmware.
+                self.correction[ch] = (self.correction[ch] + self.settings.rate * residual).max(-limit).min(limit);
             }
             // Nearest integer (halves away from zero) with the FPU's conversion, not libm.
             let c = self.correction[ch];
