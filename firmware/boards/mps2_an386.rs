@@ -114,8 +114,15 @@ pub fn device_config() -> firmware::device::DeviceConfig {
         filter: protocol::FilterConfig::NONE,
         // 20 samples per measurement, 14 measurements: the power-up null takes 0.28 s, inside the
         // stimulus's rest period (2000 samples).
-        null_timing: NullTiming { settle: 4, average: 16 },
-        drift: DriftSettings { window: 2000, rate: 1.0e-4, limit: 20_000 },
+        null_timing: NullTiming {
+            settle: 4,
+            average: 16,
+        },
+        drift: DriftSettings {
+            window: 2000,
+            rate: 1.0e-4,
+            limit: 20_000,
+        },
         dac_initial: [sim::ads131m04::stimulus::TRIM_MID_CODE; 4],
         null_at_power_up: true,
     }

@@ -36,8 +36,15 @@ pub fn device_config() -> DeviceConfig {
         batch: protocol::MAX_BATCH as u8,
         filter: protocol::FilterConfig::NONE,
         // Settle 8 samples (8 ms at 1 kSPS: the amplifier's RC filter), average 32.
-        null_timing: NullTiming { settle: 8, average: 32 },
-        drift: DriftSettings { window: 2000, rate: 1.0e-4, limit: 20_000 },
+        null_timing: NullTiming {
+            settle: 8,
+            average: 32,
+        },
+        drift: DriftSettings {
+            window: 2000,
+            rate: 1.0e-4,
+            limit: 20_000,
+        },
         dac_initial: [2048; 4],
         null_at_power_up: true,
     }

@@ -105,19 +105,29 @@ impl<I2C: I2c> Mcp4728<I2C> {
             buf[3 * i + 1] = vref | gain | (w.code >> 8) as u8;
             buf[3 * i + 2] = w.code as u8;
         }
-        self.i2c.write(self.address, &buf[..3 * writes.len().min(4)]).map_err(Error::I2c)
+        self.i2c
+            .write(self.address, &buf[..3 * writes.len().min(4)])
+            .map_err(Error::I2c)
     }
 
     /// Write VREF select bits (0b100x_ABCD; 1 = internal) for all channels.
     pub fn set_vref(&mut self, vref: [Vref; 4]) -> Result<(), Error<I2C::Error>> {
-        let bits = vref.iter().fold(0u8, |acc, v| (acc << 1) | u8::from(*v == Vref::Internal));
-        self.i2c.write(self.address, &[0b1000_0000 | bits]).map_err(Error::I2c)
+        let bits = vref
+            .iter()
+            .fold(0u8, |acc, v| (acc << 1) | u8::from(*v == Vref::Internal));
+        self.i2c
+            .write(self.address, &[0b1000_0000 | bits])
+            .map_err(Error::I2c)
     }
 
     /// Write gain select bits (0b110x_ABCD; 1 = ×2) for all channels.
     pub fn set_gain(&mut self, gain: [Gain; 4]) -> Result<(), Error<I2C::Error>> {
-        let bits = gain.iter().fold(0u8, |acc, g| (acc << 1) | u8::from(*g == Gain::X2));
-        self.i2c.write(self.address, &[0b1100_0000 | bits]).map_err(Error::I2c)
+        let bits = gain
+            .iter()
+            .fold(0u8, |acc, g| (acc << 1) | u8::from(*g == Gain::X2));
+        self.i2c
+            .write(self.address, &[0b1100_0000 | bits])
+            .map_err(Error::I2c)
     }
 
     /// Read the four DAC input registers (the device sends input register and EEPROM, 6 bytes per
@@ -129,7 +139,11 @@ impl<I2C: I2c> Mcp4728<I2C> {
             let b = &buf[6 * ch..6 * ch + 3];
             ChannelState {
                 code: (u16::from(b[1] & 0x0F) << 8) | u16::from(b[2]),
-                vref: if b[1] & 0x80 != 0 { Vref::Internal } else { Vref::Vdd },
+                vref: if b[1] & 0x80 != 0 {
+                    Vref::Internal
+                } else {
+                    Vref::Vdd
+                },
                 gain: if b[1] & 0x10 != 0 { Gain::X2 } else { Gain::X1 },
                 power_down: (b[1] >> 5) & 0b11,
                 busy: b[0] & 0x80 == 0,
@@ -160,7 +174,10 @@ mod tests {
 
     #[test]
     fn fast_write_packs_four_channels_in_eight_bytes() {
-        let mut i2c = Mock::new(&[Tx::write(0x60, vec![0x0F, 0xFF, 0x08, 0x00, 0x00, 0x01, 0x0A, 0xBC])]);
+        let mut i2c = Mock::new(&[Tx::write(
+            0x60,
+            vec![0x0F, 0xFF, 0x08, 0x00, 0x00, 0x01, 0x0A, 0xBC],
+        )]);
         let mut dac = Mcp4728::new(i2c.clone(), DEFAULT_ADDRESS);
         dac.fast_write([4095, 2048, 1, 0xABC]).unwrap();
         i2c.done();
@@ -172,8 +189,18 @@ mod tests {
         let mut i2c = Mock::new(&[Tx::write(0x61, expected)]);
         let mut dac = Mcp4728::new(i2c.clone(), 0x61);
         dac.multi_write(&[
-            ChannelWrite { channel: 0, code: 0x7D0, vref: Vref::Internal, gain: Gain::X1 },
-            ChannelWrite { channel: 3, code: 0x001, vref: Vref::Vdd, gain: Gain::X2 },
+            ChannelWrite {
+                channel: 0,
+                code: 0x7D0,
+                vref: Vref::Internal,
+                gain: Gain::X1,
+            },
+            ChannelWrite {
+                channel: 3,
+                code: 0x001,
+                vref: Vref::Vdd,
+                gain: Gain::X2,
+            },
         ])
         .unwrap();
         i2c.done();
@@ -181,10 +208,14 @@ mod tests {
 
     #[test]
     fn vref_and_gain_select_commands() {
-        let mut i2c = Mock::new(&[Tx::write(0x60, vec![0b1000_1111]), Tx::write(0x60, vec![0b1100_1010])]);
+        let mut i2c = Mock::new(&[
+            Tx::write(0x60, vec![0b1000_1111]),
+            Tx::write(0x60, vec![0b1100_1010]),
+        ]);
         let mut dac = Mcp4728::new(i2c.clone(), DEFAULT_ADDRESS);
         dac.set_vref([Vref::Internal; 4]).unwrap();
-        dac.set_gain([Gain::X2, Gain::X1, Gain::X2, Gain::X1]).unwrap();
+        dac.set_gain([Gain::X2, Gain::X1, Gain::X2, Gain::X1])
+            .unwrap();
         i2c.done();
     }
 
@@ -196,8 +227,26 @@ mod tests {
         let mut i2c = Mock::new(&[Tx::read(0x60, bytes)]);
         let mut dac = Mcp4728::new(i2c.clone(), DEFAULT_ADDRESS);
         let s = dac.read().unwrap();
-        assert_eq!(s[0], ChannelState { code: 0x800, vref: Vref::Internal, gain: Gain::X2, power_down: 0, busy: false });
-        assert_eq!(s[1], ChannelState { code: 0xFFF, vref: Vref::Vdd, gain: Gain::X1, power_down: 1, busy: true });
+        assert_eq!(
+            s[0],
+            ChannelState {
+                code: 0x800,
+                vref: Vref::Internal,
+                gain: Gain::X2,
+                power_down: 0,
+                busy: false
+            }
+        );
+        assert_eq!(
+            s[1],
+            ChannelState {
+                code: 0xFFF,
+                vref: Vref::Vdd,
+                gain: Gain::X1,
+                power_down: 1,
+                busy: true
+            }
+        );
         i2c.done();
     }
 
@@ -205,8 +254,16 @@ mod tests {
     fn out_of_range_code_and_channel_send_nothing() {
         let mut i2c = Mock::new(&[]);
         let mut dac = Mcp4728::new(i2c.clone(), DEFAULT_ADDRESS);
-        assert_eq!(dac.fast_write([0, 4096, 0, 0]), Err(Error::CodeOutOfRange(4096)));
-        let w = ChannelWrite { channel: 4, code: 1, vref: Vref::Vdd, gain: Gain::X1 };
+        assert_eq!(
+            dac.fast_write([0, 4096, 0, 0]),
+            Err(Error::CodeOutOfRange(4096))
+        );
+        let w = ChannelWrite {
+            channel: 4,
+            code: 1,
+            vref: Vref::Vdd,
+            gain: Gain::X1,
+        };
         assert_eq!(dac.multi_write(&[w]), Err(Error::ChannelOutOfRange(4)));
         i2c.done();
     }
@@ -214,13 +271,17 @@ mod tests {
     #[test]
     fn bus_errors_are_kept() {
         let mut i2c = Mock::new(&[
-            Tx::write(0x60, vec![0; 8]).with_error(ErrorKind::NoAcknowledge(embedded_hal::i2c::NoAcknowledgeSource::Address)),
+            Tx::write(0x60, vec![0; 8]).with_error(ErrorKind::NoAcknowledge(
+                embedded_hal::i2c::NoAcknowledgeSource::Address,
+            )),
             Tx::read(0x60, vec![0; 24]).with_error(ErrorKind::Bus),
         ]);
         let mut dac = Mcp4728::new(i2c.clone(), DEFAULT_ADDRESS);
         assert_eq!(
             dac.fast_write([0; 4]),
-            Err(Error::I2c(ErrorKind::NoAcknowledge(embedded_hal::i2c::NoAcknowledgeSource::Address)))
+            Err(Error::I2c(ErrorKind::NoAcknowledge(
+                embedded_hal::i2c::NoAcknowledgeSource::Address
+            )))
         );
         assert_eq!(dac.read(), Err(Error::I2c(ErrorKind::Bus)));
         i2c.done();

@@ -14,8 +14,8 @@ pub mod regs;
 use embedded_hal::digital::InputPin;
 use embedded_hal::spi::SpiDevice;
 
-pub use regs::{Osr, Pga, Status, WordLength};
 use regs::{addr, cmd};
+pub use regs::{Osr, Pga, Status, WordLength};
 
 /// Channels of the device.
 pub const CHANNELS: usize = 4;
@@ -76,14 +76,25 @@ pub struct Ads131m04<SPI, DRDY> {
     null_frame: [u8; MAX_FRAME_BYTES],
 }
 
-type Result<T, SPI, DRDY> =
-    core::result::Result<T, Error<<SPI as embedded_hal::spi::ErrorType>::Error, <DRDY as embedded_hal::digital::ErrorType>::Error>>;
+type Result<T, SPI, DRDY> = core::result::Result<
+    T,
+    Error<
+        <SPI as embedded_hal::spi::ErrorType>::Error,
+        <DRDY as embedded_hal::digital::ErrorType>::Error,
+    >,
+>;
 
 impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     /// Take the bus and the DRDY pin. The device is assumed in its reset state (24-bit words, no
     /// input CRC) until [`Self::init`] runs.
     pub fn new(spi: SPI, drdy: DRDY) -> Self {
-        let mut dev = Self { spi, drdy, word: WordLength::Bits24, input_crc: false, null_frame: [0; MAX_FRAME_BYTES] };
+        let mut dev = Self {
+            spi,
+            drdy,
+            word: WordLength::Bits24,
+            input_crc: false,
+            null_frame: [0; MAX_FRAME_BYTES],
+        };
         dev.rebuild_null_frame();
         dev
     }
@@ -107,7 +118,11 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
         }
         let mode = regs::MODE_TIMEOUT
             | ((config.word_length as u16) << regs::MODE_WLENGTH_SHIFT)
-            | if config.input_crc { regs::MODE_RX_CRC_EN } else { 0 };
+            | if config.input_crc {
+                regs::MODE_RX_CRC_EN
+            } else {
+                0
+            };
         // The new word length and CRC mode apply from the frame after the WREG, which is the one
         // that carries the acknowledgement.
         self.command(cmd::wreg(addr::MODE, 1), &[mode])?;
@@ -132,7 +147,9 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
 
     /// Set the oversampling ratio (data rate), all channels enabled, high-resolution mode.
     pub fn set_osr(&mut self, osr: Osr) -> Result<(), SPI, DRDY> {
-        let clock = regs::CLOCK_ALL_CHANNELS | ((osr as u16) << regs::CLOCK_OSR_SHIFT) | regs::CLOCK_PWR_HIGH_RESOLUTION;
+        let clock = regs::CLOCK_ALL_CHANNELS
+            | ((osr as u16) << regs::CLOCK_OSR_SHIFT)
+            | regs::CLOCK_PWR_HIGH_RESOLUTION;
         self.write_register(addr::CLOCK, clock)
     }
 
@@ -184,13 +201,18 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     pub fn read(&mut self) -> Result<Conversion, SPI, DRDY> {
         let n = FRAME_WORDS * self.word.bytes();
         let mut rx = [0u8; MAX_FRAME_BYTES];
-        self.spi.transfer(&mut rx[..n], &self.null_frame[..n]).map_err(Error::Spi)?;
+        self.spi
+            .transfer(&mut rx[..n], &self.null_frame[..n])
+            .map_err(Error::Spi)?;
         let frame = self.parse(&rx[..n])?;
         let status = Status(frame.response);
         if status.input_crc_error() {
             return Err(Error::InputCrc);
         }
-        Ok(Conversion { status, codes: frame.codes })
+        Ok(Conversion {
+            status,
+            codes: frame.codes,
+        })
     }
 
     fn simple_command(&mut self, command: u16) -> Result<(), SPI, DRDY> {
@@ -206,13 +228,19 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
         } else if Status(frame.response).input_crc_error() {
             Err(Error::InputCrc)
         } else {
-            Err(Error::Response { expected, received: frame.response })
+            Err(Error::Response {
+                expected,
+                received: frame.response,
+            })
         }
     }
 
     /// One frame: `command`, up to four data words, the input CRC when enabled, zero padding.
     fn command(&mut self, command: u16, data: &[u16]) -> Result<Frame, SPI, DRDY> {
-        debug_assert!(data.len() <= CHANNELS, "at most four data words fit a frame");
+        debug_assert!(
+            data.len() <= CHANNELS,
+            "at most four data words fit a frame"
+        );
         let wb = self.word.bytes();
         let n = FRAME_WORDS * wb;
         let mut tx = [0u8; MAX_FRAME_BYTES];
@@ -226,7 +254,9 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             tx[at..at + 2].copy_from_slice(&crc.to_be_bytes());
         }
         let mut rx = [0u8; MAX_FRAME_BYTES];
-        self.spi.transfer(&mut rx[..n], &tx[..n]).map_err(Error::Spi)?;
+        self.spi
+            .transfer(&mut rx[..n], &tx[..n])
+            .map_err(Error::Spi)?;
         self.parse(&rx[..n])
     }
 
@@ -243,7 +273,9 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
         let response = u16::from_be_bytes([rx[0], rx[1]]);
         let codes = match self.word {
             // The common case, with the word length known at compile time.
-            WordLength::Bits24 => core::array::from_fn(|ch| WordLength::Bits24.decode(&rx[3 + 3 * ch..6 + 3 * ch])),
+            WordLength::Bits24 => {
+                core::array::from_fn(|ch| WordLength::Bits24.decode(&rx[3 + 3 * ch..6 + 3 * ch]))
+            }
             word => core::array::from_fn(|ch| word.decode(&rx[(ch + 1) * wb..(ch + 2) * wb])),
         };
         Ok(Frame { response, codes })

@@ -134,7 +134,9 @@ impl Osr {
 
     /// The OSR giving exactly `rate_hz` at `clkin_hz`, if any.
     pub fn for_rate(rate_hz: u32, clkin_hz: u32) -> Option<Self> {
-        Self::ALL.into_iter().find(|osr| clkin_hz / 2 == rate_hz * osr.ratio())
+        Self::ALL
+            .into_iter()
+            .find(|osr| clkin_hz / 2 == rate_hz * osr.ratio())
     }
 }
 
@@ -168,7 +170,10 @@ impl Pga {
 
 /// The GAIN1 register value for four channel gains.
 pub fn gain1(gains: [Pga; 4]) -> u16 {
-    gains.iter().enumerate().fold(0, |acc, (ch, g)| acc | (g.code() << (4 * ch)))
+    gains
+        .iter()
+        .enumerate()
+        .fold(0, |acc, (ch, g)| acc | (g.code() << (4 * ch)))
 }
 
 /// The STATUS word (response to NULL).
@@ -232,11 +237,22 @@ mod tests {
     fn gains_and_word_decoding() {
         assert_eq!(Pga::from_gain(32).map(Pga::code), Some(5));
         assert_eq!(Pga::from_gain(3), None);
-        let g = [Pga::X1, Pga::from_gain(2).unwrap(), Pga::from_gain(4).unwrap(), Pga::from_gain(128).unwrap()];
+        let g = [
+            Pga::X1,
+            Pga::from_gain(2).unwrap(),
+            Pga::from_gain(4).unwrap(),
+            Pga::from_gain(128).unwrap(),
+        ];
         assert_eq!(gain1(g), 0x7210);
         assert_eq!(WordLength::Bits24.decode(&[0xFF, 0xFF, 0xFE]), -2);
-        assert_eq!(WordLength::Bits32ZeroPad.decode(&[0x80, 0, 0, 0]), -(1 << 23));
-        assert_eq!(WordLength::Bits32SignExtend.decode(&[0xFF, 0xC0, 0, 0]), -(1 << 22));
+        assert_eq!(
+            WordLength::Bits32ZeroPad.decode(&[0x80, 0, 0, 0]),
+            -(1 << 23)
+        );
+        assert_eq!(
+            WordLength::Bits32SignExtend.decode(&[0xFF, 0xC0, 0, 0]),
+            -(1 << 22)
+        );
         assert_eq!(WordLength::Bits16.decode(&[0x40, 0x00]), 1 << 22);
     }
 }

@@ -42,7 +42,11 @@ fn rx(wb: usize, response: u16, codes: [i32; 4]) -> Vec<u8> {
 }
 
 fn frame(tx: Vec<u8>, rx: Vec<u8>) -> [SpiTx<u8>; 3] {
-    [SpiTx::transaction_start(), SpiTx::transfer(tx, rx), SpiTx::transaction_end()]
+    [
+        SpiTx::transaction_start(),
+        SpiTx::transfer(tx, rx),
+        SpiTx::transaction_end(),
+    ]
 }
 
 fn frames(list: Vec<(Vec<u8>, Vec<u8>)>) -> Vec<SpiTx<u8>> {
@@ -55,7 +59,12 @@ fn config() -> Config {
     Config {
         word_length: WordLength::Bits32SignExtend,
         osr: Osr::Osr4096,
-        gains: [Pga::X1, Pga::from_gain(2).unwrap(), Pga::from_gain(4).unwrap(), Pga::X1],
+        gains: [
+            Pga::X1,
+            Pga::from_gain(2).unwrap(),
+            Pga::from_gain(4).unwrap(),
+            Pga::X1,
+        ],
         input_crc: true,
     }
 }
@@ -69,12 +78,30 @@ fn init_frames() -> Vec<(Vec<u8>, Vec<u8>)> {
         (tx(3, &[cmd::NULL], false), rx(3, cmd::RESET_ACK, z)),
         (tx(3, &[cmd::rreg(addr::ID)], false), rx(3, STATUS_24, z)),
         (tx(3, &[cmd::NULL], false), rx(3, 0x2400, z)),
-        (tx(3, &[cmd::wreg(addr::MODE, 1), mode], false), rx(3, STATUS_24, z)),
-        (tx(4, &[cmd::NULL], true), rx(4, cmd::wreg_ack(addr::MODE, 1), z)),
-        (tx(4, &[cmd::wreg(addr::CLOCK, 1), 0x0F16], true), rx(4, 0x0300, z)),
-        (tx(4, &[cmd::NULL], true), rx(4, cmd::wreg_ack(addr::CLOCK, 1), z)),
-        (tx(4, &[cmd::wreg(addr::GAIN1, 1), 0x0210], true), rx(4, 0x0300, z)),
-        (tx(4, &[cmd::NULL], true), rx(4, cmd::wreg_ack(addr::GAIN1, 1), z)),
+        (
+            tx(3, &[cmd::wreg(addr::MODE, 1), mode], false),
+            rx(3, STATUS_24, z),
+        ),
+        (
+            tx(4, &[cmd::NULL], true),
+            rx(4, cmd::wreg_ack(addr::MODE, 1), z),
+        ),
+        (
+            tx(4, &[cmd::wreg(addr::CLOCK, 1), 0x0F16], true),
+            rx(4, 0x0300, z),
+        ),
+        (
+            tx(4, &[cmd::NULL], true),
+            rx(4, cmd::wreg_ack(addr::CLOCK, 1), z),
+        ),
+        (
+            tx(4, &[cmd::wreg(addr::GAIN1, 1), 0x0210], true),
+            rx(4, 0x0300, z),
+        ),
+        (
+            tx(4, &[cmd::NULL], true),
+            rx(4, cmd::wreg_ack(addr::GAIN1, 1), z),
+        ),
     ]
 }
 
@@ -91,7 +118,10 @@ fn init_resets_checks_id_and_configures() {
 #[test]
 fn read_decodes_status_and_codes_in_32_bit_mode() {
     let mut list = init_frames();
-    list.push((tx(4, &[cmd::NULL], true), rx(4, 0x030F, [1, -1, 8_388_607, -8_388_608])));
+    list.push((
+        tx(4, &[cmd::NULL], true),
+        rx(4, 0x030F, [1, -1, 8_388_607, -8_388_608]),
+    ));
     let mut spi = SpiMock::new(&frames(list));
     let mut adc = Ads131m04::new(spi.clone(), PinMock::new(&[]));
     adc.init(&config()).unwrap();
@@ -132,7 +162,10 @@ fn bad_crc_on_a_data_frame_is_an_error() {
 
 #[test]
 fn device_reported_input_crc_error_surfaces() {
-    let mut spi = SpiMock::new(&frames(vec![(tx(3, &[cmd::NULL], false), rx(3, 0x1500, [0; 4]))]));
+    let mut spi = SpiMock::new(&frames(vec![(
+        tx(3, &[cmd::NULL], false),
+        rx(3, 0x1500, [0; 4]),
+    )]));
     let mut adc = Ads131m04::new(spi.clone(), PinMock::new(&[]));
     assert_eq!(adc.read(), Err(Error::InputCrc));
     let (_, mut pin) = adc.release();
@@ -144,14 +177,20 @@ fn device_reported_input_crc_error_surfaces() {
 fn unexpected_acknowledgement_is_an_error() {
     let z = [0; 4];
     let list = vec![
-        (tx(3, &[cmd::wreg(addr::GAIN1, 1), 0x0001], false), rx(3, STATUS_24, z)),
+        (
+            tx(3, &[cmd::wreg(addr::GAIN1, 1), 0x0001], false),
+            rx(3, STATUS_24, z),
+        ),
         (tx(3, &[cmd::NULL], false), rx(3, STATUS_24, z)), // the write was not acknowledged
     ];
     let mut spi = SpiMock::new(&frames(list));
     let mut adc = Ads131m04::new(spi.clone(), PinMock::new(&[]));
     assert_eq!(
         adc.write_register(addr::GAIN1, 1),
-        Err(Error::Response { expected: cmd::wreg_ack(addr::GAIN1, 1), received: STATUS_24 })
+        Err(Error::Response {
+            expected: cmd::wreg_ack(addr::GAIN1, 1),
+            received: STATUS_24
+        })
     );
     let (_, mut pin) = adc.release();
     spi.done();
@@ -164,7 +203,10 @@ impl ErrorType for BrokenBus {
     type Error = ErrorKind;
 }
 impl SpiDevice for BrokenBus {
-    fn transaction(&mut self, _ops: &mut [Operation<'_, u8>]) -> core::result::Result<(), ErrorKind> {
+    fn transaction(
+        &mut self,
+        _ops: &mut [Operation<'_, u8>],
+    ) -> core::result::Result<(), ErrorKind> {
         Err(ErrorKind::ModeFault)
     }
 }
@@ -223,13 +265,28 @@ mod against_emulation {
     #[test]
     fn every_word_length_with_and_without_input_crc_reads_the_ideal_codes() {
         let reference = Stimulus::new(StimulusParams::QEMU_BOARD);
-        for word_length in [WordLength::Bits16, WordLength::Bits24, WordLength::Bits32ZeroPad, WordLength::Bits32SignExtend] {
+        for word_length in [
+            WordLength::Bits16,
+            WordLength::Bits24,
+            WordLength::Bits32ZeroPad,
+            WordLength::Bits32SignExtend,
+        ] {
             for input_crc in [false, true] {
                 let chip = RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
                 let (spi, drdy) = handles(&chip);
                 let mut adc = Ads131m04::new(spi, drdy);
-                let gains = [Pga::X1, Pga::from_gain(2).unwrap(), Pga::X1, Pga::from_gain(8).unwrap()];
-                let config = Config { word_length, osr: Osr::Osr2048, gains, input_crc };
+                let gains = [
+                    Pga::X1,
+                    Pga::from_gain(2).unwrap(),
+                    Pga::X1,
+                    Pga::from_gain(8).unwrap(),
+                ];
+                let config = Config {
+                    word_length,
+                    osr: Osr::Osr2048,
+                    gains,
+                    input_crc,
+                };
                 assert_eq!(adc.init(&config).unwrap() & 0xFF00, 0x2400);
                 assert_eq!(chip.borrow().data_rate_hz(), 2000.0);
                 for _ in 0..20 {
@@ -245,7 +302,10 @@ mod against_emulation {
                         if word_length == WordLength::Bits16 {
                             expect = (expect >> 8) << 8;
                         }
-                        assert_eq!(conv.codes[ch], expect, "{word_length:?} crc {input_crc} ch {ch} n {n}");
+                        assert_eq!(
+                            conv.codes[ch], expect,
+                            "{word_length:?} crc {input_crc} ch {ch} n {n}"
+                        );
                     }
                 }
             }
@@ -257,13 +317,21 @@ mod against_emulation {
         let chip = RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
         let (spi, drdy) = handles(&chip);
         let mut adc = Ads131m04::new(spi, drdy);
-        let config = Config { word_length: WordLength::Bits24, osr: Osr::Osr128, gains: [Pga::X1; 4], input_crc: true };
+        let config = Config {
+            word_length: WordLength::Bits24,
+            osr: Osr::Osr128,
+            gains: [Pga::X1; 4],
+            input_crc: true,
+        };
         adc.init(&config).unwrap();
         adc.set_gains([Pga::from_gain(128).unwrap(); 4]).unwrap();
         assert_eq!(adc.read_register(regs::addr::GAIN1).unwrap(), 0x7777);
         assert_eq!(chip.borrow().register(emu_regs::GAIN1), 0x7777);
         adc.lock().unwrap();
-        assert!(matches!(adc.set_osr(Osr::Osr256), Err(Error::Response { .. })));
+        assert!(matches!(
+            adc.set_osr(Osr::Osr256),
+            Err(Error::Response { .. })
+        ));
         adc.unlock().unwrap();
         adc.set_osr(Osr::Osr256).unwrap();
         assert_eq!(chip.borrow().data_rate_hz(), 16_000.0);

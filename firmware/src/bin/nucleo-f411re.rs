@@ -7,7 +7,9 @@
 
 #[cfg(not(target_os = "none"))]
 fn main() {
-    eprintln!("this is a thumbv7em-none-eabihf binary for the NUCLEO-F411RE: build it from firmware/");
+    eprintln!(
+        "this is a thumbv7em-none-eabihf binary for the NUCLEO-F411RE: build it from firmware/"
+    );
     std::process::exit(2);
 }
 
@@ -21,6 +23,7 @@ mod target {
     use core::cell::RefCell;
     use cortex_m_rt::entry;
     use critical_section::Mutex;
+    use embedded_hal::spi::MODE_1;
     use embedded_hal_bus::spi::ExclusiveDevice;
     use embedded_hal_nb::serial::{Read, Write};
     use firmware::ads131m04::{Ads131m04, Config, Osr, WordLength};
@@ -33,7 +36,6 @@ mod target {
     use stm32f4xx_hal::prelude::*;
     use stm32f4xx_hal::rcc::Config as RccConfig;
     use stm32f4xx_hal::serial::config::Config as SerialConfig;
-    use embedded_hal::spi::MODE_1;
     use stm32f4xx_hal::spi::Spi;
     use {defmt_rtt as _, panic_probe as _};
 
@@ -63,7 +65,11 @@ mod target {
                 Err(_) => (a.last, true),
             };
             a.last = codes;
-            a.acq.push(RawSample { index: a.index, codes, read_error });
+            a.acq.push(RawSample {
+                index: a.index,
+                codes,
+                read_error,
+            });
             a.index = a.index.wrapping_add(1);
         });
     }
@@ -80,7 +86,9 @@ mod target {
         fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError> {
             critical_section::with(|cs| {
                 let mut slot = ACQUISITION.borrow_ref_mut(cs);
-                let Some(a) = slot.as_mut() else { return Err(HardwareError::Adc) };
+                let Some(a) = slot.as_mut() else {
+                    return Err(HardwareError::Adc);
+                };
                 a.adc.set_osr(osr).map_err(|_| HardwareError::Adc)
             })
         }
@@ -90,7 +98,9 @@ mod target {
     fn main() -> ! {
         let mut dp = pac::Peripherals::take().unwrap();
         let mut rcc = dp.RCC.freeze(
-            RccConfig::hse(board::HSE_HZ.Hz()).bypass_hse_oscillator().sysclk(board::SYSCLK_HZ.Hz()),
+            RccConfig::hse(board::HSE_HZ.Hz())
+                .bypass_hse_oscillator()
+                .sysclk(board::SYSCLK_HZ.Hz()),
         );
         let gpioa = dp.GPIOA.split(&mut rcc);
         let gpiob = dp.GPIOB.split(&mut rcc);
@@ -98,7 +108,11 @@ mod target {
 
         let serial = dp
             .USART2
-            .serial::<u8>((gpioa.pa2, gpioa.pa3), SerialConfig::default().baudrate(board::BAUD.bps()), &mut rcc)
+            .serial::<u8>(
+                (gpioa.pa2, gpioa.pa3),
+                SerialConfig::default().baudrate(board::BAUD.bps()),
+                &mut rcc,
+            )
             .unwrap();
         let (mut tx, mut rx) = serial.split();
 
@@ -108,7 +122,9 @@ mod target {
             board::SPI_HZ.Hz(),
             &mut rcc,
         );
-        let cs = gpiob.pb6.into_push_pull_output_in_state(stm32f4xx_hal::gpio::PinState::High);
+        let cs = gpiob
+            .pb6
+            .into_push_pull_output_in_state(stm32f4xx_hal::gpio::PinState::High);
         let spi = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
         let mut drdy = gpioa.pa10.into_pull_up_input();
         drdy.make_interrupt_source(&mut syscfg);
@@ -124,7 +140,12 @@ mod target {
 
         let config = board::device_config();
         let mut adc = Ads131m04::new(spi, drdy);
-        let adc_config = Config { word_length: WordLength::Bits24, osr: config.osr, gains: config.pga, input_crc: true };
+        let adc_config = Config {
+            word_length: WordLength::Bits24,
+            osr: config.osr,
+            gains: config.pga,
+            input_crc: true,
+        };
         match adc.init(&adc_config) {
             Ok(id) => defmt::info!("ADS131M04 ID {=u16:#06x}", id),
             Err(e) => defmt::error!("ADS131M04 init failed: {}", defmt::Debug2Format(&e)),
@@ -133,9 +154,16 @@ mod target {
         let (producer, mut consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
         critical_section::with(|cs| {
             let acq = Acquirer::new(producer, &OVERRUNS);
-            ACQUISITION.borrow_ref_mut(cs).replace(Acquisition { adc, acq, index: 0, last: [0; 4] });
+            ACQUISITION.borrow_ref_mut(cs).replace(Acquisition {
+                adc,
+                acq,
+                index: 0,
+                last: [0; 4],
+            });
         });
-        let mut fe = NucleoFrontend { dac: Mcp4728::new(i2c, DEFAULT_ADDRESS) };
+        let mut fe = NucleoFrontend {
+            dac: Mcp4728::new(i2c, DEFAULT_ADDRESS),
+        };
         let mut dev = Device::new(config);
         if dev.power_up(&mut fe).is_err() {
             defmt::error!("MCP4728 did not acknowledge the power-up write");

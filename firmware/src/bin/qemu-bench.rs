@@ -15,7 +15,9 @@
 
 #[cfg(not(target_os = "none"))]
 fn main() {
-    eprintln!("this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/");
+    eprintln!(
+        "this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/"
+    );
     std::process::exit(2);
 }
 
@@ -52,7 +54,9 @@ mod target {
     fn panic(info: &core::panic::PanicInfo) -> ! {
         hprintln!("panic: {}", info);
         debug::exit(debug::EXIT_FAILURE);
-        loop {}
+        loop {
+            cortex_m::asm::wfi();
+        }
     }
 
     /// Conversions per timed run.
@@ -72,7 +76,12 @@ mod target {
         RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)))
     }
 
-    const ADC_CONFIG: Config = Config { word_length: WordLength::Bits24, osr: Osr::Osr4096, gains: [firmware::ads131m04::Pga::X1; 4], input_crc: true };
+    const ADC_CONFIG: Config = Config {
+        word_length: WordLength::Bits24,
+        osr: Osr::Osr4096,
+        gains: [firmware::ads131m04::Pga::X1; 4],
+        input_crc: true,
+    };
 
     /// SysTick ticks spent in `f` (counter runs down from 2^24 − 1; runs stay far below a wrap).
     fn ticks(syst: &mut SYST, f: impl FnOnce()) -> u32 {
@@ -90,7 +99,8 @@ mod target {
 
     fn request(dev: &mut Device, command: Command) {
         let mut wire = [0u8; protocol::MAX_FRAME];
-        let n = protocol::encode(&Message::Request(Request { tag: 0, command }), &mut wire).unwrap();
+        let n =
+            protocol::encode(&Message::Request(Request { tag: 0, command }), &mut wire).unwrap();
         dev.on_rx(&wire[..n]);
     }
 
@@ -107,7 +117,14 @@ mod target {
         let mut hw = NoHardware;
         let mut queue = SampleQueue::new();
         let (mut producer, mut consumer) = queue.split();
-        request(&mut dev, Command::SetFilter(FilterConfig { smoother_alpha: 1.0, butterworth_order: 4, cutoff_hz: 50.0 }));
+        request(
+            &mut dev,
+            Command::SetFilter(FilterConfig {
+                smoother_alpha: 1.0,
+                butterworth_order: 4,
+                cutoff_hz: 50.0,
+            }),
+        );
         request(&mut dev, Command::Tare { samples: 32 });
         request(&mut dev, Command::SetDriftTracking { enabled: drift });
         request(&mut dev, Command::Start);
@@ -117,7 +134,11 @@ mod target {
             for _ in 0..count {
                 chip_a.borrow_mut().convert();
                 let conv = adc_a.read().unwrap();
-                let _ = producer.enqueue(RawSample { index, codes: conv.codes, read_error: false });
+                let _ = producer.enqueue(RawSample {
+                    index,
+                    codes: conv.codes,
+                    read_error: false,
+                });
                 index = index.wrapping_add(1);
                 while let Some(raw) = consumer.dequeue() {
                     dev.on_sample(&raw, &mut hw);
@@ -172,13 +193,37 @@ mod target {
         let per_sample = |t: u32| (t as f32) * per_tick as f32 / N as f32;
         let firmware = per_sample(t_a) - per_sample(t_b);
         let driver = per_sample(t_c) - per_sample(t_b);
-        hprintln!("conversions per run: {} ({} wire bytes, {} frames dropped, checksum {})", N, bytes, dropped, sum);
-        hprintln!("emulated chip alone (excluded): {} instructions/sample", per_sample(t_b));
-        hprintln!("driver read + SPI CRC check: {} instructions/sample", driver);
-        hprintln!("queue, offset cut, 2 biquads x 3 ch, framing, CRC-32C, COBS: {} instructions/sample", firmware - driver);
-        hprintln!("with drift tracking on (off by default): {} instructions/sample", per_sample(t_drift) - per_sample(t_b));
-        hprintln!("firmware instructions/sample: {} (goal 400, ratio {})", firmware, firmware / 400.0);
+        hprintln!(
+            "conversions per run: {} ({} wire bytes, {} frames dropped, checksum {})",
+            N,
+            bytes,
+            dropped,
+            sum
+        );
+        hprintln!(
+            "emulated chip alone (excluded): {} instructions/sample",
+            per_sample(t_b)
+        );
+        hprintln!(
+            "driver read + SPI CRC check: {} instructions/sample",
+            driver
+        );
+        hprintln!(
+            "queue, offset cut, 2 biquads x 3 ch, framing, CRC-32C, COBS: {} instructions/sample",
+            firmware - driver
+        );
+        hprintln!(
+            "with drift tracking on (off by default): {} instructions/sample",
+            per_sample(t_drift) - per_sample(t_b)
+        );
+        hprintln!(
+            "firmware instructions/sample: {} (goal 400, ratio {})",
+            firmware,
+            firmware / 400.0
+        );
         debug::exit(debug::EXIT_SUCCESS);
-        loop {}
+        loop {
+            cortex_m::asm::wfi();
+        }
     }
 }

@@ -11,7 +11,9 @@
 
 #[cfg(not(target_os = "none"))]
 fn main() {
-    eprintln!("this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/");
+    eprintln!(
+        "this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/"
+    );
     std::process::exit(2);
 }
 
@@ -62,14 +64,20 @@ mod target {
     fn SysTick() {
         critical_section::with(|cs| {
             let mut slot = ACQUISITION.borrow_ref_mut(cs);
-            let Some(Shared(a)) = slot.as_mut() else { return };
+            let Some(Shared(a)) = slot.as_mut() else {
+                return;
+            };
             a.chip.borrow_mut().convert();
             let (codes, read_error) = match a.adc.read() {
                 Ok(conv) => (conv.codes, false),
                 Err(_) => (a.last, true),
             };
             a.last = codes;
-            a.acq.push(RawSample { index: a.index, codes, read_error });
+            a.acq.push(RawSample {
+                index: a.index,
+                codes,
+                read_error,
+            });
             a.index = a.index.wrapping_add(1);
         });
     }
@@ -90,10 +98,15 @@ mod target {
         fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError> {
             critical_section::with(|cs| {
                 let mut slot = ACQUISITION.borrow_ref_mut(cs);
-                let Some(Shared(a)) = slot.as_mut() else { return Err(HardwareError::Adc) };
+                let Some(Shared(a)) = slot.as_mut() else {
+                    return Err(HardwareError::Adc);
+                };
                 a.adc.set_osr(osr).map_err(|_| HardwareError::Adc)
             })?;
-            board::start_sample_clock(&mut self.syst, board::ticks_per_sample(osr.data_rate_hz(self.clkin_hz)));
+            board::start_sample_clock(
+                &mut self.syst,
+                board::ticks_per_sample(osr.data_rate_hz(self.clkin_hz)),
+            );
             Ok(())
         }
     }
@@ -107,7 +120,12 @@ mod target {
         let config = board::device_config();
         let (spi, drdy) = handles(chip);
         let mut adc = Ads131m04::new(spi, drdy);
-        let adc_config = Config { word_length: WordLength::Bits24, osr: config.osr, gains: config.pga, input_crc: true };
+        let adc_config = Config {
+            word_length: WordLength::Bits24,
+            osr: config.osr,
+            gains: config.pga,
+            input_crc: true,
+        };
         if let Err(e) = adc.init(&adc_config) {
             defmt::error!("ADC init failed: {}", defmt::Debug2Format(&e));
         }
@@ -115,9 +133,19 @@ mod target {
         let (producer, mut consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
         critical_section::with(|cs| {
             let acq = Acquirer::new(producer, &OVERRUNS);
-            ACQUISITION.borrow_ref_mut(cs).replace(Shared(Acquisition { chip, adc, acq, index: 0, last: [0; 4] }));
+            ACQUISITION.borrow_ref_mut(cs).replace(Shared(Acquisition {
+                chip,
+                adc,
+                acq,
+                index: 0,
+                last: [0; 4],
+            }));
         });
-        let mut fe = QemuFrontend { dac: Mcp4728::new(TrimDac(chip), DEFAULT_ADDRESS), syst: cp.SYST, clkin_hz: config.clkin_hz };
+        let mut fe = QemuFrontend {
+            dac: Mcp4728::new(TrimDac(chip), DEFAULT_ADDRESS),
+            syst: cp.SYST,
+            clkin_hz: config.clkin_hz,
+        };
         let mut dev = Device::new(config);
         if dev.power_up(&mut fe).is_err() {
             defmt::error!("trim DAC write failed at power-up");

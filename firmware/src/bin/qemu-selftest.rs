@@ -7,7 +7,9 @@
 
 #[cfg(not(target_os = "none"))]
 fn main() {
-    eprintln!("this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/");
+    eprintln!(
+        "this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/"
+    );
     std::process::exit(2);
 }
 
@@ -24,9 +26,9 @@ mod target {
     use cortex_m_semihosting::{debug, hprintln};
     use critical_section::Mutex;
     use firmware::dsp::FilterBank;
-    use protocol::FilterConfig;
     use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue, QUEUE_LEN};
     use panic_probe as _;
+    use protocol::FilterConfig;
 
     // panic-probe prints through defmt; this binary has no RTT reader, so a panic shows as
     // a non-zero exit via the HardFault/semihosting path below.
@@ -42,7 +44,9 @@ mod target {
     #[defmt::panic_handler]
     fn defmt_panic() -> ! {
         debug::exit(debug::EXIT_FAILURE);
-        loop {}
+        loop {
+            cortex_m::asm::wfi();
+        }
     }
 
     static FAILED: AtomicU32 = AtomicU32::new(0);
@@ -64,10 +68,16 @@ mod target {
         let n = f64::from(order);
         let mut signal = &mut input[..x.len()];
         for i in 0..order / 2 {
-            let q = 1.0 / (2.0 * libm::cos((2.0 * f64::from(i) + 1.0) * core::f64::consts::PI / (2.0 * n)));
+            let q = 1.0
+                / (2.0 * libm::cos((2.0 * f64::from(i) + 1.0) * core::f64::consts::PI / (2.0 * n)));
             let d = 1.0 + k / q + k * k;
             let b0 = k * k / d;
-            let (b1, b2, a1, a2) = (2.0 * b0, b0, 2.0 * (k * k - 1.0) / d, (1.0 - k / q + k * k) / d);
+            let (b1, b2, a1, a2) = (
+                2.0 * b0,
+                b0,
+                2.0 * (k * k - 1.0) / d,
+                (1.0 - k / q + k * k) / d,
+            );
             let x0 = signal[0];
             let mut s2 = (b2 - a2) * x0;
             let mut s1 = (b1 - a1) * x0 + s2;
@@ -93,14 +103,34 @@ mod target {
         }
         let mut y64 = [0f64; 2048];
         for (order, ratio) in [(2u8, 0.01f32), (4, 0.01), (4, 0.1), (2, 0.4)] {
-            let config = FilterConfig { smoother_alpha: 1.0, butterworth_order: order, cutoff_hz: ratio * 1000.0 };
+            let config = FilterConfig {
+                smoother_alpha: 1.0,
+                butterworth_order: order,
+                cutoff_hz: ratio * 1000.0,
+            };
             let mut f = FilterBank::build(&config, 1000.0).unwrap();
             reference(order, f64::from(ratio), &x, &mut y64);
-            let worst = x.iter().zip(&y64).map(|(&xi, &r)| libm::fabs(f64::from(f.step([xi, -xi, xi])[0]) - r)).fold(0.0, f64::max);
-            hprintln!("     butterworth order {} fc/fs {}: max |f32 - f64| = {}", order, ratio, worst);
-            check("butterworth f32 on the FPU within 2e-5 of f64", worst <= 2e-5);
+            let worst = x
+                .iter()
+                .zip(&y64)
+                .map(|(&xi, &r)| libm::fabs(f64::from(f.step([xi, -xi, xi])[0]) - r))
+                .fold(0.0, f64::max);
+            hprintln!(
+                "     butterworth order {} fc/fs {}: max |f32 - f64| = {}",
+                order,
+                ratio,
+                worst
+            );
+            check(
+                "butterworth f32 on the FPU within 2e-5 of f64",
+                worst <= 2e-5,
+            );
         }
-        let config = FilterConfig { smoother_alpha: 0.05, butterworth_order: 0, cutoff_hz: 0.0 };
+        let config = FilterConfig {
+            smoother_alpha: 0.05,
+            butterworth_order: 0,
+            cutoff_hz: 0.0,
+        };
         let mut s = FilterBank::build(&config, 1000.0).unwrap();
         s.step([0.0; 3]);
         let mut worst = 0.0f64;
@@ -108,8 +138,15 @@ mod target {
             let exact = 1.0 - libm::pow(0.95, f64::from(n));
             worst = worst.max(libm::fabs(f64::from(s.step([1.0; 3])[2]) - exact));
         }
-        check("smoother step response within 1e-5 of closed form", worst <= 1e-5);
-        let config = FilterConfig { smoother_alpha: 1.0, butterworth_order: 2, cutoff_hz: 450.0 };
+        check(
+            "smoother step response within 1e-5 of closed form",
+            worst <= 1e-5,
+        );
+        let config = FilterConfig {
+            smoother_alpha: 1.0,
+            butterworth_order: 2,
+            cutoff_hz: 450.0,
+        };
         let refused = FilterBank::build(&config, 1000.0).is_err();
         check("cut-off at 0.45 fs refused", refused);
     }
@@ -129,14 +166,22 @@ mod target {
         let index = PUSHED.fetch_add(1, Ordering::Relaxed);
         critical_section::with(|cs| {
             if let Some(acq) = ACQUIRER.borrow_ref_mut(cs).as_mut() {
-                acq.push(RawSample { index, codes: [index as i32; 4], read_error: false });
+                acq.push(RawSample {
+                    index,
+                    codes: [index as i32; 4],
+                    read_error: false,
+                });
             }
         });
     }
 
     /// Drain `target` samples with `work` busy-loop iterations per sample; returns
     /// (popped, samples missing from the index sequence, overruns counted by the producer).
-    fn pressure(consumer: &mut firmware::stream::Drain<'static>, target: u32, work: u32) -> (u32, u32, u32) {
+    fn pressure(
+        consumer: &mut firmware::stream::Drain<'static>,
+        target: u32,
+        work: u32,
+    ) -> (u32, u32, u32) {
         let mut popped = 0;
         let mut gaps = 0;
         let mut next: Option<u32> = None;
@@ -172,16 +217,37 @@ mod target {
     fn queue_tests(syst: &mut cortex_m::peripheral::SYST) {
         // SAFETY: the queue is split once, before the interrupt that uses the producer starts.
         let (producer, mut consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
-        critical_section::with(|cs| ACQUIRER.borrow_ref_mut(cs).replace(Acquirer::new(producer, &OVERRUNS)));
+        critical_section::with(|cs| {
+            ACQUIRER
+                .borrow_ref_mut(cs)
+                .replace(Acquirer::new(producer, &OVERRUNS))
+        });
         // An interrupt every 100 ticks (~4000 instructions under icount): heavy pressure.
         board::start_sample_clock(syst, 100);
         let (popped, gaps, overruns) = pressure(&mut consumer, 5000, 0);
         PUSHED.store(0, Ordering::Relaxed); // the second run starts its index sequence at 0
-        hprintln!("     fast consumer: popped {} gaps {} overruns {}", popped, gaps, overruns);
-        check("fast consumer sees every sample in order, no overrun", gaps == 0 && overruns == 0);
+        hprintln!(
+            "     fast consumer: popped {} gaps {} overruns {}",
+            popped,
+            gaps,
+            overruns
+        );
+        check(
+            "fast consumer sees every sample in order, no overrun",
+            gaps == 0 && overruns == 0,
+        );
         let (popped, gaps, overruns) = pressure(&mut consumer, 2000, 3000);
-        hprintln!("     slow consumer: popped {} gaps {} overruns {} (queue {})", popped, gaps, overruns, QUEUE_LEN - 1);
-        check("slow consumer: every gap is a counted overrun", gaps > 0 && gaps == overruns);
+        hprintln!(
+            "     slow consumer: popped {} gaps {} overruns {} (queue {})",
+            popped,
+            gaps,
+            overruns,
+            QUEUE_LEN - 1
+        );
+        check(
+            "slow consumer: every gap is a counted overrun",
+            gaps > 0 && gaps == overruns,
+        );
         syst.disable_interrupt();
     }
 
@@ -192,8 +258,18 @@ mod target {
         dsp_tests();
         queue_tests(&mut cp.SYST);
         let failed = FAILED.load(Ordering::Relaxed);
-        hprintln!("qemu-selftest: {} passed, {} failed", PASSED.load(Ordering::Relaxed), failed);
-        debug::exit(if failed == 0 { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
-        loop {}
+        hprintln!(
+            "qemu-selftest: {} passed, {} failed",
+            PASSED.load(Ordering::Relaxed),
+            failed
+        );
+        debug::exit(if failed == 0 {
+            debug::EXIT_SUCCESS
+        } else {
+            debug::EXIT_FAILURE
+        });
+        loop {
+            cortex_m::asm::wfi();
+        }
     }
 }

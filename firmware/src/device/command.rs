@@ -9,6 +9,7 @@
 //! - tare: 1..=65535 samples; busy while an auto-null search or another tare runs;
 //! - auto-null: busy while a search runs; a DAC that refuses the write is a hardware nack;
 //! - set batch: 1..=16.
+//!
 //! Every accepted change of configuration increments `config_epoch`; tare and auto-null increment
 //! it again when they take effect.
 
@@ -21,7 +22,11 @@ use crate::offset::NullState;
 
 /// A nack for `req`.
 pub fn nack(req: &Request, code: NackCode) -> Reply {
-    Reply::Nack { tag: req.tag, opcode: req.command.opcode(), code }
+    Reply::Nack {
+        tag: req.tag,
+        opcode: req.command.opcode(),
+        code,
+    }
 }
 
 impl Device {
@@ -29,19 +34,27 @@ impl Device {
     pub fn apply(&mut self, req: &Request, hw: &mut impl Frontend) -> Reply {
         match self.execute(&req.command, hw) {
             Ok(Some(reply)) => reply_with_tag(reply, req.tag),
-            Ok(None) => Reply::Ack { tag: req.tag, opcode: req.command.opcode() },
+            Ok(None) => Reply::Ack {
+                tag: req.tag,
+                opcode: req.command.opcode(),
+            },
             Err(code) => nack(req, code),
         }
     }
 
     /// Ok(None) = ack; Ok(Some(reply)) = a different positive answer (pong).
-    fn execute(&mut self, command: &Command, hw: &mut impl Frontend) -> Result<Option<Reply>, NackCode> {
+    fn execute(
+        &mut self,
+        command: &Command,
+        hw: &mut impl Frontend,
+    ) -> Result<Option<Reply>, NackCode> {
         match *command {
             Command::Start => self.streaming = true,
             Command::Stop => self.streaming = false,
             Command::SetRate { hz } => self.set_rate(hz, hw)?,
             Command::SetFilter(config) => {
-                self.filters = FilterBank::build(&config, self.rate_hz() as f32).map_err(|_| NackCode::OutOfRange)?;
+                self.filters = FilterBank::build(&config, self.rate_hz() as f32)
+                    .map_err(|_| NackCode::OutOfRange)?;
                 self.filter_config = config;
                 self.bump();
             }
@@ -90,7 +103,8 @@ impl Device {
 
     fn set_rate(&mut self, hz: u32, hw: &mut impl Frontend) -> Result<(), NackCode> {
         let osr = Osr::for_rate(hz, self.cfg.clkin_hz).ok_or(NackCode::OutOfRange)?;
-        let filters = FilterBank::build(&self.filter_config, hz as f32).map_err(|_| NackCode::OutOfRange)?;
+        let filters =
+            FilterBank::build(&self.filter_config, hz as f32).map_err(|_| NackCode::OutOfRange)?;
         hw.set_osr(osr).map_err(|_| NackCode::Hardware)?;
         self.osr = osr;
         self.period_ns = self.period_ns_for(osr);

@@ -10,8 +10,8 @@ pub mod config;
 
 use heapless::Deque;
 use protocol::{
-    encode, Accumulator, FilterConfig, Info, Malformed, Message, Outcome, Reply, Request, Sample, Status,
-    CODE_MAX, CODE_MIN, MAX_FRAME, PROTOCOL_VERSION,
+    encode, Accumulator, FilterConfig, Info, Malformed, Message, Outcome, Reply, Request, Sample,
+    Status, CODE_MAX, CODE_MIN, MAX_FRAME, PROTOCOL_VERSION,
 };
 
 use crate::ads131m04::Osr;
@@ -100,7 +100,10 @@ impl Device {
             filters: FilterBank::NONE,
             tare: Tare::new(),
             drift: DriftTracker::new(cfg.drift),
-            null: AutoNull::new(cfg.null_timing, [cfg.dac_initial[0], cfg.dac_initial[1], cfg.dac_initial[2]]),
+            null: AutoNull::new(
+                cfg.null_timing,
+                [cfg.dac_initial[0], cfg.dac_initial[1], cfg.dac_initial[2]],
+            ),
             dac: cfg.dac_initial,
             streaming: false,
             epoch: 0,
@@ -231,10 +234,14 @@ impl Device {
         let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
         let corrected = self.drift.apply(tared);
         if self.filters.is_pass_through() {
-            return Sample { ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)) };
+            return Sample {
+                ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)),
+            };
         }
         let y = self.filters.step(corrected.map(|c| c as f32));
-        Sample { ch: y.map(round_to_code) }
+        Sample {
+            ch: y.map(round_to_code),
+        }
     }
 
     fn write_null_codes(&mut self, codes: [u16; 3], hw: &mut impl Frontend) {

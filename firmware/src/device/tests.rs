@@ -44,15 +44,26 @@ pub(super) fn config() -> DeviceConfig {
         osr: Osr::Osr4096, // 1000 samples/s
         batch: 4,
         filter: FilterConfig::NONE,
-        null_timing: NullTiming { settle: 1, average: 2 },
-        drift: DriftSettings { window: 1000, rate: 0.01, limit: 500 },
+        null_timing: NullTiming {
+            settle: 1,
+            average: 2,
+        },
+        drift: DriftSettings {
+            window: 1000,
+            rate: 0.01,
+            limit: 500,
+        },
         dac_initial: [2048; 4],
         null_at_power_up: false,
     }
 }
 
 fn raw(index: u32, codes: [i32; 4]) -> RawSample {
-    RawSample { index, codes, read_error: false }
+    RawSample {
+        index,
+        codes,
+        read_error: false,
+    }
 }
 
 /// Everything in the transmit buffer, decoded.
@@ -77,11 +88,27 @@ fn request(dev: &mut Device, tag: u8, command: Command) {
 }
 
 fn replies(msgs: &[Message]) -> Vec<Reply> {
-    msgs.iter().filter_map(|m| if let Message::Reply(r) = m { Some(*r) } else { None }).collect()
+    msgs.iter()
+        .filter_map(|m| {
+            if let Message::Reply(r) = m {
+                Some(*r)
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 fn frames(msgs: &[Message]) -> Vec<SampleFrame> {
-    msgs.iter().filter_map(|m| if let Message::Sample(f) = m { Some(f.clone()) } else { None }).collect()
+    msgs.iter()
+        .filter_map(|m| {
+            if let Message::Sample(f) = m {
+                Some(f.clone())
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 /// Send one command to a stopped device and return its reply.
@@ -94,21 +121,37 @@ fn answer(dev: &mut Device, hw: &mut MockFrontend, command: Command) -> Reply {
 }
 
 fn ack(command: &Command) -> Reply {
-    Reply::Ack { tag: 9, opcode: command.opcode() }
+    Reply::Ack {
+        tag: 9,
+        opcode: command.opcode(),
+    }
 }
 
 fn nacked(command: &Command, code: NackCode) -> Reply {
-    Reply::Nack { tag: 9, opcode: command.opcode(), code }
+    Reply::Nack {
+        tag: 9,
+        opcode: command.opcode(),
+        code,
+    }
 }
 
-fn check(dev: &mut Device, hw: &mut MockFrontend, command: Command, expected: Result<(), NackCode>) {
+fn check(
+    dev: &mut Device,
+    hw: &mut MockFrontend,
+    command: Command,
+    expected: Result<(), NackCode>,
+) {
     let epoch = dev.config_epoch();
     let got = answer(dev, hw, command);
     match expected {
         Ok(()) => assert_eq!(got, ack(&command), "{command:?}"),
         Err(code) => {
             assert_eq!(got, nacked(&command, code), "{command:?}");
-            assert_eq!(dev.config_epoch(), epoch, "a refused command changes nothing: {command:?}");
+            assert_eq!(
+                dev.config_epoch(),
+                epoch,
+                "a refused command changes nothing: {command:?}"
+            );
         }
     }
 }
@@ -117,40 +160,109 @@ fn check(dev: &mut Device, hw: &mut MockFrontend, command: Command, expected: Re
 fn set_rate_accepts_adc_rates_only() {
     let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
     check(&mut dev, &mut hw, Command::SetRate { hz: 4000 }, Ok(()));
-    assert_eq!((dev.rate_hz(), hw.osrs.as_slice()), (4000, &[Osr::Osr1024][..]));
-    check(&mut dev, &mut hw, Command::SetRate { hz: 1234 }, Err(NackCode::OutOfRange));
-    check(&mut dev, &mut hw, Command::SetRate { hz: 0 }, Err(NackCode::OutOfRange));
-    check(&mut dev, &mut hw, Command::SetRate { hz: 64_000 }, Err(NackCode::OutOfRange));
+    assert_eq!(
+        (dev.rate_hz(), hw.osrs.as_slice()),
+        (4000, &[Osr::Osr1024][..])
+    );
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetRate { hz: 1234 },
+        Err(NackCode::OutOfRange),
+    );
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetRate { hz: 0 },
+        Err(NackCode::OutOfRange),
+    );
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetRate { hz: 64_000 },
+        Err(NackCode::OutOfRange),
+    );
     // A low-pass at 200 Hz is fine at 4 kHz but not at 250 Hz (≥ 0.45·rate).
-    let filter = FilterConfig { smoother_alpha: 1.0, butterworth_order: 2, cutoff_hz: 200.0 };
+    let filter = FilterConfig {
+        smoother_alpha: 1.0,
+        butterworth_order: 2,
+        cutoff_hz: 200.0,
+    };
     check(&mut dev, &mut hw, Command::SetFilter(filter), Ok(()));
-    check(&mut dev, &mut hw, Command::SetRate { hz: 250 }, Err(NackCode::OutOfRange));
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetRate { hz: 250 },
+        Err(NackCode::OutOfRange),
+    );
     hw.fail_adc = true;
-    check(&mut dev, &mut hw, Command::SetRate { hz: 1000 }, Err(NackCode::Hardware));
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetRate { hz: 1000 },
+        Err(NackCode::Hardware),
+    );
     assert_eq!(dev.rate_hz(), 4000);
 }
 
 #[test]
 fn set_filter_checks_every_field() {
     let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
-    let f = |alpha, order, cutoff| Command::SetFilter(FilterConfig { smoother_alpha: alpha, butterworth_order: order, cutoff_hz: cutoff });
+    let f = |alpha, order, cutoff| {
+        Command::SetFilter(FilterConfig {
+            smoother_alpha: alpha,
+            butterworth_order: order,
+            cutoff_hz: cutoff,
+        })
+    };
     check(&mut dev, &mut hw, f(0.2, 4, 50.0), Ok(()));
-    assert_eq!(dev.info().filter, FilterConfig { smoother_alpha: 0.2, butterworth_order: 4, cutoff_hz: 50.0 });
+    assert_eq!(
+        dev.info().filter,
+        FilterConfig {
+            smoother_alpha: 0.2,
+            butterworth_order: 4,
+            cutoff_hz: 50.0
+        }
+    );
     check(&mut dev, &mut hw, f(0.0, 0, 0.0), Err(NackCode::OutOfRange));
     check(&mut dev, &mut hw, f(1.5, 0, 0.0), Err(NackCode::OutOfRange));
-    check(&mut dev, &mut hw, f(1.0, 3, 50.0), Err(NackCode::OutOfRange));
-    check(&mut dev, &mut hw, f(1.0, 2, 450.0), Err(NackCode::OutOfRange));
+    check(
+        &mut dev,
+        &mut hw,
+        f(1.0, 3, 50.0),
+        Err(NackCode::OutOfRange),
+    );
+    check(
+        &mut dev,
+        &mut hw,
+        f(1.0, 2, 450.0),
+        Err(NackCode::OutOfRange),
+    );
     check(&mut dev, &mut hw, f(1.0, 2, 0.0), Err(NackCode::OutOfRange));
     check(&mut dev, &mut hw, f(1.0, 2, 0.5), Err(NackCode::OutOfRange));
-    assert_eq!(dev.info().filter.cutoff_hz, 50.0, "refused settings leave the filter alone");
+    assert_eq!(
+        dev.info().filter.cutoff_hz,
+        50.0,
+        "refused settings leave the filter alone"
+    );
 }
 
 #[test]
 fn tare_averages_then_subtracts_and_is_reported() {
     let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
-    check(&mut dev, &mut hw, Command::Tare { samples: 0 }, Err(NackCode::OutOfRange));
+    check(
+        &mut dev,
+        &mut hw,
+        Command::Tare { samples: 0 },
+        Err(NackCode::OutOfRange),
+    );
     check(&mut dev, &mut hw, Command::Tare { samples: 4 }, Ok(()));
-    check(&mut dev, &mut hw, Command::Tare { samples: 4 }, Err(NackCode::Busy));
+    check(
+        &mut dev,
+        &mut hw,
+        Command::Tare { samples: 4 },
+        Err(NackCode::Busy),
+    );
     let epoch = dev.config_epoch();
     for i in 0..4 {
         dev.on_sample(&raw(i, [1000, -2000, 30, 5]), &mut hw);
@@ -175,21 +287,40 @@ fn auto_null_runs_reports_and_refuses_overlap() {
     check(&mut dev, &mut hw, Command::AutoNull, Ok(()));
     assert_eq!(dev.null_state(), NullState::Searching);
     check(&mut dev, &mut hw, Command::AutoNull, Err(NackCode::Busy));
-    check(&mut dev, &mut hw, Command::Tare { samples: 3 }, Err(NackCode::Busy));
+    check(
+        &mut dev,
+        &mut hw,
+        Command::Tare { samples: 3 },
+        Err(NackCode::Busy),
+    );
     // A front end whose output is offset − 1000·(code − 2048), searched to the end.
     let offset = [500_000, -700_000, 0];
     let mut i = 0;
     while dev.null_state() == NullState::Searching {
         let dac = *hw.trims.last().unwrap();
-        let codes = core::array::from_fn(|ch| if ch < 3 { offset[ch] - 1000 * (i32::from(dac[ch]) - 2048) } else { 0 });
+        let codes = core::array::from_fn(|ch| {
+            if ch < 3 {
+                offset[ch] - 1000 * (i32::from(dac[ch]) - 2048)
+            } else {
+                0
+            }
+        });
         dev.on_sample(&raw(i as u32, codes), &mut hw);
         i += 1;
         assert!(i < 1000);
     }
     assert_eq!(dev.null_state(), NullState::Nulled);
     assert_eq!(&dev.info().dac_codes[..3], &[2548, 1348, 2048]);
-    let mut failing = MockFrontend { fail_dac: true, ..Default::default() };
-    check(&mut dev, &mut failing, Command::AutoNull, Err(NackCode::Hardware));
+    let mut failing = MockFrontend {
+        fail_dac: true,
+        ..Default::default()
+    };
+    check(
+        &mut dev,
+        &mut failing,
+        Command::AutoNull,
+        Err(NackCode::Hardware),
+    );
     assert_eq!(dev.null_state(), NullState::Failed);
 }
 
@@ -200,9 +331,20 @@ fn get_info_acks_then_sends_the_info_frame() {
     dev.poll(&mut hw);
     let msgs = drain(&mut dev);
     assert_eq!(msgs.len(), 2);
-    assert_eq!(msgs[0], Message::Reply(Reply::Ack { tag: 3, opcode: protocol::opcode::GET_INFO }));
-    let Message::Info(info) = &msgs[1] else { panic!("{msgs:?}") };
-    assert_eq!((info.sample_rate_hz, info.batch, info.chip_serial), (1000, 4, 0x1234_5678));
+    assert_eq!(
+        msgs[0],
+        Message::Reply(Reply::Ack {
+            tag: 3,
+            opcode: protocol::opcode::GET_INFO
+        })
+    );
+    let Message::Info(info) = &msgs[1] else {
+        panic!("{msgs:?}")
+    };
+    assert_eq!(
+        (info.sample_rate_hz, info.batch, info.chip_serial),
+        (1000, 4, 0x1234_5678)
+    );
     assert_eq!(info.pga_gain, [1; 4]);
     assert_eq!(info.protocol_version, protocol::PROTOCOL_VERSION);
 }
@@ -213,11 +355,29 @@ fn calibration_ping_drift_batch_start_stop() {
     let m = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]];
     check(&mut dev, &mut hw, Command::SetCalibration(m), Ok(()));
     assert_eq!(dev.info().calibration, m);
-    assert_eq!(answer(&mut dev, &mut hw, Command::Ping { nonce: 77 }), Reply::Pong { tag: 9, nonce: 77 });
-    check(&mut dev, &mut hw, Command::SetDriftTracking { enabled: true }, Ok(()));
+    assert_eq!(
+        answer(&mut dev, &mut hw, Command::Ping { nonce: 77 }),
+        Reply::Pong { tag: 9, nonce: 77 }
+    );
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetDriftTracking { enabled: true },
+        Ok(()),
+    );
     assert!(dev.info().drift_tracking);
-    check(&mut dev, &mut hw, Command::SetBatch { samples: 0 }, Err(NackCode::OutOfRange));
-    check(&mut dev, &mut hw, Command::SetBatch { samples: 17 }, Err(NackCode::OutOfRange));
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetBatch { samples: 0 },
+        Err(NackCode::OutOfRange),
+    );
+    check(
+        &mut dev,
+        &mut hw,
+        Command::SetBatch { samples: 17 },
+        Err(NackCode::OutOfRange),
+    );
     check(&mut dev, &mut hw, Command::SetBatch { samples: 16 }, Ok(()));
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     assert!(dev.streaming());
@@ -241,15 +401,32 @@ fn malformed_and_unknown_requests_are_nacked_with_their_tag() {
     let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
     dev.on_rx(&raw_request(&[0x04, 21, protocol::opcode::SET_RATE, 1, 2])); // u32 cut short
     dev.on_rx(&raw_request(&[0x04, 22, 0x7F])); // no such opcode
-    dev.on_rx(&raw_request(&[0x04, 23, protocol::opcode::SET_DRIFT_TRACKING, 2])); // not a bool
+    dev.on_rx(&raw_request(&[
+        0x04,
+        23,
+        protocol::opcode::SET_DRIFT_TRACKING,
+        2,
+    ])); // not a bool
     dev.poll(&mut hw);
     let r = replies(&drain(&mut dev));
     assert_eq!(
         r,
         [
-            Reply::Nack { tag: 21, opcode: protocol::opcode::SET_RATE, code: NackCode::Malformed },
-            Reply::Nack { tag: 22, opcode: 0x7F, code: NackCode::UnknownCommand },
-            Reply::Nack { tag: 23, opcode: protocol::opcode::SET_DRIFT_TRACKING, code: NackCode::OutOfRange },
+            Reply::Nack {
+                tag: 21,
+                opcode: protocol::opcode::SET_RATE,
+                code: NackCode::Malformed
+            },
+            Reply::Nack {
+                tag: 22,
+                opcode: 0x7F,
+                code: NackCode::UnknownCommand
+            },
+            Reply::Nack {
+                tag: 23,
+                opcode: protocol::opcode::SET_DRIFT_TRACKING,
+                code: NackCode::OutOfRange
+            },
         ]
     );
     dev.on_rx(&[0x55, 0x13, 0x00]); // garbage: not answered, counted
@@ -270,14 +447,25 @@ fn commands_take_effect_at_the_next_frame_boundary() {
     }
     let msgs = drain(&mut dev);
     // The old frame (4 samples, old epoch) comes first, then the ack.
-    let Message::Sample(first) = &msgs[0] else { panic!("{msgs:?}") };
+    let Message::Sample(first) = &msgs[0] else {
+        panic!("{msgs:?}")
+    };
     assert_eq!((first.len(), first.status.config_epoch), (4, epoch));
-    assert_eq!(msgs[1], Message::Reply(Reply::Ack { tag: 5, opcode: protocol::opcode::SET_BATCH }));
+    assert_eq!(
+        msgs[1],
+        Message::Reply(Reply::Ack {
+            tag: 5,
+            opcode: protocol::opcode::SET_BATCH
+        })
+    );
     for i in 4..6 {
         dev.on_sample(&raw(i, [1; 4]), &mut hw);
     }
     let f = frames(&drain(&mut dev));
-    assert_eq!((f[0].len(), f[0].status.config_epoch, f[0].seq), (2, epoch.wrapping_add(1), 1));
+    assert_eq!(
+        (f[0].len(), f[0].status.config_epoch, f[0].seq),
+        (2, epoch.wrapping_add(1), 1)
+    );
 }
 
 #[test]
@@ -319,12 +507,22 @@ fn slow_link_drops_whole_frames_and_counts_them_in_the_next_frame() {
     // Every gap in seq is announced by the next frame's dropped count.
     for pair in received.windows(2) {
         let gap = pair[1].seq.wrapping_sub(pair[0].seq) - 1;
-        assert_eq!(u32::from(pair[1].status.dropped), gap, "seq {} -> {}", pair[0].seq, pair[1].seq);
+        assert_eq!(
+            u32::from(pair[1].status.dropped),
+            gap,
+            "seq {} -> {}",
+            pair[0].seq,
+            pair[1].seq
+        );
     }
     // Samples inside a delivered frame are consecutive (frames are never cut or merged).
     for f in &received {
         let first = f.samples()[0].ch[0];
-        assert!(f.samples().iter().enumerate().all(|(k, s)| s.ch[0] == first + k as i32));
+        assert!(f
+            .samples()
+            .iter()
+            .enumerate()
+            .all(|(k, s)| s.ch[0] == first + k as i32));
     }
     // Every drop is announced, except those after the last frame that got through.
     let announced: u32 = received.iter().map(|f| u32::from(f.status.dropped)).sum();
@@ -338,7 +536,14 @@ fn saturation_overrun_and_adc_error_flags() {
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     dev.on_sample(&raw(0, [CODE_MAX, 0, 0, CODE_MIN]), &mut hw);
     dev.on_sample(&raw(3, [0; 4]), &mut hw); // two conversions lost
-    dev.on_sample(&RawSample { index: 4, codes: [0; 4], read_error: true }, &mut hw);
+    dev.on_sample(
+        &RawSample {
+            index: 4,
+            codes: [0; 4],
+            read_error: true,
+        },
+        &mut hw,
+    );
     dev.on_sample(&raw(5, [0; 4]), &mut hw);
     dev.on_sample(&raw(6, [0; 4]), &mut hw);
     dev.on_sample(&raw(7, [0; 4]), &mut hw);
@@ -348,8 +553,17 @@ fn saturation_overrun_and_adc_error_flags() {
     assert_eq!(f[0].status.saturated, 0b1001);
     assert!(f[0].status.sample_overrun && f[0].status.adc_error);
     assert_eq!(f[0].t_us, 0);
-    assert_eq!(f[1].t_us, 6000, "time follows the conversion index through the gap");
-    assert_eq!(f[1].status, Status { config_epoch: f[0].status.config_epoch, ..Status::default() });
+    assert_eq!(
+        f[1].t_us, 6000,
+        "time follows the conversion index through the gap"
+    );
+    assert_eq!(
+        f[1].status,
+        Status {
+            config_epoch: f[0].status.config_epoch,
+            ..Status::default()
+        }
+    );
 }
 
 mod against_emulation;

@@ -46,7 +46,10 @@ impl Biquad {
         // a's makes the DC gain exactly 1 in f32: at low f_c/f_s, 1 + a1 + a2 is a small
         // difference of numbers near 2, and K²/D alone would miss it by up to ~0.5 %.
         let b0 = (1.0 + a[0] + a[1]) / 4.0;
-        Self { b: [b0, 2.0 * b0, b0], a }
+        Self {
+            b: [b0, 2.0 * b0, b0],
+            a,
+        }
     }
 
     /// Whether the f32 coefficients satisfy the stability triangle.
@@ -91,7 +94,7 @@ impl Butterworth {
     /// Design for `order` ∈ {2, 4} and f_c / f_s = `ratio`; `None` if the setting is outside the
     /// accepted range or the f32 coefficients fail the stability check.
     pub fn design(order: u8, ratio: f32) -> Option<Self> {
-        let in_range = ratio >= MIN_CUTOFF_RATIO && ratio < MAX_CUTOFF_RATIO; // also false for NaN
+        let in_range = (MIN_CUTOFF_RATIO..MAX_CUTOFF_RATIO).contains(&ratio); // false for NaN too
         if !(order == 2 || order == 4) || !in_range {
             return None;
         }
@@ -101,7 +104,10 @@ impl Butterworth {
         for (i, section) in sections.iter_mut().enumerate().take(len) {
             *section = Biquad::low_pass(k, section_q(order, i));
         }
-        sections[..len].iter().all(Biquad::is_stable).then_some(Self { sections, len })
+        sections[..len]
+            .iter()
+            .all(Biquad::is_stable)
+            .then_some(Self { sections, len })
     }
 
     /// Sections in use.

@@ -12,8 +12,8 @@ pub mod butterworth;
 pub mod smoother;
 
 pub use butterworth::{Biquad, Butterworth};
-pub use smoother::Smoother;
 use protocol::FilterConfig;
+pub use smoother::Smoother;
 
 /// Channels filtered together.
 pub const CHANNELS: usize = 3;
@@ -60,11 +60,16 @@ impl FilterBank {
         let butterworth = match config.butterworth_order {
             0 => None,
             order @ (2 | 4) => Some(
-                Butterworth::design(order, config.cutoff_hz / sample_rate_hz).ok_or(FilterError::CutoffOutOfRange)?,
+                Butterworth::design(order, config.cutoff_hz / sample_rate_hz)
+                    .ok_or(FilterError::CutoffOutOfRange)?,
             ),
             _ => return Err(FilterError::OrderUnsupported),
         };
-        Ok(Self { alpha: (alpha < 1.0).then_some(alpha), butterworth, ..Self::NONE })
+        Ok(Self {
+            alpha: (alpha < 1.0).then_some(alpha),
+            butterworth,
+            ..Self::NONE
+        })
     }
 
     /// Whether the bank leaves samples unchanged (smoother and low-pass both off).

@@ -13,7 +13,11 @@ pub struct Smoother {
 impl Smoother {
     /// `alpha` in (0, 1]; 1 passes the input through.
     pub fn new(alpha: f32) -> Self {
-        Self { alpha, y: 0.0, primed: false }
+        Self {
+            alpha,
+            y: 0.0,
+            primed: false,
+        }
     }
 
     /// Filter one sample.

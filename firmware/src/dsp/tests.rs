@@ -12,11 +12,19 @@ use super::*;
 use protocol::FilterConfig;
 
 fn bw(order: u8, cutoff_hz: f32) -> FilterConfig {
-    FilterConfig { smoother_alpha: 1.0, butterworth_order: order, cutoff_hz }
+    FilterConfig {
+        smoother_alpha: 1.0,
+        butterworth_order: order,
+        cutoff_hz,
+    }
 }
 
 fn smoother(alpha: f32) -> FilterConfig {
-    FilterConfig { smoother_alpha: alpha, butterworth_order: 0, cutoff_hz: 0.0 }
+    FilterConfig {
+        smoother_alpha: alpha,
+        butterworth_order: 0,
+        cutoff_hz: 0.0,
+    }
 }
 use std::f64::consts::PI;
 
@@ -34,7 +42,11 @@ impl Reference {
                 let q = 1.0 / (2.0 * ((2.0 * f64::from(i) + 1.0) * PI / (2.0 * n)).cos());
                 let d = 1.0 + k / q + k * k;
                 let b0 = k * k / d;
-                ([b0, 2.0 * b0, b0], [2.0 * (k * k - 1.0) / d, (1.0 - k / q + k * k) / d], [0.0; 2])
+                (
+                    [b0, 2.0 * b0, b0],
+                    [2.0 * (k * k - 1.0) / d, (1.0 - k / q + k * k) / d],
+                    [0.0; 2],
+                )
             })
             .collect();
         Self { sections }
@@ -97,7 +109,9 @@ fn max_error(order: u8, ratio: f32) -> f64 {
     let mut reference = Reference::new(order, f64::from(ratio));
     let x = input(20_000);
     reference.prime(f64::from(x[0]));
-    x.iter().map(|&xi| (f64::from(f32_filter.step(xi)) - reference.step(f64::from(xi))).abs()).fold(0.0, f64::max)
+    x.iter()
+        .map(|&xi| (f64::from(f32_filter.step(xi)) - reference.step(f64::from(xi))).abs())
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -141,12 +155,18 @@ fn magnitude_response_is_the_prewarped_butterworth_curve() {
                 let analytic = 1.0 / (1.0 + x.powi(2 * i32::from(order))).sqrt();
                 let got = magnitude(design.sections(), w);
                 let tolerance = if ratio < 0.01 { 5e-3 } else { 1e-4 };
-                assert!((got - analytic).abs() < tolerance, "order {order} ratio {ratio} f {f}: {got} vs {analytic}");
+                assert!(
+                    (got - analytic).abs() < tolerance,
+                    "order {order} ratio {ratio} f {f}: {got} vs {analytic}"
+                );
             }
             // −3 dB at the cut-off (prewarping), within the same tolerance.
             let at_cutoff = magnitude(design.sections(), 2.0 * PI * ratio);
             let tolerance = if ratio < 0.01 { 5e-3 } else { 1e-4 };
-            assert!((at_cutoff - std::f64::consts::FRAC_1_SQRT_2).abs() < tolerance, "{order} {ratio}: {at_cutoff}");
+            assert!(
+                (at_cutoff - std::f64::consts::FRAC_1_SQRT_2).abs() < tolerance,
+                "{order} {ratio}: {at_cutoff}"
+            );
         }
     }
 }
@@ -187,12 +207,19 @@ fn out_of_range_settings_are_refused() {
     assert_eq!(sm(1.01), Err(FilterError::AlphaOutOfRange));
     assert_eq!(sm(f32::NAN), Err(FilterError::AlphaOutOfRange));
     assert!(sm(1.0).is_ok());
-    assert!(bw(0, f32::NAN).is_ok(), "cut-off ignored with the low-pass off");
+    assert!(
+        bw(0, f32::NAN).is_ok(),
+        "cut-off ignored with the low-pass off"
+    );
 }
 
 #[test]
 fn smoother_then_butterworth_is_the_cascade() {
-    let config = FilterConfig { smoother_alpha: 0.3, butterworth_order: 2, cutoff_hz: 50.0 };
+    let config = FilterConfig {
+        smoother_alpha: 0.3,
+        butterworth_order: 2,
+        cutoff_hz: 50.0,
+    };
     let mut chain = Single::build(&config, 1000.0).unwrap();
     let mut s = Smoother::new(0.3);
     let b = Butterworth::design(2, 0.05).unwrap();

@@ -72,7 +72,10 @@ impl AutoNull {
     /// Idle, with the DAC at `initial` codes.
     pub fn new(timing: NullTiming, initial: [u16; CHANNELS]) -> Self {
         Self {
-            timing: NullTiming { settle: timing.settle, average: timing.average.max(1) },
+            timing: NullTiming {
+                settle: timing.settle,
+                average: timing.average.max(1),
+            },
             state: NullState::Off,
             phase: Phase::LowEnd,
             trial: initial,
@@ -136,10 +139,13 @@ impl AutoNull {
         if self.count < self.timing.average {
             return NullStep::Continue;
         }
-        let mean: [i32; CHANNELS] = core::array::from_fn(|ch| (self.sum[ch] / i64::from(self.count)) as i32);
+        let mean: [i32; CHANNELS] =
+            core::array::from_fn(|ch| (self.sum[ch] / i64::from(self.count)) as i32);
         self.measured(mean)
     }
 
+    // Indexing by channel keeps the per-channel bracket arrays side by side, as in the algorithm.
+    #[allow(clippy::needless_range_loop)]
     fn measured(&mut self, mean: [i32; CHANNELS]) -> NullStep {
         match self.phase {
             Phase::LowEnd => {
@@ -194,7 +200,11 @@ impl AutoNull {
             }
         });
         self.codes = best;
-        self.state = if self.reachable.iter().all(|&r| r) { NullState::Nulled } else { NullState::Failed };
+        self.state = if self.reachable.iter().all(|&r| r) {
+            NullState::Nulled
+        } else {
+            NullState::Failed
+        };
         NullStep::Done(best)
     }
 }
@@ -211,12 +221,19 @@ mod tests {
     /// A front end: output = offset + slope · (code − 2048), clipped like a 24-bit ADC.
     fn output(offset: [i32; 3], slope: [i32; 3], codes: [u16; 3]) -> [i32; 3] {
         core::array::from_fn(|ch| {
-            (offset[ch] + slope[ch] * (i32::from(codes[ch]) - 2048)).clamp(-(1 << 23), (1 << 23) - 1)
+            (offset[ch] + slope[ch] * (i32::from(codes[ch]) - 2048))
+                .clamp(-(1 << 23), (1 << 23) - 1)
         })
     }
 
     fn run(offset: [i32; 3], slope: [i32; 3]) -> (AutoNull, usize) {
-        let mut null = AutoNull::new(NullTiming { settle: 2, average: 4 }, [2048; 3]);
+        let mut null = AutoNull::new(
+            NullTiming {
+                settle: 2,
+                average: 4,
+            },
+            [2048; 3],
+        );
         let mut dac = null.start();
         for n in 0..10_000 {
             // The sample after a DAC write already sees the new code.
@@ -241,7 +258,10 @@ mod tests {
         let residual = output(offset, slope, null.codes());
         for ch in 0..3 {
             // Nearest code: residual within half a code step.
-            assert!(residual[ch].abs() <= slope[ch].abs() / 2 + 1, "ch {ch}: {residual:?}");
+            assert!(
+                residual[ch].abs() <= slope[ch].abs() / 2 + 1,
+                "ch {ch}: {residual:?}"
+            );
         }
         // 14 measurements of settle + average samples.
         assert_eq!(samples + 1, 14 * 6);
@@ -256,7 +276,13 @@ mod tests {
 
     #[test]
     fn idle_search_ignores_samples() {
-        let mut null = AutoNull::new(NullTiming { settle: 0, average: 1 }, [7; 3]);
+        let mut null = AutoNull::new(
+            NullTiming {
+                settle: 0,
+                average: 1,
+            },
+            [7; 3],
+        );
         assert_eq!(null.on_sample([1, 2, 3]), NullStep::Continue);
         assert_eq!(null.state(), NullState::Off);
         assert_eq!(null.codes(), [7; 3]);

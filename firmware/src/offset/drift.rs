@@ -27,7 +27,11 @@ pub struct DriftTracker {
 
 impl DriftTracker {
     pub fn new(settings: DriftSettings) -> Self {
-        Self { settings, enabled: false, correction: [0.0; CHANNELS] }
+        Self {
+            settings,
+            enabled: false,
+            correction: [0.0; CHANNELS],
+        }
     }
 
     pub fn enabled(&self) -> bool {
@@ -63,7 +67,9 @@ impl DriftTracker {
             if residual.abs() < self.settings.window as f32 {
                 // max/min rather than f32::clamp: clamp's NaN/ordering panic would pull float
                 // formatting (~20 KiB of flash) into the firmware.
-                self.correction[ch] = (self.correction[ch] + self.settings.rate * residual).max(-limit).min(limit);
+                self.correction[ch] = (self.correction[ch] + self.settings.rate * residual)
+                    .max(-limit)
+                    .min(limit);
             }
             // Nearest integer (halves away from zero) with the FPU's conversion, not libm.
             let c = self.correction[ch];
@@ -77,7 +83,11 @@ mod tests {
     use super::*;
 
     fn tracker() -> DriftTracker {
-        let mut t = DriftTracker::new(DriftSettings { window: 1000, rate: 0.01, limit: 300 });
+        let mut t = DriftTracker::new(DriftSettings {
+            window: 1000,
+            rate: 0.01,
+            limit: 300,
+        });
         t.set_enabled(true);
         t
     }
@@ -106,7 +116,11 @@ mod tests {
 
     #[test]
     fn off_by_default() {
-        let mut t = DriftTracker::new(DriftSettings { window: 1000, rate: 0.5, limit: 300 });
+        let mut t = DriftTracker::new(DriftSettings {
+            window: 1000,
+            rate: 0.5,
+            limit: 300,
+        });
         assert_eq!(t.apply([100, 0, 0]), [100, 0, 0]);
         assert!(!t.enabled());
     }

@@ -22,7 +22,13 @@ impl Default for Tare {
 
 impl Tare {
     pub fn new() -> Self {
-        Self { offset: [0; CHANNELS], active: false, remaining: 0, total: 0, sum: [0; CHANNELS] }
+        Self {
+            offset: [0; CHANNELS],
+            active: false,
+            remaining: 0,
+            total: 0,
+            sum: [0; CHANNELS],
+        }
     }
 
     /// Start averaging `samples` (≥ 1) samples; the old offset stays in force until done.

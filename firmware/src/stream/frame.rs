@@ -27,7 +27,11 @@ const fn crc_tables() -> [[u32; 256]; 4] {
         let mut c = i as u32;
         let mut k = 0;
         while k < 8 {
-            c = if c & 1 != 0 { (c >> 1) ^ 0x82F6_3B78 } else { c >> 1 };
+            c = if c & 1 != 0 {
+                (c >> 1) ^ 0x82F6_3B78
+            } else {
+                c >> 1
+            };
             k += 1;
         }
         t[0][i] = c;
@@ -96,7 +100,12 @@ impl Default for FrameBuilder {
 
 impl FrameBuilder {
     pub const fn new() -> Self {
-        Self { body: [0; PAYLOAD_MAX], len: 0, t_us: 0, temp: 0 }
+        Self {
+            body: [0; PAYLOAD_MAX],
+            len: 0,
+            t_us: 0,
+            temp: 0,
+        }
     }
 
     /// Samples in the frame.
@@ -145,7 +154,12 @@ impl FrameBuilder {
 
     /// Finish the frame straight into the transmit buffer; false (frame dropped, builder emptied
     /// all the same) if the buffer lacks room for the whole frame.
-    pub fn finish_into<const N: usize>(&mut self, seq: u32, status: &Status, tx: &mut TxBuffer<N>) -> bool {
+    pub fn finish_into<const N: usize>(
+        &mut self,
+        seq: u32,
+        status: &Status,
+        tx: &mut TxBuffer<N>,
+    ) -> bool {
         let n = self.wire_len();
         if self.len == 0 {
             return false;
@@ -214,7 +228,12 @@ mod tests {
             let n = 1 + (next() as usize % MAX_BATCH);
             let status = Status {
                 saturated: (next() & 0x0F) as u8,
-                null_state: [NullState::Off, NullState::Searching, NullState::Nulled, NullState::Failed][round % 4],
+                null_state: [
+                    NullState::Off,
+                    NullState::Searching,
+                    NullState::Nulled,
+                    NullState::Failed,
+                ][round % 4],
                 tare_active: next() & 1 == 1,
                 drift_tracking: next() & 1 == 1,
                 sample_overrun: next() & 1 == 1,
@@ -223,8 +242,18 @@ mod tests {
                 // Zero bytes in every field now and then, so COBS sees runs of them.
                 dropped: if round % 3 == 0 { 0 } else { next() as u16 },
             };
-            let code = |x: u32| if x % 5 == 0 { 0 } else { ((x as i32) << 8) >> 8 };
-            let (seq, t_us, temp) = (next(), if round % 7 == 0 { 0 } else { next() }, code(next()));
+            let code = |x: u32| {
+                if x % 5 == 0 {
+                    0
+                } else {
+                    ((x as i32) << 8) >> 8
+                }
+            };
+            let (seq, t_us, temp) = (
+                next(),
+                if round % 7 == 0 { 0 } else { next() },
+                code(next()),
+            );
             let mut reference = SampleFrame::new(seq, t_us, status, temp);
             builder.open(t_us, temp);
             for _ in 0..n {

@@ -77,7 +77,11 @@ mod tests {
         let overruns = Overruns::new();
         let (producer, mut consumer) = queue.split();
         let mut acq = Acquirer::new(producer, &overruns);
-        let sample = |index| RawSample { index, codes: [0; 4], read_error: false };
+        let sample = |index| RawSample {
+            index,
+            codes: [0; 4],
+            read_error: false,
+        };
         for i in 0..(QUEUE_LEN as u32 + 9) {
             acq.push(sample(i));
         }

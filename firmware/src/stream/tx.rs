@@ -21,7 +21,11 @@ impl<const N: usize> Default for TxBuffer<N> {
 
 impl<const N: usize> TxBuffer<N> {
     pub const fn new() -> Self {
-        Self { buf: [0; N], read: 0, write: 0 }
+        Self {
+            buf: [0; N],
+            read: 0,
+            write: 0,
+        }
     }
 
     /// Bytes waiting.

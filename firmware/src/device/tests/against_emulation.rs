@@ -2,6 +2,8 @@
 //! QEMU board's stimulus: power-up null, tare at rest, then the streamed codes must be the
 //! stimulus signal's ideal codes within one code.
 
+#![allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
+
 use super::*;
 use crate::ads131m04::{Ads131m04, Config, WordLength};
 use crate::mcp4728::{Mcp4728, DEFAULT_ADDRESS};
@@ -29,9 +31,17 @@ impl Frontend for Bench<'_> {
 fn bench(chip: &Chip) -> Bench<'_> {
     let (spi, drdy) = handles(chip);
     let mut adc = Ads131m04::new(spi, drdy);
-    let cfg = Config { word_length: WordLength::Bits24, osr: Osr::Osr4096, gains: [crate::ads131m04::Pga::X1; 4], input_crc: true };
+    let cfg = Config {
+        word_length: WordLength::Bits24,
+        osr: Osr::Osr4096,
+        gains: [crate::ads131m04::Pga::X1; 4],
+        input_crc: true,
+    };
     adc.init(&cfg).unwrap();
-    Bench { adc, dac: Mcp4728::new(TrimDac(chip), DEFAULT_ADDRESS) }
+    Bench {
+        adc,
+        dac: Mcp4728::new(TrimDac(chip), DEFAULT_ADDRESS),
+    }
 }
 
 /// One conversion: the chip converts, the driver reads it as the DRDY interrupt would.
@@ -40,7 +50,14 @@ fn step(chip: &Chip, bench: &mut Bench<'_>, dev: &mut Device) -> u64 {
     let index = chip.borrow().conversions() - 1;
     assert!(bench.adc.data_ready().unwrap());
     let conv = bench.adc.read().unwrap();
-    dev.on_sample(&RawSample { index: index as u32, codes: conv.codes, read_error: false }, bench);
+    dev.on_sample(
+        &RawSample {
+            index: index as u32,
+            codes: conv.codes,
+            read_error: false,
+        },
+        bench,
+    );
     index
 }
 
@@ -50,7 +67,10 @@ fn null_tare_and_stream_the_stimulus() {
     let mut bench = bench(&chip);
     let mut cfg = config();
     cfg.null_at_power_up = true;
-    cfg.null_timing = NullTiming { settle: 2, average: 8 };
+    cfg.null_timing = NullTiming {
+        settle: 2,
+        average: 8,
+    };
     let mut dev = Device::new(cfg);
     dev.power_up(&mut bench).unwrap();
     while dev.null_state() == NullState::Searching {
@@ -81,7 +101,11 @@ fn null_tare_and_stream_the_stimulus() {
             let truth = reference.signal_v(n);
             for ch in 0..3 {
                 let expect = ideal_code(truth[ch], 1, VREF_V);
-                assert!((s.ch[ch] - expect).abs() <= 1, "n {n} ch {ch}: {} vs {expect}", s.ch[ch]);
+                assert!(
+                    (s.ch[ch] - expect).abs() <= 1,
+                    "n {n} ch {ch}: {} vs {expect}",
+                    s.ch[ch]
+                );
             }
             n += 1;
         }
