@@ -49,7 +49,11 @@ pub trait AnalogInput {
 /// Cortex-M4F compute identical codes for identical inputs.
 pub fn ideal_code(v: f32, gain: u8, vref_v: f32) -> i32 {
     let scaled = v * f32::from(gain) / vref_v * 8_388_608.0;
-    let rounded = if scaled >= 0.0 { scaled + 0.5 } else { scaled - 0.5 };
+    let rounded = if scaled >= 0.0 {
+        scaled + 0.5
+    } else {
+        scaled - 0.5
+    };
     if rounded >= CODE_MAX as f32 {
         CODE_MAX
     } else if rounded <= CODE_MIN as f32 {
@@ -122,6 +126,7 @@ impl<A: AnalogInput> Ads131m04<A> {
 
     /// One conversion period has elapsed: convert the input and pull DRDY low. A conversion that
     /// was never read is overwritten and counted in [`Self::overruns`]. Nothing happens in standby.
+    #[allow(clippy::needless_range_loop)] // channel index selects gain bits, enable bit and code
     pub fn convert(&mut self) {
         if self.standby {
             return;
@@ -131,7 +136,11 @@ impl<A: AnalogInput> Ads131m04<A> {
         let enabled = self.regs[usize::from(regs::CLOCK)] >> regs::CLOCK_CH_EN_SHIFT;
         for ch in 0..4 {
             let gain = 1u8 << ((gain1 >> (4 * ch)) & 0b111);
-            self.codes[ch] = if enabled & (1 << ch) != 0 { ideal_code(volts[ch], gain, VREF_V) } else { 0 };
+            self.codes[ch] = if enabled & (1 << ch) != 0 {
+                ideal_code(volts[ch], gain, VREF_V)
+            } else {
+                0
+            };
         }
         if self.fresh {
             self.overruns += 1;
@@ -142,7 +151,8 @@ impl<A: AnalogInput> Ads131m04<A> {
 
     /// Output data rate in samples per second at the nominal CLKIN: CLKIN / 2 / OSR.
     pub fn data_rate_hz(&self) -> f32 {
-        let code = (self.regs[usize::from(regs::CLOCK)] & regs::CLOCK_OSR_MASK) >> regs::CLOCK_OSR_SHIFT;
+        let code =
+            (self.regs[usize::from(regs::CLOCK)] & regs::CLOCK_OSR_MASK) >> regs::CLOCK_OSR_SHIFT;
         (CLKIN_HZ / 2) as f32 / regs::OSR[usize::from(code)] as f32
     }
 
@@ -186,7 +196,9 @@ impl<A: AnalogInput> Ads131m04<A> {
     }
 
     fn word_bytes(&self) -> usize {
-        match (self.regs[usize::from(regs::MODE)] & regs::MODE_WLENGTH_MASK) >> regs::MODE_WLENGTH_SHIFT {
+        match (self.regs[usize::from(regs::MODE)] & regs::MODE_WLENGTH_MASK)
+            >> regs::MODE_WLENGTH_SHIFT
+        {
             0 => 2,
             1 => 3,
             _ => 4,
@@ -196,7 +208,8 @@ impl<A: AnalogInput> Ads131m04<A> {
     fn status(&self) -> u16 {
         let mode = self.regs[usize::from(regs::MODE)];
         let enabled = (self.regs[usize::from(regs::CLOCK)] >> regs::CLOCK_CH_EN_SHIFT) & 0xF;
-        let mut status = mode & (regs::STATUS_RESET | regs::MODE_WLENGTH_MASK | regs::STATUS_CRC_TYPE);
+        let mut status =
+            mode & (regs::STATUS_RESET | regs::MODE_WLENGTH_MASK | regs::STATUS_CRC_TYPE);
         if self.locked {
             status |= regs::STATUS_LOCK;
         }
@@ -212,7 +225,8 @@ impl<A: AnalogInput> Ads131m04<A> {
     /// Chip select asserted: lay out the output frame (response, 4 data words, CRC).
     fn begin_frame(&mut self) {
         let wb = self.word_bytes();
-        let wlength = (self.regs[usize::from(regs::MODE)] & regs::MODE_WLENGTH_MASK) >> regs::MODE_WLENGTH_SHIFT;
+        let wlength = (self.regs[usize::from(regs::MODE)] & regs::MODE_WLENGTH_MASK)
+            >> regs::MODE_WLENGTH_SHIFT;
         self.out = [0; FRAME_WORDS * 4];
         let response = match self.response {
             Response::Word(word) => word,
@@ -245,7 +259,11 @@ impl<A: AnalogInput> Ads131m04<A> {
 
     /// One byte clocked in on MOSI; returns the byte clocked out on MISO.
     fn shift(&mut self, mosi: u8) -> u8 {
-        let miso = if self.pos < self.out_len { self.out[self.pos] } else { 0 };
+        let miso = if self.pos < self.out_len {
+            self.out[self.pos]
+        } else {
+            0
+        };
         if self.inp_len < MAX_FRAME_BYTES {
             self.inp[self.inp_len] = mosi;
             self.inp_len += 1;
@@ -267,7 +285,11 @@ impl<A: AnalogInput> Ads131m04<A> {
         let word = |i: usize, inp: &[u8]| u16::from_be_bytes([inp[i * wb], inp[i * wb + 1]]);
         let command = word(0, &self.inp);
         let is_wreg = command & regs::OPCODE_MASK == regs::CMD_WREG;
-        let data_words = if is_wreg { usize::from(command & 0x7F) + 1 } else { 0 };
+        let data_words = if is_wreg {
+            usize::from(command & 0x7F) + 1
+        } else {
+            0
+        };
         let mode = self.regs[usize::from(regs::MODE)];
         if mode & regs::MODE_RX_CRC_EN != 0 {
             let crc_word = 1 + data_words;
@@ -361,7 +383,9 @@ pub struct SpiHandle<'a, A>(&'a RefCell<Ads131m04<A>>);
 pub struct DrdyHandle<'a, A>(&'a RefCell<Ads131m04<A>>);
 
 /// SPI device and DRDY pin for one shared chip.
-pub fn handles<A: AnalogInput>(chip: &RefCell<Ads131m04<A>>) -> (SpiHandle<'_, A>, DrdyHandle<'_, A>) {
+pub fn handles<A: AnalogInput>(
+    chip: &RefCell<Ads131m04<A>>,
+) -> (SpiHandle<'_, A>, DrdyHandle<'_, A>) {
     (SpiHandle(chip), DrdyHandle(chip))
 }
 

@@ -53,16 +53,25 @@ pub struct Stimulus {
 impl Stimulus {
     /// The stimulus with the trim DAC at mid code.
     pub fn new(params: StimulusParams) -> Self {
-        Self { params, trim_codes: [TRIM_MID_CODE; 4] }
+        Self {
+            params,
+            trim_codes: [TRIM_MID_CODE; 4],
+        }
     }
 
     /// Triangle wave in [-1, 1] with value -1 at index 0 and +1 at half period.
     pub fn triangle(index: u64, period: u32) -> f32 {
         let phase = (index % u64::from(period)) as f32 / period as f32;
-        1.0 - 4.0 * if phase < 0.5 { 0.5 - phase } else { phase - 0.5 }
+        1.0 - 4.0
+            * if phase < 0.5 {
+                0.5 - phase
+            } else {
+                phase - 0.5
+            }
     }
 
     /// Volts at the four ADC inputs for conversion `index`.
+    #[allow(clippy::needless_range_loop)] // channel index runs over params, signal and trim alike
     pub fn volts(&self, index: u64) -> [f32; 4] {
         let p = &self.params;
         let signal = self.signal_v(index);

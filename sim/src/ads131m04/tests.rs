@@ -57,7 +57,10 @@ fn status_shows_drdy_and_data_words_carry_codes() {
     assert_eq!(&rx[6..9], &[0xE0, 0x00, 0x00]);
     assert_eq!(&rx[12..15], &[0x7F, 0xFF, 0xFF]);
     assert_eq!(crc::crc16_ccitt(crc::CRC_INIT, &rx[..18]), 0, "frame CRC");
-    assert!(!chip.borrow().drdy_is_low(), "reading the data releases DRDY");
+    assert!(
+        !chip.borrow().drdy_is_low(),
+        "reading the data releases DRDY"
+    );
 }
 
 #[test]
@@ -111,7 +114,11 @@ fn input_crc_mismatch_refuses_the_command_and_flags_crc_err() {
 fn lock_refuses_writes_until_unlock_and_standby_stops_conversions() {
     let chip = RefCell::new(Ads131m04::new(Constant([0.1; 4])));
     frame(&chip, &[regs::CMD_LOCK], 3);
-    frame(&chip, &[regs::CMD_WREG | (u16::from(regs::GAIN1) << 7), 0x0001], 3);
+    frame(
+        &chip,
+        &[regs::CMD_WREG | (u16::from(regs::GAIN1) << 7), 0x0001],
+        3,
+    );
     assert_eq!(chip.borrow().register(regs::GAIN1), 0);
     frame(&chip, &[regs::CMD_UNLOCK], 3);
     frame(&chip, &[regs::CMD_STANDBY], 3);
@@ -125,7 +132,11 @@ fn lock_refuses_writes_until_unlock_and_standby_stops_conversions() {
 #[test]
 fn reset_command_restores_defaults() {
     let chip = RefCell::new(Ads131m04::new(Constant([0.0; 4])));
-    frame(&chip, &[regs::CMD_WREG | (u16::from(regs::GAIN1) << 7), 0x0003], 3);
+    frame(
+        &chip,
+        &[regs::CMD_WREG | (u16::from(regs::GAIN1) << 7), 0x0003],
+        3,
+    );
     frame(&chip, &[regs::CMD_RESET], 3);
     let rx = frame(&chip, &[regs::CMD_NULL], 3);
     assert_eq!(word(&rx, 0, 3), regs::RESET_RESPONSE);
@@ -138,7 +149,8 @@ fn stimulus_codes_are_recomputable_from_the_index() {
     let reference = Stimulus::new(StimulusParams::QEMU_BOARD);
     for n in 0..50u64 {
         chip.borrow_mut().convert();
-        let expect: [i32; 4] = core::array::from_fn(|ch| ideal_code(reference.volts(n)[ch], 1, VREF_V));
+        let expect: [i32; 4] =
+            core::array::from_fn(|ch| ideal_code(reference.volts(n)[ch], 1, VREF_V));
         assert_eq!(chip.borrow().codes(), expect, "conversion {n}");
     }
 }

@@ -35,7 +35,11 @@ impl<A> ErrorType for TrimDac<'_, A> {
 }
 
 impl<A: AnalogInput + TrimInput> I2c for TrimDac<'_, A> {
-    fn transaction(&mut self, address: u8, operations: &mut [Operation<'_>]) -> Result<(), ErrorKind> {
+    fn transaction(
+        &mut self,
+        address: u8,
+        operations: &mut [Operation<'_>],
+    ) -> Result<(), ErrorKind> {
         if address != ADDRESS {
             return Err(ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address));
         }
@@ -63,7 +67,10 @@ impl<A: AnalogInput + TrimInput> TrimDac<'_, A> {
             // Multi-write: 0100 0 DAC1 DAC0 UDAC | VREF PD1 PD0 Gx D11..D8 | D7..D0.
             for triple in bytes.chunks_exact(3) {
                 let ch = usize::from((triple[0] >> 1) & 0b11);
-                input.set_trim(ch, (u16::from(triple[1] & 0x0F) << 8) | u16::from(triple[2]));
+                input.set_trim(
+                    ch,
+                    (u16::from(triple[1] & 0x0F) << 8) | u16::from(triple[2]),
+                );
             }
         }
     }
@@ -78,7 +85,8 @@ mod tests {
     fn fast_and_multi_write_move_the_trim() {
         let chip = RefCell::new(Ads131m04::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
         let mut dac = TrimDac(&chip);
-        dac.write(ADDRESS, &[0x0F, 0xFF, 0x08, 0x00, 0x00, 0x01, 0x00, 0x00]).unwrap();
+        dac.write(ADDRESS, &[0x0F, 0xFF, 0x08, 0x00, 0x00, 0x01, 0x00, 0x00])
+            .unwrap();
         assert_eq!(chip.borrow_mut().input_mut().trim_codes, [4095, 2048, 1, 0]);
         dac.write(ADDRESS, &[0x42, 0x87, 0xD0]).unwrap();
         assert_eq!(chip.borrow_mut().input_mut().trim_codes[1], 0x7D0);
