@@ -347,7 +347,11 @@ impl Device {
         self.flush_replies();
     }
 
+    #[inline]
     fn apply_pending(&mut self, hw: &mut impl Frontend) {
+        if self.pending.is_empty() && self.replies.is_empty() && !self.info_due {
+            return;
+        }
         while let Some(req) = self.pending.pop_front() {
             let reply = self.apply(&req, hw);
             self.reply(reply);
@@ -365,6 +369,10 @@ impl Device {
 
     /// Move waiting replies (and an info frame after its ack) into the transmit buffer.
     fn flush_replies(&mut self) {
+        // Cheap exit on the per-frame path: nothing waiting, no encode buffer to clear.
+        if self.replies.is_empty() && !self.info_due {
+            return;
+        }
         let mut wire = [0u8; MAX_FRAME];
         while let Some(reply) = self.replies.front().copied() {
             let n = encode(&Message::Reply(reply), &mut wire).unwrap_or(0);
