@@ -172,6 +172,8 @@ mod target {
         unsafe { cortex_m::peripheral::NVIC::unmask(pac::Interrupt::EXTI15_10) };
         defmt::info!("streaming core up at {=u32} samples/s", dev.rate_hz());
 
+        // No WFI here: USART2 has a one-byte receive register and no receive interrupt is used,
+        // so the loop must keep polling or a burst of request bytes would overrun it.
         loop {
             while let Some(raw) = consumer.dequeue() {
                 dev.on_sample(&raw, &mut fe);
