@@ -173,6 +173,27 @@ fn qemu_board_streams_the_stimulus_and_obeys_commands() {
         frames.last().unwrap().status.config_epoch,
         epoch.wrapping_add(1)
     );
+    // A valid rate change: acked, and the frames after it are 16 samples at 2 kSPS = 8 ms apart.
+    let epoch = frames.last().unwrap().status.config_epoch;
+    send(&mut stdin, 5, Command::SetRate { hz: 2000 });
+    let after = move |f: &SampleFrame| f.status.config_epoch == epoch.wrapping_add(1);
+    collect(
+        &|f, r| r.len() >= 5 && f.iter().filter(|x| after(x)).count() >= 3,
+        &mut frames,
+        &mut replies,
+    );
+    assert_eq!(
+        replies[4],
+        Reply::Ack {
+            tag: 5,
+            opcode: protocol::opcode::SET_RATE
+        }
+    );
+    let fast: Vec<&SampleFrame> = frames.iter().filter(|x| after(x)).collect();
+    assert_eq!(fast[2].t_us - fast[1].t_us, 8000);
+    assert!(frames
+        .windows(2)
+        .all(|w| w[1].seq == w[0].seq.wrapping_add(1)));
     let _ = qemu.kill();
     let _ = qemu.wait();
 }
