@@ -15,8 +15,6 @@ use super::TxBuffer;
 
 /// Largest sample-frame body plus its CRC.
 const PAYLOAD_MAX: usize = SAMPLE_HEADER_LEN + MAX_BATCH * SAMPLE_LEN + CRC_LEN;
-/// The body alone.
-const BODY_MAX: usize = SAMPLE_HEADER_LEN + MAX_BATCH * SAMPLE_LEN;
 const _: () = assert!(PAYLOAD_MAX < 254, "the COBS pass assumes one block");
 
 /// CRC-32C (Castagnoli, reflected 0x82F63B78), slicing-by-4 tables.
@@ -53,6 +51,7 @@ const fn crc_tables() -> [[u32; 256]; 4] {
 }
 
 /// CRC-32C of `bytes` (init and final XOR 0xFFFFFFFF).
+#[inline(never)]
 pub fn crc32c(bytes: &[u8]) -> u32 {
     let mut crc = !0u32;
     let mut chunks = bytes.chunks_exact(4);
@@ -69,57 +68,44 @@ pub fn crc32c(bytes: &[u8]) -> u32 {
     !crc
 }
 
-/// One pass over the body: CRC-32C, and COBS-copy of body ‖ CRC into `dst` (exactly
-/// body + CRC + 1 bytes; the payload is shorter than 254 bytes, so one COBS block). Four bytes
-/// at a time: a word is folded into the CRC, stored, and its zero bytes (found all at once with a
-/// bit trick, then visited lowest first) become code bytes.
-fn crc_and_cobs(body: &[u8], dst: &mut [u8]) {
-    let dst = &mut dst[..body.len() + CRC_LEN + 1];
-    let mut crc = !0u32;
+/// COBS of `src` (shorter than 254 bytes, so one block) into `dst` (exactly `src.len() + 1`
+/// bytes). Four bytes at a time: a word is stored, and its zero bytes (found all at once with a
+/// bit trick, then visited lowest first) become code bytes. A leaf function on purpose: inlined
+/// into the device core, the loop ran out of registers and spilled to the stack.
+#[inline(never)]
+fn cobs_short(src: &[u8], dst: &mut [u8]) {
+    let dst = &mut dst[..src.len() + 1];
     let mut code_at = 0;
-    let mut words = body.chunks_exact(4);
-    let mut j = 0;
+    let mut words = src.chunks_exact(4);
+    let mut j = 1;
     for w in &mut words {
         let v = u32::from_le_bytes([w[0], w[1], w[2], w[3]]);
-        let x = crc ^ v;
-        crc = CRC_TABLES[3][(x & 0xFF) as usize]
-            ^ CRC_TABLES[2][((x >> 8) & 0xFF) as usize]
-            ^ CRC_TABLES[1][((x >> 16) & 0xFF) as usize]
-            ^ CRC_TABLES[0][(x >> 24) as usize];
-        dst[j + 1..j + 5].copy_from_slice(w);
+        dst[j..j + 4].copy_from_slice(w);
         // 0x80 in exactly the bytes of v that are zero.
         let mut zeros = !(((v & 0x7F7F_7F7F).wrapping_add(0x7F7F_7F7F)) | v | 0x7F7F_7F7F);
         while zeros != 0 {
-            let at = j + 1 + (zeros.trailing_zeros() / 8) as usize;
+            let at = j + (zeros.trailing_zeros() / 8) as usize;
             dst[code_at] = (at - code_at) as u8;
             code_at = at;
             zeros &= zeros - 1;
         }
         j += 4;
     }
-    let mut put = |b: u8, j: usize, code_at: &mut usize| {
-        if b == 0 {
-            dst[*code_at] = (j + 1 - *code_at) as u8;
-            *code_at = j + 1;
-        } else {
-            dst[j + 1] = b;
-        }
-    };
     for &b in words.remainder() {
-        crc = (crc >> 8) ^ CRC_TABLES[0][((crc ^ u32::from(b)) & 0xFF) as usize];
-        put(b, j, &mut code_at);
+        if b == 0 {
+            dst[code_at] = (j - code_at) as u8;
+            code_at = j;
+        } else {
+            dst[j] = b;
+        }
         j += 1;
     }
-    for b in (!crc).to_le_bytes() {
-        put(b, j, &mut code_at);
-        j += 1;
-    }
-    dst[code_at] = (j + 1 - code_at) as u8;
+    dst[code_at] = (j - code_at) as u8;
 }
 
 /// A sample frame being filled.
 pub struct FrameBuilder {
-    body: [u8; BODY_MAX],
+    body: [u8; PAYLOAD_MAX],
     len: usize,
     t_us: u32,
     temp: i32,
@@ -134,7 +120,7 @@ impl Default for FrameBuilder {
 impl FrameBuilder {
     pub const fn new() -> Self {
         Self {
-            body: [0; BODY_MAX],
+            body: [0; PAYLOAD_MAX],
             len: 0,
             t_us: 0,
             temp: 0,
@@ -223,8 +209,11 @@ impl FrameBuilder {
         h[14..17].copy_from_slice(&self.temp.to_le_bytes()[..3]);
         h[17] = self.len as u8;
         let body_len = SAMPLE_HEADER_LEN + self.len * SAMPLE_LEN;
-        crc_and_cobs(&self.body[..body_len], dst);
-        dst[body_len + CRC_LEN + 1] = 0;
+        let crc = crc32c(&self.body[..body_len]);
+        self.body[body_len..body_len + CRC_LEN].copy_from_slice(&crc.to_le_bytes());
+        let payload = body_len + CRC_LEN;
+        cobs_short(&self.body[..payload], &mut dst[..payload + 1]);
+        dst[payload + 1] = 0;
         self.len = 0;
     }
 }
