@@ -10,13 +10,19 @@
 //! assert!(params.fingertip.radius_mm > 0.0);
 //! ```
 
+mod adc;
+mod board;
 mod fingertip;
+mod frontend;
 pub mod reader;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+pub use adc::{Adc, Crc, NOISE_TABLE_GAINS, NOISE_TABLE_OSR};
+pub use board::{Board, ClockSource};
 pub use fingertip::{CompressionTest, Fingertip};
+pub use frontend::{AntiAlias, Bridge, Frontend, GainStage, InAmp, TempSensor, Trim, BRIDGES};
 pub use reader::Reader;
 
 /// Every parameter of the sensor, loaded from one `hardware/` folder.
@@ -25,6 +31,12 @@ pub use reader::Reader;
 pub struct Params {
     /// The gel hemisphere, its mount, the rod and the standard compression test.
     pub fingertip: Fingertip,
+    /// Bridges, trim DAC, amplifiers, anti-alias RC, temperature sensor.
+    pub frontend: Frontend,
+    /// The ADS131M04's configuration and datasheet figures.
+    pub adc: Adc,
+    /// The NUCLEO-F411RE pin map.
+    pub board: Board,
 }
 
 impl Params {
@@ -45,8 +57,13 @@ impl Params {
     pub fn load(dir: &Path) -> Result<Self, LoadError> {
         let mut errors = Vec::new();
         let fingertip = collect(Fingertip::load(&dir.join("fingertip.toml")), &mut errors);
-        match fingertip {
-            Some(fingertip) if errors.is_empty() => Ok(Self { fingertip }),
+        let frontend = collect(Frontend::load(&dir.join("frontend.toml")), &mut errors);
+        let adc = collect(Adc::load(&dir.join("adc.toml")), &mut errors);
+        let board = collect(Board::load(&dir.join("board.toml")), &mut errors);
+        match (fingertip, frontend, adc, board) {
+            (Some(fingertip), Some(frontend), Some(adc), Some(board)) if errors.is_empty() => {
+                Ok(Self { fingertip, frontend, adc, board })
+            }
             _ => Err(LoadError(errors)),
         }
     }
