@@ -64,6 +64,8 @@ pub struct InAmp {
     pub offset_v: [f64; BRIDGES],
     /// Closest approach of the output to either rail.
     pub swing_from_rail_v: f64,
+    /// Width of the softplus corner with which the output approaches that limit.
+    pub knee_v: f64,
 }
 
 /// The second stage: a non-inverting op-amp stage around VMID per channel.
@@ -73,8 +75,10 @@ pub struct GainStage {
     pub feedback_ohm: [f64; BRIDGES],
     pub ground_ohm: [f64; BRIDGES],
     pub gbw_hz: f64,
+    pub open_loop_gain_db: f64,
     pub input_noise_v_per_rthz: f64,
     pub swing_from_rail_v: f64,
+    pub knee_v: f64,
 }
 
 /// The RC between each second stage and its ADC input pair.
@@ -136,14 +140,17 @@ impl Frontend {
                 offset_max_v: r.f64("stage1.offset_max_v", 0.0..=10.0e-3),
                 offset_v: r.f64_array("stage1.offset_v", -10.0e-3..=10.0e-3),
                 swing_from_rail_v: r.f64("stage1.swing_from_rail_v", 0.0..=2.0),
+                knee_v: r.f64("stage1.knee_v", 1.0e-5..=0.1),
             },
             stage2: GainStage {
                 part: r.string("stage2.part"),
                 feedback_ohm: r.f64_array("stage2.feedback_ohm", 0.0..=10.0e6),
                 ground_ohm: r.f64_array("stage2.ground_ohm", 10.0..=10.0e6),
                 gbw_hz: r.f64("stage2.gbw_hz", 1.0e3..=100.0e6),
+                open_loop_gain_db: r.f64("stage2.open_loop_gain_db", 60.0..=180.0),
                 input_noise_v_per_rthz: r.f64("stage2.input_noise_v_per_rthz", 0.0..=1.0e-6),
                 swing_from_rail_v: r.f64("stage2.swing_from_rail_v", 0.0..=2.0),
+                knee_v: r.f64("stage2.knee_v", 1.0e-5..=0.1),
             },
             antialias: AntiAlias {
                 series_ohm: r.f64("antialias.series_ohm", 0.0..=100.0e3),

@@ -40,8 +40,8 @@ fn amplifier_offset_beyond_its_maximum_is_refused() {
 
 #[test]
 fn output_swing_leaving_no_range_is_refused() {
-    let text = "swing_from_rail_v = 0.05\n\n[antialias]";
-    let dir = folder_with(FILE, text, "swing_from_rail_v = 1.7\n\n[antialias]");
+    let text = "swing_from_rail_v = 0.05\nknee_v = 0.005\n\n[antialias]";
+    let dir = folder_with(FILE, text, "swing_from_rail_v = 1.7\nknee_v = 0.005\n\n[antialias]");
     rule_broken(&dir, FILE, "stage2.swing_from_rail_v");
 }
 

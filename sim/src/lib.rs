@@ -1,2 +1,4 @@
 //! The emulated sensor: mechanics -> beam stress -> piezoresistors -> bridges -> amplifier -> ADC.
 #![cfg_attr(not(feature = "std"), no_std)]
+
+pub mod frontend;
