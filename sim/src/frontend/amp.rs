@@ -103,7 +103,8 @@ impl GainStage {
     /// Input-referred noise density: the op amp and the thermal noise of `R_f || R_g`.
     pub fn noise_v_per_rthz(&self, temperature_k: f64) -> f64 {
         let r_par = self.feedback_ohm * self.ground_ohm / (self.feedback_ohm + self.ground_ohm);
-        libm::sqrt(self.input_noise_v_per_rthz.powi(2) + super::noise::thermal_v2_per_hz(r_par, temperature_k))
+        let e = self.input_noise_v_per_rthz;
+        libm::sqrt(e * e + super::noise::thermal_v2_per_hz(r_par, temperature_k))
     }
 }
 

@@ -97,9 +97,9 @@ impl Channel {
         let (pos, neg) = self.bridge.outputs([0.0; 4]);
         let source_ohm = self.trim.inject(pos, 0).ohm + neg.ohm;
         let bridge = noise::thermal_v2_per_hz(source_ohm, self.temperature_k);
-        let stage1 = self.stage1.noise_v_per_rthz().powi(2);
-        let stage2 = (self.stage2.noise_v_per_rthz(self.temperature_k) / self.stage1.gain()).powi(2);
-        libm::sqrt(bridge + stage1 + stage2)
+        let stage1 = self.stage1.noise_v_per_rthz();
+        let stage2 = self.stage2.noise_v_per_rthz(self.temperature_k) / self.stage1.gain();
+        libm::sqrt(bridge + stage1 * stage1 + stage2 * stage2)
     }
 
     /// Front-end rms noise referred to the bridge output within the ADC's sinc3 bandwidth (the
