@@ -81,19 +81,28 @@ impl Adc {
     /// Rules across keys; each has its own test in `tests/adc_rules.rs`.
     fn check(&self, r: &mut Reader) {
         if !NOISE_TABLE_OSR.contains(&self.osr) {
-            r.reject("clock.osr", "must be one of 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384");
+            r.reject(
+                "clock.osr",
+                "must be one of 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384",
+            );
         }
         if ![16, 24, 32].contains(&self.word_bits) {
             r.reject("interface.word_bits", "must be 16, 24 or 32");
         }
         if self.pga_gain.iter().any(|g| !NOISE_TABLE_GAINS.contains(g)) {
-            r.reject("channels.pga_gain", "each gain must be 1, 2, 4 or 8 (the gains with a noise table)");
+            r.reject(
+                "channels.pga_gain",
+                "each gain must be 1, 2, 4 or 8 (the gains with a noise table)",
+            );
         }
         for (g, row) in self.noise_uvrms.iter().enumerate() {
             // Averaging over a longer window can only lower the noise.
             if row.windows(2).any(|w| w[0] > w[1]) {
                 let key = format!("noise.gain{}_uvrms", NOISE_TABLE_GAINS[g]);
-                r.reject(&key, "must rise from OSR 16384 to OSR 64 (less averaging, more noise)");
+                r.reject(
+                    &key,
+                    "must rise from OSR 16384 to OSR 64 (less averaging, more noise)",
+                );
             }
         }
     }
@@ -110,8 +119,14 @@ impl Adc {
 
     /// The datasheet's input-referred noise for `channel` at the configured OSR, in volts rms.
     pub fn noise_rms_v(&self, channel: usize) -> f64 {
-        let g = NOISE_TABLE_GAINS.iter().position(|g| *g == self.pga_gain[channel]).unwrap_or(0);
-        let o = NOISE_TABLE_OSR.iter().position(|o| *o == self.osr).unwrap_or(0);
+        let g = NOISE_TABLE_GAINS
+            .iter()
+            .position(|g| *g == self.pga_gain[channel])
+            .unwrap_or(0);
+        let o = NOISE_TABLE_OSR
+            .iter()
+            .position(|o| *o == self.osr)
+            .unwrap_or(0);
         self.noise_uvrms[g][o] * 1.0e-6
     }
 }

@@ -116,12 +116,23 @@ impl Board {
         let pins = self.pins();
         for (i, (key, pin)) in pins.iter().enumerate() {
             if !is_lqfp64_gpio(pin) {
-                r.reject(key, format!("`{pin}` is not a pin of the LQFP64 STM32F411RE (PA0..PC15, PD2, PH0, PH1)"));
+                r.reject(
+                    key,
+                    format!(
+                        "`{pin}` is not a pin of the LQFP64 STM32F411RE (PA0..PC15, PD2, PH0, PH1)"
+                    ),
+                );
                 continue;
             }
             if let Some((_, allowed)) = ALTERNATES.iter().find(|(k, _)| k == key) {
                 if !allowed.contains(pin) {
-                    r.reject(key, format!("`{pin}` cannot carry this function; use one of {}", allowed.join(", ")));
+                    r.reject(
+                        key,
+                        format!(
+                            "`{pin}` cannot carry this function; use one of {}",
+                            allowed.join(", ")
+                        ),
+                    );
                 }
             }
             if let Some((other, _)) = pins[..i].iter().find(|(_, p)| p == pin) {
@@ -133,10 +144,16 @@ impl Board {
 
 /// `PA0`..`PA15`, `PB0`..`PB15`, `PC0`..`PC15`, `PD2`, `PH0`, `PH1`.
 fn is_lqfp64_gpio(pin: &str) -> bool {
-    let Some(rest) = pin.strip_prefix('P') else { return false };
+    let Some(rest) = pin.strip_prefix('P') else {
+        return false;
+    };
     let mut chars = rest.chars();
-    let Some(port) = chars.next() else { return false };
-    let Ok(n) = chars.as_str().parse::<u8>() else { return false };
+    let Some(port) = chars.next() else {
+        return false;
+    };
+    let Ok(n) = chars.as_str().parse::<u8>() else {
+        return false;
+    };
     if chars.as_str().starts_with('0') && n != 0 {
         return false;
     }

@@ -173,16 +173,34 @@ impl Frontend {
         }
         let full_scale = 1u64 << self.trim.dac_bits;
         if u64::from(self.mid_dac_code) >= full_scale {
-            r.reject("supply.mid_dac_code", format!("must be below 2^trim.dac_bits = {full_scale}"));
+            r.reject(
+                "supply.mid_dac_code",
+                format!("must be below 2^trim.dac_bits = {full_scale}"),
+            );
         }
-        let names = ["bridge.arm_mismatch_fz", "bridge.arm_mismatch_mx", "bridge.arm_mismatch_my"];
+        let names = [
+            "bridge.arm_mismatch_fz",
+            "bridge.arm_mismatch_mx",
+            "bridge.arm_mismatch_my",
+        ];
         for (name, arms) in names.iter().zip(&self.bridge.arm_mismatch) {
             if arms.iter().any(|d| d.abs() > self.bridge.arm_tolerance) {
-                r.reject(name, "every arm's mismatch must lie within +-bridge.arm_tolerance");
+                r.reject(
+                    name,
+                    "every arm's mismatch must lie within +-bridge.arm_tolerance",
+                );
             }
         }
-        if self.stage1.offset_v.iter().any(|v| v.abs() > self.stage1.offset_max_v) {
-            r.reject("stage1.offset_v", "every offset must lie within +-stage1.offset_max_v");
+        if self
+            .stage1
+            .offset_v
+            .iter()
+            .any(|v| v.abs() > self.stage1.offset_max_v)
+        {
+            r.reject(
+                "stage1.offset_v",
+                "every offset must lie within +-stage1.offset_max_v",
+            );
         }
         let stages = [
             ("stage1.swing_from_rail_v", self.stage1.swing_from_rail_v),
@@ -190,13 +208,19 @@ impl Frontend {
         ];
         for (key, swing) in stages {
             if 2.0 * swing >= self.supply_v {
-                r.reject(key, "must be below half of supply.analog_v (no output range left)");
+                r.reject(
+                    key,
+                    "must be below half of supply.analog_v (no output range left)",
+                );
             }
         }
         // Mismatched common-mode capacitors turn common-mode noise into a differential error;
         // keeping them a decade below the differential one bounds that (TI SBAA229).
         if self.antialias.cm_cap_f * 10.0 > self.antialias.diff_cap_f {
-            r.reject("antialias.cm_cap_f", "must be at most a tenth of antialias.diff_cap_f");
+            r.reject(
+                "antialias.cm_cap_f",
+                "must be at most a tenth of antialias.diff_cap_f",
+            );
         }
     }
 }

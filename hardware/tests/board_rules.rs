@@ -8,7 +8,10 @@ const FILE: &str = "board.toml";
 #[test]
 fn shipped_pin_map_uses_the_vcp_and_spi1() {
     let board = hardware::Params::load_default().unwrap().board;
-    assert_eq!((board.uart_tx.as_str(), board.uart_rx.as_str()), ("PA2", "PA3"));
+    assert_eq!(
+        (board.uart_tx.as_str(), board.uart_rx.as_str()),
+        ("PA2", "PA3")
+    );
     assert_eq!(board.uart_baud, 921_600);
     assert_eq!(board.spi_sck, "PA5");
 }

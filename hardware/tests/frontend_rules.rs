@@ -28,7 +28,11 @@ fn mid_code_beyond_the_dac_is_refused() {
 
 #[test]
 fn arm_mismatch_beyond_the_tolerance_is_refused() {
-    let dir = folder_with(FILE, "[3.0e-4, -3.0e-4, -3.0e-4, 3.0e-4]", "[3.0e-4, -3.0e-4, -7.0e-4, 3.0e-4]");
+    let dir = folder_with(
+        FILE,
+        "[3.0e-4, -3.0e-4, -3.0e-4, 3.0e-4]",
+        "[3.0e-4, -3.0e-4, -7.0e-4, 3.0e-4]",
+    );
     rule_broken(&dir, FILE, "bridge.arm_mismatch_my");
 }
 
@@ -41,7 +45,11 @@ fn amplifier_offset_beyond_its_maximum_is_refused() {
 #[test]
 fn output_swing_leaving_no_range_is_refused() {
     let text = "swing_from_rail_v = 0.05\nknee_v = 0.005\n\n[antialias]";
-    let dir = folder_with(FILE, text, "swing_from_rail_v = 1.7\nknee_v = 0.005\n\n[antialias]");
+    let dir = folder_with(
+        FILE,
+        text,
+        "swing_from_rail_v = 1.7\nknee_v = 0.005\n\n[antialias]",
+    );
     rule_broken(&dir, FILE, "stage2.swing_from_rail_v");
 }
 

@@ -27,14 +27,21 @@ fn netlist() -> PathBuf {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/spice-frontend").join(name);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../target/spice-frontend")
+        .join(name);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
 
 /// The `.param` lines the netlist reads: every value from `params`, the trim DACs at
 /// `dac_codes`, each bridge's arm mismatch and each in-amp's offset as given.
-fn params_inc(p: &Params, dac_codes: [u32; CHANNELS], mismatch: [[f64; 4]; CHANNELS], offset_v: [f64; CHANNELS]) -> String {
+fn params_inc(
+    p: &Params,
+    dac_codes: [u32; CHANNELS],
+    mismatch: [[f64; 4]; CHANNELS],
+    offset_v: [f64; CHANNELS],
+) -> String {
     let fe = &p.frontend;
     let model = FrontEnd::from_params(p);
     let kt4 = 4.0 * sim::frontend::noise::BOLTZMANN_J_PER_K * fe.bridge.temperature_k;
@@ -50,7 +57,10 @@ fn params_inc(p: &Params, dac_codes: [u32; CHANNELS], mismatch: [[f64; 4]; CHANN
     param("swing1", fe.stage1.swing_from_rail_v);
     param("knee1", fe.stage1.knee_v);
     // Each stage's input noise as the thermal noise of a series resistor: R = e_n^2 / 4kT.
-    param("rn1", model.channels[0].stage1.noise_v_per_rthz().powi(2) / kt4);
+    param(
+        "rn1",
+        model.channels[0].stage1.noise_v_per_rthz().powi(2) / kt4,
+    );
     param("a0", 10f64.powf(fe.stage2.open_loop_gain_db / 20.0));
     param("gbw2", fe.stage2.gbw_hz);
     param("swing2", fe.stage2.swing_from_rail_v);
@@ -68,7 +78,10 @@ fn params_inc(p: &Params, dac_codes: [u32; CHANNELS], mismatch: [[f64; 4]; CHANN
         param(&format!("rg_{ch}"), fe.stage1.gain_resistor_ohm[i]);
         param(&format!("rf_{ch}"), fe.stage2.feedback_ohm[i]);
         param(&format!("rgnd_{ch}"), fe.stage2.ground_ohm[i]);
-        param(&format!("vdac_{ch}"), model.channels[i].trim.dac_v(dac_codes[i]));
+        param(
+            &format!("vdac_{ch}"),
+            model.channels[i].trim.dac_v(dac_codes[i]),
+        );
     }
     s
 }
@@ -78,7 +91,7 @@ fn ngspice(name: &str, inc: &str, control: &str, temperature_k: f64) -> PathBuf 
     let dir = out_dir(name);
     std::fs::write(dir.join("params.inc"), inc).unwrap();
     let deck = format!(
-        "* tactile front end: {name}\n.include {}\n.include {}\n.options temp={t} tnom={t}\n.control\n{control}\n.endc\n.end\n",
+        "* tactile front end: {name}\n.include {}\n.include {}\n.options temp={t} tnom={t}\n.control\n{control}\nquit 0\n.endc\n.end\n",
         dir.join("params.inc").display(),
         netlist().display(),
         t = temperature_k - 273.15,
@@ -90,9 +103,17 @@ fn ngspice(name: &str, inc: &str, control: &str, temperature_k: f64) -> PathBuf 
         .current_dir(&dir)
         .output()
         .expect("ngspice not found: run scripts/setup-hardware.sh");
-    let log = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     std::fs::write(dir.join("ngspice.log"), &log).unwrap();
-    assert!(out.status.success() && !log.contains("rror"), "ngspice failed, see {}:\n{log}", dir.display());
+    assert!(
+        out.status.success() && !log.contains("rror"),
+        "ngspice failed, see {}:\n{log}",
+        dir.display()
+    );
     dir
 }
 
@@ -110,7 +131,9 @@ fn read_xy(path: &Path) -> Vec<(f64, f64)> {
 /// Least-squares line through `points`: (slope, intercept).
 fn fit_line(points: &[(f64, f64)]) -> (f64, f64) {
     let n = points.len() as f64;
-    let (sx, sy) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let (sx, sy) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
     let (mx, my) = (sx / n, sy / n);
     let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
     let sxx: f64 = points.iter().map(|(x, _)| (x - mx).powi(2)).sum();
@@ -143,26 +166,59 @@ fn dc_transfer_and_saturation_agree_with_the_sim() {
     let mid = model.mid_v();
     let full_scale = model.adc.full_scale_v(0);
     let mut control = String::new();
-    let spans: Vec<f64> = model.channels.iter().map(|c| 1.5 * c.rail_limits_input_v(codes[0], mid).1.abs().max(c.rail_limits_input_v(codes[0], mid).0.abs())).collect();
+    let spans: Vec<f64> = model
+        .channels
+        .iter()
+        .map(|c| {
+            1.5 * c
+                .rail_limits_input_v(codes[0], mid)
+                .1
+                .abs()
+                .max(c.rail_limits_input_v(codes[0], mid).0.abs())
+        })
+        .collect();
     for (i, ch) in NAMES.iter().enumerate() {
         let step = spans[i] / 300.0;
-        writeln!(control, "dc v.x{ch}.vimb {} {} {step}\nwrdata dc_{ch}.txt v(adcp_{ch},adcn_{ch})", -spans[i], spans[i]).unwrap();
+        writeln!(
+            control,
+            "dc v.x{ch}.vimb {} {} {step}\nwrdata dc_{ch}.txt v(adcp_{ch},adcn_{ch})",
+            -spans[i], spans[i]
+        )
+        .unwrap();
     }
-    let inc = params_inc(&p, codes, p.frontend.bridge.arm_mismatch, p.frontend.stage1.offset_v);
+    let inc = params_inc(
+        &p,
+        codes,
+        p.frontend.bridge.arm_mismatch,
+        p.frontend.stage1.offset_v,
+    );
     let dir = ngspice("dc", &inc, &control, p.frontend.bridge.temperature_k);
     for (i, ch) in NAMES.iter().enumerate() {
         let c: &Channel = &model.channels[i];
         let spice = read_xy(&dir.join(format!("dc_{ch}.txt")));
         // Gain: a line through the points well inside the linear range.
-        let linear: Vec<_> = spice.iter().copied().filter(|(_, v)| v.abs() < 0.5 * full_scale).collect();
+        let linear: Vec<_> = spice
+            .iter()
+            .copied()
+            .filter(|(_, v)| v.abs() < 0.5 * full_scale)
+            .collect();
         let (gain, offset) = fit_line(&linear);
         // Rail plateaus: the sweep's ends; saturation starts where the line meets them.
-        let (lo_plateau, hi_plateau) = (spice[0].1.min(spice[spice.len() - 1].1), spice[0].1.max(spice[spice.len() - 1].1));
+        let (lo_plateau, hi_plateau) = (
+            spice[0].1.min(spice[spice.len() - 1].1),
+            spice[0].1.max(spice[spice.len() - 1].1),
+        );
         let rails = ((lo_plateau - offset) / gain, (hi_plateau - offset) / gain);
-        let adc_clip = (crossing(&spice, -full_scale).unwrap(), crossing(&spice, full_scale).unwrap());
+        let adc_clip = (
+            crossing(&spice, -full_scale).unwrap(),
+            crossing(&spice, full_scale).unwrap(),
+        );
         let sim_rails = c.rail_limits_input_v(codes[i], mid);
         let sim_clip = c.adc_limits_input_v(codes[i], mid, full_scale);
-        let sim_plateau = (c.antialias.dc_gain() * (c.stage2.output.limits_v().0 - mid), c.antialias.dc_gain() * (c.stage2.output.limits_v().1 - mid));
+        let sim_plateau = (
+            c.antialias.dc_gain() * (c.stage2.output.limits_v().0 - mid),
+            c.antialias.dc_gain() * (c.stage2.output.limits_v().1 - mid),
+        );
         let worst_point = spice
             .iter()
             .map(|(x, v)| (v - c.adc_input_v([0.0; 4], *x, codes[i], mid)).abs())
@@ -178,12 +234,25 @@ fn dc_transfer_and_saturation_agree_with_the_sim() {
             worst_point * 1e3,
         );
         assert!(rel(c.gain(), gain) < TOLERANCE, "{ch} gain");
-        assert!(rel(sim_rails.0, rails.0) < TOLERANCE && rel(sim_rails.1, rails.1) < TOLERANCE, "{ch} rail saturation");
-        assert!(rel(sim_plateau.0, lo_plateau) < TOLERANCE && rel(sim_plateau.1, hi_plateau) < TOLERANCE, "{ch} plateaus");
-        assert!(rel(sim_clip.0, adc_clip.0) < TOLERANCE && rel(sim_clip.1, adc_clip.1) < TOLERANCE, "{ch} ADC clip");
+        assert!(
+            rel(sim_rails.0, rails.0) < TOLERANCE && rel(sim_rails.1, rails.1) < TOLERANCE,
+            "{ch} rail saturation"
+        );
+        assert!(
+            rel(sim_plateau.0, lo_plateau) < TOLERANCE
+                && rel(sim_plateau.1, hi_plateau) < TOLERANCE,
+            "{ch} plateaus"
+        );
+        assert!(
+            rel(sim_clip.0, adc_clip.0) < TOLERANCE && rel(sim_clip.1, adc_clip.1) < TOLERANCE,
+            "{ch} ADC clip"
+        );
         assert!(worst_point < TOLERANCE * hi_plateau, "{ch} pointwise");
         // The amplifier must not clip before the ADC does: saturation margin at both ends.
-        assert!(hi_plateau > full_scale && lo_plateau < -full_scale, "{ch}: amplifier clips inside the ADC range");
+        assert!(
+            hi_plateau > full_scale && lo_plateau < -full_scale,
+            "{ch}: amplifier clips inside the ADC range"
+        );
     }
 }
 
@@ -193,7 +262,9 @@ fn offset_cut_cancels_the_worst_raw_offset() {
     let fe = &p.frontend;
     let t = fe.bridge.arm_tolerance;
     let worst = Bridge::worst_raw_offset_v(fe.bridge.excitation_v, t) + fe.stage1.offset_max_v;
-    let dac_max = model.channels[0].trim.dac_v(model.channels[0].trim.codes() - 1);
+    let dac_max = model.channels[0]
+        .trim
+        .dac_v(model.channels[0].trim.codes() - 1);
     for (sign, name) in [(1.0, "trim_plus"), (-1.0, "trim_minus")] {
         // Arms R1, R4 high and R2, R3 low (or the reverse) with the in-amp offset adding.
         let mismatch = [[sign * t, -sign * t, -sign * t, sign * t]; CHANNELS];
@@ -203,10 +274,16 @@ fn offset_cut_cancels_the_worst_raw_offset() {
         for ch in NAMES {
             writeln!(control, "dc vdac_{ch} 0 {} {}\nwrdata {ch}_adc.txt v(adcp_{ch},adcn_{ch})\nwrdata {ch}_in.txt v(x{ch}.inp,x{ch}.bneg)", fe.supply_v, fe.supply_v / 400.0).unwrap();
         }
-        let dir = ngspice(name, &params_inc(&p, mid_codes, mismatch, offsets), &control, fe.bridge.temperature_k);
+        let dir = ngspice(
+            name,
+            &params_inc(&p, mid_codes, mismatch, offsets),
+            &control,
+            fe.bridge.temperature_k,
+        );
         for (i, ch) in NAMES.iter().enumerate() {
             let adc = read_xy(&dir.join(format!("{ch}_adc.txt")));
-            let null_v = crossing(&adc, 0.0).unwrap_or_else(|| panic!("{ch}: the DAC cannot null {worst} V"));
+            let null_v = crossing(&adc, 0.0)
+                .unwrap_or_else(|| panic!("{ch}: the DAC cannot null {worst} V"));
             // The DAC's reach, referred to the bridge, from the in-amp input at both ends.
             let input = read_xy(&dir.join(format!("{ch}_in.txt")));
             let (first, last) = (input[0].1, input[input.len() - 1].1);
@@ -221,7 +298,10 @@ fn offset_cut_cancels_the_worst_raw_offset() {
                 sim_span * 1e3,
                 model.channels[i].trim_step_v() * 1e6,
             );
-            assert!(null_v > 0.0 && null_v < dac_max, "{ch}: null needs {null_v} V");
+            assert!(
+                null_v > 0.0 && null_v < dac_max,
+                "{ch}: null needs {null_v} V"
+            );
             assert!(rel(sim_span, spice_span) < TOLERANCE, "{ch} trim span");
         }
     }
@@ -234,14 +314,23 @@ fn noise_referred_to_the_input_agrees_and_dominates_the_adc() {
     for ch in NAMES {
         writeln!(control, "noise v(adcp_{ch},adcn_{ch}) v.x{ch}.vimb dec 10 10 100k\nsetplot noise1\nwrdata noise_{ch}.txt inoise_spectrum\nsetplot const\ndestroy all").unwrap();
     }
-    let inc = params_inc(&p, codes, p.frontend.bridge.arm_mismatch, p.frontend.stage1.offset_v);
+    let inc = params_inc(
+        &p,
+        codes,
+        p.frontend.bridge.arm_mismatch,
+        p.frontend.stage1.offset_v,
+    );
     let dir = ngspice("noise", &inc, &control, p.frontend.bridge.temperature_k);
     let f_data = model.adc.data_rate_hz;
     for (i, ch) in NAMES.iter().enumerate() {
         let c = &model.channels[i];
         let spectrum = read_xy(&dir.join(format!("noise_{ch}.txt")));
         // Well below the amplifiers' poles the density is flat (chopped amplifiers: no 1/f).
-        let at_100_hz = spectrum.iter().min_by(|a, b| (a.0 - 100.0).abs().total_cmp(&(b.0 - 100.0).abs())).unwrap().1;
+        let at_100_hz = spectrum
+            .iter()
+            .min_by(|a, b| (a.0 - 100.0).abs().total_cmp(&(b.0 - 100.0).abs()))
+            .unwrap()
+            .1;
         let rti_rms = c.noise_rms_v(f_data);
         let adc_rti = model.adc.noise_rms_v[i] / c.gain();
         println!(
@@ -255,8 +344,14 @@ fn noise_referred_to_the_input_agrees_and_dominates_the_adc() {
             model.adc.noise_rms_v[i] * 1e6,
             adc_rti * 1e9,
         );
-        assert!(rel(c.noise_v_per_rthz(), at_100_hz) < TOLERANCE, "{ch} noise density");
-        assert!(rti_rms > 10.0 * adc_rti, "{ch}: the ADC, not the front end, would limit the noise");
+        assert!(
+            rel(c.noise_v_per_rthz(), at_100_hz) < TOLERANCE,
+            "{ch} noise density"
+        );
+        assert!(
+            rti_rms > 10.0 * adc_rti,
+            "{ch}: the ADC, not the front end, would limit the noise"
+        );
     }
 }
 
@@ -268,7 +363,12 @@ fn antialias_rc_attenuates_at_the_modulator_frequency() {
     for ch in NAMES {
         writeln!(control, "let h_{ch} = vm(adcp_{ch},adcn_{ch}) / vm(x{ch}.o2,vmid)\nwrdata rc_{ch}.txt h_{ch}\nwrdata total_{ch}.txt vm(adcp_{ch},adcn_{ch})").unwrap();
     }
-    let inc = params_inc(&p, codes, p.frontend.bridge.arm_mismatch, p.frontend.stage1.offset_v);
+    let inc = params_inc(
+        &p,
+        codes,
+        p.frontend.bridge.arm_mismatch,
+        p.frontend.stage1.offset_v,
+    );
     let dir = ngspice("ac", &inc, &control, p.frontend.bridge.temperature_k);
     for (i, ch) in NAMES.iter().enumerate() {
         let c = &model.channels[i];

@@ -84,6 +84,9 @@ mod tests {
     #[test]
     fn noise_draw_is_scaled_by_the_table_value() {
         let lsb = ADC.lsb_v(0);
-        assert_eq!(ADC.code_with_noise(0, 0.0, 1.0), libm::round(3.38e-6 / lsb) as i32);
+        assert_eq!(
+            ADC.code_with_noise(0, 0.0, 1.0),
+            libm::round(3.38e-6 / lsb) as i32
+        );
     }
 }

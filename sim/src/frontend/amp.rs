@@ -25,7 +25,10 @@ pub struct Output {
 impl Output {
     /// Lowest and highest output, `[swing, supply - swing]`.
     pub fn limits_v(&self) -> (f64, f64) {
-        (self.swing_from_rail_v, self.supply_v - self.swing_from_rail_v)
+        (
+            self.swing_from_rail_v,
+            self.supply_v - self.swing_from_rail_v,
+        )
     }
 
     fn drive(&self, x: f64) -> f64 {
@@ -53,7 +56,8 @@ impl InAmp {
 
     /// Output for the differential input `v_in` with REF at `ref_v`.
     pub fn output_v(&self, v_in: f64, ref_v: f64) -> f64 {
-        self.output.drive(ref_v + self.gain() * (v_in + self.offset_v))
+        self.output
+            .drive(ref_v + self.gain() * (v_in + self.offset_v))
     }
 
     /// Closed-loop bandwidth `GBW / G1`.
@@ -63,7 +67,10 @@ impl InAmp {
 
     /// Noise density referred to the input: input stage and output stage / G1.
     pub fn noise_v_per_rthz(&self) -> f64 {
-        libm::hypot(self.input_noise_v_per_rthz, self.output_noise_v_per_rthz / self.gain())
+        libm::hypot(
+            self.input_noise_v_per_rthz,
+            self.output_noise_v_per_rthz / self.gain(),
+        )
     }
 }
 
@@ -112,7 +119,11 @@ impl GainStage {
 mod tests {
     use super::*;
 
-    const OUT: Output = Output { supply_v: 3.3, swing_from_rail_v: 0.05, knee_v: 0.005 };
+    const OUT: Output = Output {
+        supply_v: 3.3,
+        swing_from_rail_v: 0.05,
+        knee_v: 0.005,
+    };
 
     #[test]
     fn clip_is_the_identity_well_inside_and_the_limit_well_outside() {
@@ -120,7 +131,10 @@ mod tests {
         assert!((clip(10.0, 0.05, 3.25, 0.005) - 3.25).abs() < 1e-12);
         assert!((clip(-10.0, 0.05, 3.25, 0.005) - 0.05).abs() < 1e-12);
         // At the corner the softplus gives k ln 2 below the limit.
-        assert!((clip(3.25, 0.05, 3.25, 0.005) - (3.25 - 0.005 * core::f64::consts::LN_2)).abs() < 1e-12);
+        assert!(
+            (clip(3.25, 0.05, 3.25, 0.005) - (3.25 - 0.005 * core::f64::consts::LN_2)).abs()
+                < 1e-12
+        );
     }
 
     #[test]

@@ -39,7 +39,11 @@ impl AntiAlias {
 
     /// A discrete filter of this RC for samples every `dt_s` (exact for inputs held over a step).
     pub fn filter(&self, dt_s: f64) -> AntiAliasFilter {
-        AntiAliasFilter { alpha: 1.0 - libm::exp(-dt_s / self.tau_s()), gain: self.dc_gain(), y: None }
+        AntiAliasFilter {
+            alpha: 1.0 - libm::exp(-dt_s / self.tau_s()),
+            gain: self.dc_gain(),
+            y: None,
+        }
     }
 }
 
@@ -69,7 +73,12 @@ impl AntiAliasFilter {
 mod tests {
     use super::*;
 
-    const RC: AntiAlias = AntiAlias { series_ohm: 100.0, diff_cap_f: 47.0e-9, cm_cap_f: 4.7e-9, load_ohm: 330.0e3 };
+    const RC: AntiAlias = AntiAlias {
+        series_ohm: 100.0,
+        diff_cap_f: 47.0e-9,
+        cm_cap_f: 4.7e-9,
+        load_ohm: 330.0e3,
+    };
 
     #[test]
     fn corner_and_dc_gain_by_hand() {
@@ -77,7 +86,9 @@ mod tests {
         assert!((RC.dc_gain() - 330.0e3 / 330.2e3).abs() < 1e-15);
         let tau = 200.0 * 330.0e3 / 330.2e3 * 49.35e-9;
         assert!((RC.tau_s() - tau).abs() < 1e-18);
-        assert!((RC.relative_gain(RC.corner_hz()) - core::f64::consts::FRAC_1_SQRT_2).abs() < 1e-12);
+        assert!(
+            (RC.relative_gain(RC.corner_hz()) - core::f64::consts::FRAC_1_SQRT_2).abs() < 1e-12
+        );
     }
 
     #[test]
@@ -89,6 +100,9 @@ mod tests {
         for _ in 0..1000 {
             y = f.step(1.0);
         }
-        assert!((y / RC.dc_gain() - (1.0 - libm::exp(-1.0))).abs() < 1e-9, "{y}");
+        assert!(
+            (y / RC.dc_gain() - (1.0 - libm::exp(-1.0))).abs() < 1e-9,
+            "{y}"
+        );
     }
 }

@@ -15,7 +15,10 @@ impl Thevenin {
     /// A divider of `top` (to `supply_v`) over `bottom` (to ground).
     pub fn divider(supply_v: f64, top_ohm: f64, bottom_ohm: f64) -> Self {
         let sum = top_ohm + bottom_ohm;
-        Self { v: supply_v * bottom_ohm / sum, ohm: top_ohm * bottom_ohm / sum }
+        Self {
+            v: supply_v * bottom_ohm / sum,
+            ohm: top_ohm * bottom_ohm / sum,
+        }
     }
 }
 
@@ -66,7 +69,11 @@ mod tests {
     use super::*;
 
     fn bridge(mismatch: [f64; 4]) -> Bridge {
-        Bridge { resistance_ohm: 5000.0, excitation_v: 3.3, mismatch }
+        Bridge {
+            resistance_ohm: 5000.0,
+            excitation_v: 3.3,
+            mismatch,
+        }
     }
 
     #[test]

@@ -63,7 +63,8 @@ impl Channel {
     /// firmware's null search converges to), if the DAC reaches it.
     pub fn null_code(&self) -> Option<u32> {
         let (pos, _) = self.bridge.outputs([0.0; 4]);
-        self.trim.null_code(pos, self.bridge.raw_offset_v() + self.stage1.offset_v)
+        self.trim
+            .null_code(pos, self.bridge.raw_offset_v() + self.stage1.offset_v)
     }
 
     /// The (lowest, highest) shift the offset cut can apply, referred to the bridge output.
@@ -88,7 +89,10 @@ impl Channel {
     /// The imbalances at which the ADC input reaches `-+full_scale_v` (linear model).
     pub fn adc_limits_input_v(&self, dac_code: u32, mid_v: f64, full_scale_v: f64) -> (f64, f64) {
         let out0 = self.adc_input_v([0.0; 4], 0.0, dac_code, mid_v);
-        ((-full_scale_v - out0) / self.gain(), (full_scale_v - out0) / self.gain())
+        (
+            (-full_scale_v - out0) / self.gain(),
+            (full_scale_v - out0) / self.gain(),
+        )
     }
 
     /// Noise density referred to the bridge output: bridge and trim-resistor thermal noise,
@@ -144,7 +148,8 @@ impl FrontEnd {
 
     /// The trim codes that null each channel (mid code where a channel cannot be nulled).
     pub fn null_codes(&self) -> [u32; CHANNELS] {
-        self.channels.map(|c| c.null_code().unwrap_or(c.trim.codes() / 2))
+        self.channels
+            .map(|c| c.null_code().unwrap_or(c.trim.codes() / 2))
     }
 
     /// Noise-free ADC codes of the three bridge channels for the stress changes `dr_r` of each
@@ -190,7 +195,8 @@ mod tests {
     fn trim_covers_the_worst_raw_offset_and_the_amplifier_offset() {
         let p = hardware::Params::load_default().unwrap();
         let b = &p.frontend.bridge;
-        let worst = Bridge::worst_raw_offset_v(b.excitation_v, b.arm_tolerance) + p.frontend.stage1.offset_max_v;
+        let worst = Bridge::worst_raw_offset_v(b.excitation_v, b.arm_tolerance)
+            + p.frontend.stage1.offset_max_v;
         for ch in front_end().channels {
             let (lo, hi) = ch.trim_range_v();
             assert!(lo < -worst && hi > worst, "range {lo}..{hi} vs {worst}");

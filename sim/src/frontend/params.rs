@@ -34,7 +34,11 @@ fn channel(fe: &hardware::Frontend, adc: &hardware::Adc, i: usize) -> Channel {
             excitation_v: fe.bridge.excitation_v,
             mismatch: fe.bridge.arm_mismatch[i],
         },
-        trim: Trim { reference_v: fe.supply_v, dac_bits: fe.trim.dac_bits, injection_ohm: fe.trim.injection_ohm },
+        trim: Trim {
+            reference_v: fe.supply_v,
+            dac_bits: fe.trim.dac_bits,
+            injection_ohm: fe.trim.injection_ohm,
+        },
         stage1: InAmp {
             internal_ohm: s1.internal_ohm,
             gain_resistor_ohm: s1.gain_resistor_ohm[i],
@@ -42,7 +46,11 @@ fn channel(fe: &hardware::Frontend, adc: &hardware::Adc, i: usize) -> Channel {
             gbw_hz: s1.gbw_hz,
             input_noise_v_per_rthz: s1.input_noise_v_per_rthz,
             output_noise_v_per_rthz: s1.output_noise_v_per_rthz,
-            output: Output { supply_v: fe.supply_v, swing_from_rail_v: s1.swing_from_rail_v, knee_v: s1.knee_v },
+            output: Output {
+                supply_v: fe.supply_v,
+                swing_from_rail_v: s1.swing_from_rail_v,
+                knee_v: s1.knee_v,
+            },
         },
         stage2: GainStage {
             feedback_ohm: s2.feedback_ohm[i],
@@ -50,7 +58,11 @@ fn channel(fe: &hardware::Frontend, adc: &hardware::Adc, i: usize) -> Channel {
             open_loop_gain: libm::pow(10.0, s2.open_loop_gain_db / 20.0),
             gbw_hz: s2.gbw_hz,
             input_noise_v_per_rthz: s2.input_noise_v_per_rthz,
-            output: Output { supply_v: fe.supply_v, swing_from_rail_v: s2.swing_from_rail_v, knee_v: s2.knee_v },
+            output: Output {
+                supply_v: fe.supply_v,
+                swing_from_rail_v: s2.swing_from_rail_v,
+                knee_v: s2.knee_v,
+            },
         },
         antialias: AntiAlias {
             series_ohm: fe.antialias.series_ohm,

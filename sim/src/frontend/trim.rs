@@ -31,7 +31,10 @@ impl Trim {
     pub fn inject(&self, node: Thevenin, code: u32) -> Thevenin {
         let (r_inj, r_th) = (self.injection_ohm, node.ohm);
         let v = (node.v * r_inj + self.dac_v(code) * r_th) / (r_inj + r_th);
-        Thevenin { v, ohm: r_inj * r_th / (r_inj + r_th) }
+        Thevenin {
+            v,
+            ohm: r_inj * r_th / (r_inj + r_th),
+        }
     }
 
     /// Shift of the bridge output per DAC volt: `R_th / (R_inj + R_th)`.
@@ -55,7 +58,9 @@ impl Trim {
     pub fn null_code(&self, node: Thevenin, error_v: f64) -> Option<u32> {
         let dac_v = node.v - error_v / self.coupling(node);
         let code = libm::round(dac_v / self.reference_v * f64::from(self.codes()));
-        (0.0..f64::from(self.codes())).contains(&code).then_some(code as u32)
+        (0.0..f64::from(self.codes()))
+            .contains(&code)
+            .then_some(code as u32)
     }
 }
 
@@ -63,8 +68,15 @@ impl Trim {
 mod tests {
     use super::*;
 
-    const TRIM: Trim = Trim { reference_v: 3.3, dac_bits: 12, injection_ohm: 1.5e6 };
-    const NODE: Thevenin = Thevenin { v: 1.65, ohm: 2500.0 };
+    const TRIM: Trim = Trim {
+        reference_v: 3.3,
+        dac_bits: 12,
+        injection_ohm: 1.5e6,
+    };
+    const NODE: Thevenin = Thevenin {
+        v: 1.65,
+        ohm: 2500.0,
+    };
 
     #[test]
     fn mid_code_leaves_a_balanced_node_alone() {
@@ -76,7 +88,10 @@ mod tests {
         // k = 2500 / 1502500; range +-1.65 V k, step 3.3 V / 4096 k (hand-computed).
         let k = 2500.0 / 1_502_500.0;
         let (lo, hi) = TRIM.range_v(NODE);
-        assert!((lo + 1.65 * k).abs() < 1e-12 && (hi - (3.3 * 4095.0 / 4096.0 - 1.65) * k).abs() < 1e-12);
+        assert!(
+            (lo + 1.65 * k).abs() < 1e-12
+                && (hi - (3.3 * 4095.0 / 4096.0 - 1.65) * k).abs() < 1e-12
+        );
         assert!((TRIM.step_v(NODE) - 3.3 / 4096.0 * k).abs() < 1e-15);
     }
 
@@ -85,7 +100,10 @@ mod tests {
         let error = 0.66e-3;
         let code = TRIM.null_code(NODE, error).unwrap();
         let residual = TRIM.inject(NODE, code).v - NODE.v + error;
-        assert!(residual.abs() <= TRIM.step_v(NODE) / 2.0 + 1e-15, "{residual}");
+        assert!(
+            residual.abs() <= TRIM.step_v(NODE) / 2.0 + 1e-15,
+            "{residual}"
+        );
         assert_eq!(TRIM.null_code(NODE, 10.0e-3), None);
     }
 }
