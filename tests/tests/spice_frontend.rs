@@ -166,15 +166,11 @@ fn dc_transfer_and_saturation_agree_with_the_sim() {
     let mid = model.mid_v();
     let full_scale = model.adc.full_scale_v(0);
     let mut control = String::new();
-    let spans: Vec<f64> = model
-        .channels
-        .iter()
-        .map(|c| {
-            1.5 * c
-                .rail_limits_input_v(codes[0], mid)
-                .1
-                .abs()
-                .max(c.rail_limits_input_v(codes[0], mid).0.abs())
+    // Sweep each channel to 1.5 times its rail limits, so both plateaus are in the data.
+    let spans: Vec<f64> = (0..CHANNELS)
+        .map(|i| {
+            let (lo, hi) = model.channels[i].rail_limits_input_v(codes[i], mid);
+            1.5 * lo.abs().max(hi.abs())
         })
         .collect();
     for (i, ch) in NAMES.iter().enumerate() {
