@@ -50,6 +50,12 @@ pub struct Board {
     pub uart_baud: u32,
     pub clock_source: ClockSource,
     pub mco_pin: String,
+    /// Part number of the analog rail's regulator.
+    pub analog_regulator: String,
+    /// Nucleo supply pin feeding that regulator.
+    pub analog_from: String,
+    /// Nucleo supply pin feeding the ADC's digital side.
+    pub digital_from: String,
 }
 
 impl Board {
@@ -90,6 +96,9 @@ impl Board {
                 _ => ClockSource::Oscillator,
             },
             mco_pin: r.string("clock.mco_pin"),
+            analog_regulator: r.string("power.analog_regulator"),
+            analog_from: r.choice("power.analog_from", &["5V", "3V3"]).to_string(),
+            digital_from: r.choice("power.digital_from", &["3V3", "5V"]).to_string(),
         }
     }
 
@@ -113,6 +122,13 @@ impl Board {
 
     /// Rules across keys; each has its own test in `tests/board_rules.rs`.
     fn check(&self, r: &mut Reader) {
+        // The ADS131M04's DVDD/IOVDD must match the MCU's 3.3 V logic levels.
+        if self.digital_from != "3V3" {
+            r.reject(
+                "power.digital_from",
+                "must be \"3V3\": the ADC's I/O talks to 3.3 V MCU pins",
+            );
+        }
         let pins = self.pins();
         for (i, (key, pin)) in pins.iter().enumerate() {
             if !is_lqfp64_gpio(pin) {

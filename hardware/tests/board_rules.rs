@@ -35,3 +35,10 @@ fn a_pin_the_package_lacks_is_refused() {
     let dir = folder_with(FILE, "sync_reset = \"PA9\"", "sync_reset = \"PD7\"");
     rule_broken(&dir, FILE, "adc.sync_reset");
 }
+
+#[test]
+fn a_5v_digital_supply_is_refused() {
+    let dir = folder_with(FILE, "digital_from = \"3V3\"", "digital_from = \"5V\"");
+    let e = rule_broken(&dir, FILE, "power.digital_from");
+    assert!(e.to_string().contains("3.3 V"), "{e}");
+}
