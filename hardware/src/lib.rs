@@ -10,12 +10,14 @@
 //! assert!(params.fingertip.radius_mm > 0.0);
 //! ```
 
+mod chip;
 mod fingertip;
 pub mod reader;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+pub use chip::{Bridge as ChipBridge, Chip, Resistor as ChipResistor, ARM_NAMES, BRIDGE_NAMES};
 pub use fingertip::{CompressionTest, Fingertip};
 pub use reader::Reader;
 
@@ -25,6 +27,8 @@ pub use reader::Reader;
 pub struct Params {
     /// The gel hemisphere, its mount, the rod and the standard compression test.
     pub fingertip: Fingertip,
+    /// The silicon cross-beam chip, its piezoresistors and bridges.
+    pub chip: Chip,
 }
 
 impl Params {
@@ -45,8 +49,9 @@ impl Params {
     pub fn load(dir: &Path) -> Result<Self, LoadError> {
         let mut errors = Vec::new();
         let fingertip = collect(Fingertip::load(&dir.join("fingertip.toml")), &mut errors);
-        match fingertip {
-            Some(fingertip) if errors.is_empty() => Ok(Self { fingertip }),
+        let chip = collect(Chip::load(&dir.join("chip.toml")), &mut errors);
+        match (fingertip, chip) {
+            (Some(fingertip), Some(chip)) if errors.is_empty() => Ok(Self { fingertip, chip }),
             _ => Err(LoadError(errors)),
         }
     }
