@@ -119,7 +119,7 @@ fn chip_beams_must_leave_a_frame_inside_the_footprint() {
 fn chip_resistor_must_fit_on_its_beam() {
     let dir = folder_with("chip.toml", |t| {
         t.replacen(
-            "r1 = { beam = \"A\", x_um = 32.0,",
+            "r1 = { beam = \"A\", x_um = 375.0,",
             "r1 = { beam = \"A\", x_um = 395.0,",
             1,
         )
