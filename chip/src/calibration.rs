@@ -152,7 +152,7 @@ fn finite(s: &Sample) -> bool {
 fn invert(mut a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
     let p = a.len();
     let d: Vec<f64> = (0..p).map(|i| a[i][i].sqrt()).collect();
-    if d.iter().any(|v| !(*v > 0.0)) {
+    if d.iter().any(|v| v.is_nan() || *v <= 0.0) {
         return None;
     }
     for i in 0..p {
@@ -160,7 +160,8 @@ fn invert(mut a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
             a[i][j] /= d[i] * d[j];
         }
     }
-    let mut inv: Vec<Vec<f64>> = (0..p).map(|i| (0..p).map(|j| f64::from(u8::from(i == j))).collect()).collect();
+    let mut inv: Vec<Vec<f64>> =
+        (0..p).map(|i| (0..p).map(|j| f64::from(u8::from(i == j))).collect()).collect();
     for col in 0..p {
         let pivot = (col..p).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
         if a[pivot][col].abs() < 1e-12 {

@@ -49,7 +49,9 @@ impl fmt::Display for FrameError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::NoElements => write!(f, "the frame model needs at least one element per beam"),
-            Self::NotPositiveDefinite => write!(f, "the frame stiffness matrix is not positive definite"),
+            Self::NotPositiveDefinite => {
+                write!(f, "the frame stiffness matrix is not positive definite")
+            }
         }
     }
 }
@@ -137,7 +139,8 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
     force[2] = -load.fz_n; // pressing along -z
     force[3] = load.mx_nm;
     force[4] = load.my_nm;
-    let clamped: Vec<bool> = (0..n_dof).map(|d| (0..4).any(|k| d / DOF == node_of(k, 0, n))).collect();
+    let clamped: Vec<bool> =
+        (0..n_dof).map(|d| (0..4).any(|k| d / DOF == node_of(k, 0, n))).collect();
     let displacement = solve_clamped(&stiffness, &force, &clamped)?;
     Ok(FrameSolution {
         n_per_beam: n,
@@ -216,6 +219,7 @@ fn to_local(el: &Element, global: &[f64]) -> [f64; 12] {
     out
 }
 
+#[allow(clippy::needless_range_loop)] // index algebra of T^T k T reads clearer
 fn assemble(k: &mut [f64], n_dof: usize, el: &Element) {
     // T (12x12, block diagonal with R) : K_global = T^T k T.
     let t = |i: usize, j: usize| -> f64 {

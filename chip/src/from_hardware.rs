@@ -21,7 +21,9 @@ impl fmt::Display for FromHardwareError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::UnknownBeam(s) => write!(f, "unknown beam `{s}` in chip.toml"),
-            Self::UnknownOrientation(s) => write!(f, "unknown resistor orientation `{s}` in chip.toml"),
+            Self::UnknownOrientation(s) => {
+                write!(f, "unknown resistor orientation `{s}` in chip.toml")
+            }
             Self::UnknownArm(s) => write!(f, "unknown bridge arm `{s}` in chip.toml"),
         }
     }
@@ -50,7 +52,13 @@ impl TryFrom<&hardware::Chip> for ChipParams {
             fracture_strength_pa: c.fracture_strength_pa,
         };
         let bridges = [bridge(&c.bridges[0])?, bridge(&c.bridges[1])?, bridge(&c.bridges[2])?];
-        Ok(Self { geometry, silicon, resistance_ohm: c.resistance_ohm, excitation_v: c.excitation_v, bridges })
+        Ok(Self {
+            geometry,
+            silicon,
+            resistance_ohm: c.resistance_ohm,
+            excitation_v: c.excitation_v,
+            bridges,
+        })
     }
 }
 

@@ -16,7 +16,9 @@
 //! the opposite phi, hence the opposite stress.
 
 use crate::params::{Geometry, Silicon};
-use crate::section::{max_torsion_shear_pa, second_moment_m4, section_modulus_m3, torsion_factor_m4};
+use crate::section::{
+    max_torsion_shear_pa, second_moment_m4, section_modulus_m3, torsion_factor_m4,
+};
 
 /// Reactions at the block end of a bending beam for a block rotation `theta_rad`:
 /// (F_RZ in N, M_RY in N·m), both as magnitudes per radian times `theta_rad`.

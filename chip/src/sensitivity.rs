@@ -9,7 +9,8 @@ use crate::piezo::resistor_change;
 pub type Matrix3 = [[f64; 3]; 3];
 
 /// Unit loads: 1 N of Fz, 1 N·m of Mx, 1 N·m of My.
-const UNIT_LOADS: [Load; 3] = [Load::new(1.0, 0.0, 0.0), Load::new(0.0, 1.0, 0.0), Load::new(0.0, 0.0, 1.0)];
+const UNIT_LOADS: [Load; 3] =
+    [Load::new(1.0, 0.0, 0.0), Load::new(0.0, 1.0, 0.0), Load::new(0.0, 0.0, 1.0)];
 
 /// S[i][j] = d(output of bridge i) / d(load component j), rows Fz, Mx, My bridges, columns
 /// Fz (V/N), Mx (V/(N·m)), My (V/(N·m)). Exact for the linearised bridges: the stresses are
@@ -32,7 +33,8 @@ pub fn sensitivity_matrix(p: &ChipParams) -> Matrix3 {
 
 /// Determinant of a 3x3 matrix.
 pub fn determinant(m: &Matrix3) -> f64 {
-    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
 }
 
@@ -43,7 +45,8 @@ pub fn inverse(m: &Matrix3) -> Option<Matrix3> {
     if !det.is_finite() || scale == 0.0 || det.abs() <= 1e-12 * scale * scale * scale {
         return None;
     }
-    let cof = |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
+    let cof =
+        |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
     let adj = [
         [cof(1, 2, 1, 2), -cof(0, 2, 1, 2), cof(0, 1, 1, 2)],
         [-cof(1, 2, 0, 2), cof(0, 2, 0, 2), -cof(0, 1, 0, 2)],

@@ -40,11 +40,15 @@ pub enum CalibrationError {
 impl fmt::Display for CalibrationError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::NonFinite { row, col } => write!(f, "calibration element [{row}][{col}] is not finite"),
+            Self::NonFinite { row, col } => {
+                write!(f, "calibration element [{row}][{col}] is not finite")
+            }
             Self::NotRepresentable { row, col, value } => {
                 write!(f, "calibration element [{row}][{col}] = {value:e} does not fit an f32")
             }
-            Self::NoModelMatrix => write!(f, "the chip model gives no calibration matrix for these gains"),
+            Self::NoModelMatrix => {
+                write!(f, "the chip model gives no calibration matrix for these gains")
+            }
         }
     }
 }
@@ -66,7 +70,8 @@ pub fn to_device_matrix(c: &Matrix3) -> Result<Calibration, CalibrationError> {
                 return Err(CalibrationError::NonFinite { row, col });
             }
             let single = value as f32;
-            let lost = !single.is_finite() || (value != 0.0 && (single == 0.0 || !single.is_normal()));
+            let lost =
+                !single.is_finite() || (value != 0.0 && (single == 0.0 || !single.is_normal()));
             if lost {
                 return Err(CalibrationError::NotRepresentable { row, col, value });
             }
@@ -104,11 +109,14 @@ mod tests {
         let p = ChipParams::load_default().unwrap();
         let gains = [3000.0, 1000.0, 1000.0];
         let cmd = model_set_calibration(&p, gains).unwrap();
-        let Command::SetCalibration(m) = cmd.clone() else { panic!("wrong command {cmd:?}") };
+        let Command::SetCalibration(m) = cmd else { panic!("wrong command {cmd:?}") };
         let c = calibration_matrix_after_gains(&p, gains).unwrap();
         for i in 0..3 {
             for j in 0..3 {
-                assert!((f64::from(m[i][j]) - c[i][j]).abs() <= 1e-7 * c[i][j].abs(), "{m:?} vs {c:?}");
+                assert!(
+                    (f64::from(m[i][j]) - c[i][j]).abs() <= 1e-7 * c[i][j].abs(),
+                    "{m:?} vs {c:?}"
+                );
             }
         }
         let msg = Message::Request(Request { tag: 7, command: cmd });
@@ -122,10 +130,19 @@ mod tests {
     fn bad_matrices_are_refused_with_the_element() {
         let mut c = [[1.0; 3]; 3];
         c[1][2] = f64::NAN;
-        assert_eq!(set_calibration_command(&c), Err(CalibrationError::NonFinite { row: 1, col: 2 }));
+        assert_eq!(
+            set_calibration_command(&c),
+            Err(CalibrationError::NonFinite { row: 1, col: 2 })
+        );
         c[1][2] = 1e60;
-        assert!(matches!(set_calibration_command(&c), Err(CalibrationError::NotRepresentable { row: 1, col: 2, .. })));
+        assert!(matches!(
+            set_calibration_command(&c),
+            Err(CalibrationError::NotRepresentable { row: 1, col: 2, .. })
+        ));
         c[1][2] = 1e-60;
-        assert!(matches!(set_calibration_command(&c), Err(CalibrationError::NotRepresentable { row: 1, col: 2, .. })));
+        assert!(matches!(
+            set_calibration_command(&c),
+            Err(CalibrationError::NotRepresentable { row: 1, col: 2, .. })
+        ));
     }
 }

@@ -1,10 +1,12 @@
 //! The least-squares calibration recovers a known matrix from emulated noisy data, within the
 //! uncertainty it reports.
 
+#![allow(clippy::needless_range_loop)]
+
+use crate::bridge::bridge_outputs_v;
 use crate::calibration::{fit, FitError, Sample};
 use crate::params::{ChipParams, Load};
 use crate::sensitivity::{inverse, sensitivity_matrix};
-use crate::bridge::bridge_outputs_v;
 
 /// splitmix64: a small deterministic generator for the emulated recordings.
 struct Rng(u64);

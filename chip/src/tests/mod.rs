@@ -121,10 +121,22 @@ fn each_bridge_ignores_the_other_loads() {
     let my_only = bridge_outputs_v(&p, Load::new(0.0, 0.0, 8e-4));
     // Full-scale loads, exact (nonlinear) dividers: the cancellation is exact by placement.
     let tol = 1e-12;
-    assert!(fz_only[0] > 0.1 && mx_only[1] > 0.1 && my_only[2] > 0.1, "{fz_only:?} {mx_only:?} {my_only:?}");
-    assert!(fz_only[1].abs() < tol && fz_only[2].abs() < tol, "moment bridges under Fz: {fz_only:?}");
-    assert!(mx_only[0].abs() < tol && mx_only[2].abs() < tol, "Fz, My bridges under Mx: {mx_only:?}");
-    assert!(my_only[0].abs() < tol && my_only[1].abs() < tol, "Fz, Mx bridges under My: {my_only:?}");
+    assert!(
+        fz_only[0] > 0.1 && mx_only[1] > 0.1 && my_only[2] > 0.1,
+        "{fz_only:?} {mx_only:?} {my_only:?}"
+    );
+    assert!(
+        fz_only[1].abs() < tol && fz_only[2].abs() < tol,
+        "moment bridges under Fz: {fz_only:?}"
+    );
+    assert!(
+        mx_only[0].abs() < tol && mx_only[2].abs() < tol,
+        "Fz, My bridges under Mx: {mx_only:?}"
+    );
+    assert!(
+        my_only[0].abs() < tol && my_only[1].abs() < tol,
+        "Fz, Mx bridges under My: {my_only:?}"
+    );
 }
 
 #[test]
@@ -168,7 +180,11 @@ fn shipped_geometry_reproduces_table_one_within_ten_percent() {
 #[test]
 fn frame_fe_euler_bernoulli_reproduces_the_analytical_model() {
     let p = shipped();
-    let opt = FrameOptions { shear_deformation: false, block_stiffness_factor: 1e6, ..FrameOptions::default() };
+    let opt = FrameOptions {
+        shear_deformation: false,
+        block_stiffness_factor: 1e6,
+        ..FrameOptions::default()
+    };
     for load in [Load::new(1.0, 0.0, 0.0), Load::new(0.0, 1e-4, 0.0), Load::new(0.0, 0.0, 1e-4)] {
         let fe = frame_fe::solve(&p, load, opt).expect("frame solves");
         for bridge in &p.bridges {

@@ -8,8 +8,12 @@ use chip::{fz, moment, strength, stress, ChipParams, Load};
 use serde_json::{json, Value};
 
 /// Table I of the paper: S_Fz in V/N, S_Mx = S_My in V/(N·m), strengths in N and N·m.
-const TABLE_I: [(&str, f64); 4] =
-    [("s_fz_mv_per_mn", 0.2), ("s_mxy_mv_per_n_um", 2.83), ("strength_fz_mn", 5000.0), ("strength_mxy_n_um", 800.0)];
+const TABLE_I: [(&str, f64); 4] = [
+    ("s_fz_mv_per_mn", 0.2),
+    ("s_mxy_mv_per_n_um", 2.83),
+    ("strength_fz_mn", 5000.0),
+    ("strength_mxy_n_um", 800.0),
+];
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -33,10 +37,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// Everything the command prints, as JSON.
 pub fn report(p: &ChipParams) -> anyhow::Result<Value> {
     let s = sensitivity_matrix(p);
-    let c = inverse(&s).context("the sensitivity matrix is singular: the bridges cannot separate the loads")?;
+    let c = inverse(&s)
+        .context("the sensitivity matrix is singular: the bridges cannot separate the loads")?;
     let [f_s, mx_s, my_s] = strength::strengths(p);
     let (g, si) = (&p.geometry, &p.silicon);
-    let model = [s[0][0] * 1.0, 0.5 * (s[1][1] + s[2][2]) * 1e-6 * 1e3, f_s * 1e3, 0.5 * (mx_s + my_s) * 1e6];
+    let model = [
+        s[0][0] * 1.0,
+        0.5 * (s[1][1] + s[2][2]) * 1e-6 * 1e3,
+        f_s * 1e3,
+        0.5 * (mx_s + my_s) * 1e6,
+    ];
     let table: Vec<Value> = TABLE_I
         .iter()
         .zip(model)
@@ -64,14 +74,22 @@ pub fn report(p: &ChipParams) -> anyhow::Result<Value> {
 
 /// Bridge outputs (exact divider) at each strength load alone.
 fn full_scale_outputs(p: &ChipParams, strengths: [f64; 3]) -> Matrix3 {
-    let loads = [Load::new(strengths[0], 0.0, 0.0), Load::new(0.0, strengths[1], 0.0), Load::new(0.0, 0.0, strengths[2])];
+    let loads = [
+        Load::new(strengths[0], 0.0, 0.0),
+        Load::new(0.0, strengths[1], 0.0),
+        Load::new(0.0, 0.0, strengths[2]),
+    ];
     loads.map(|l| chip::bridge_outputs_v(p, l))
 }
 
 /// Largest relative difference between the shear-deformable frame FE and the analytical model
 /// at the stressed resistor sites, per load case.
 fn frame_check(p: &ChipParams) -> anyhow::Result<Value> {
-    let cases = [("fz", Load::new(1.0, 0.0, 0.0)), ("mx", Load::new(0.0, 1e-4, 0.0)), ("my", Load::new(0.0, 0.0, 1e-4))];
+    let cases = [
+        ("fz", Load::new(1.0, 0.0, 0.0)),
+        ("mx", Load::new(0.0, 1e-4, 0.0)),
+        ("my", Load::new(0.0, 0.0, 1e-4)),
+    ];
     let mut out = serde_json::Map::new();
     for (name, load) in cases {
         let fe = frame_fe::solve(p, load, FrameOptions::default())?;
@@ -80,7 +98,12 @@ fn frame_check(p: &ChipParams) -> anyhow::Result<Value> {
             .bridges
             .iter()
             .flat_map(|b| b.resistors.iter())
-            .map(|r| (stress::surface_stress_pa(p, load, r.beam, r.x_m), fe.surface_stress_pa(r.beam, r.x_m)))
+            .map(|r| {
+                (
+                    stress::surface_stress_pa(p, load, r.beam, r.x_m),
+                    fe.surface_stress_pa(r.beam, r.x_m),
+                )
+            })
             .filter(|(a, _)| a.abs() > 1e-3 * peak)
             .map(|(a, n)| ((n - a) / a).abs())
             .fold(0.0_f64, f64::max);
@@ -103,18 +126,31 @@ fn print_text(r: &Value) {
         );
     }
     let matrix = |key: &str| {
-        println!("{key} ({}):", r[key]["units"].as_str().or(r[key]["definition"].as_str()).unwrap_or(""));
+        println!(
+            "{key} ({}):",
+            r[key]["units"].as_str().or(r[key]["definition"].as_str()).unwrap_or("")
+        );
         for row in r[key]["value"].as_array().into_iter().flatten() {
-            let cells: Vec<String> =
-                row.as_array().into_iter().flatten().map(|v| format!("{:>13.5e}", v.as_f64().unwrap_or(f64::NAN))).collect();
+            let cells: Vec<String> = row
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(|v| format!("{:>13.5e}", v.as_f64().unwrap_or(f64::NAN)))
+                .collect();
             println!("  {}", cells.join(" "));
         }
     };
     matrix("sensitivity_matrix");
     matrix("calibration_matrix");
     matrix("crosstalk");
-    println!("block deflection stiffness: {:.4} N/um", r["block_deflection_stiffness_n_per_um"].as_f64().unwrap_or(f64::NAN));
-    println!("block rotation stiffness:   {:.4e} N·m/rad", r["block_rotation_stiffness_nm_per_rad"].as_f64().unwrap_or(f64::NAN));
+    println!(
+        "block deflection stiffness: {:.4} N/um",
+        r["block_deflection_stiffness_n_per_um"].as_f64().unwrap_or(f64::NAN)
+    );
+    println!(
+        "block rotation stiffness:   {:.4e} N·m/rad",
+        r["block_rotation_stiffness_nm_per_rad"].as_f64().unwrap_or(f64::NAN)
+    );
     for case in ["fz", "mx", "my"] {
         let d = r["frame_fe_check"][case]["max_rel_diff_at_resistors"].as_f64().unwrap_or(f64::NAN);
         println!("frame FE vs analytical, {case}: {:.2} % at the resistors", 100.0 * d);
