@@ -11,7 +11,7 @@
 use std::fmt;
 
 use crate::params::{Beam, ChipParams, Load};
-use crate::section::{second_moment_m4, section_modulus_m3, torsion_factor_m4};
+use crate::section::{rectangle_torsion_factor_m4, section_modulus_m3};
 
 /// Shear correction factor of a rectangular section.
 const SHEAR_CORRECTION: f64 = 5.0 / 6.0;
@@ -27,11 +27,27 @@ pub struct FrameOptions {
     pub shear_deformation: bool,
     /// Stiffness of the block stubs relative to the beams (large = rigid block).
     pub block_stiffness_factor: f64,
+    /// Give the block stubs the block's own section instead (ignores the factor).
+    pub real_block: bool,
+}
+
+impl FrameOptions {
+    /// Options with the block stubs given the block's real section (width 2c, the wafer's
+    /// thickness) instead of a rigid block. A stub of beam theory is more flexible than the
+    /// solid block it stands for, so this bounds the block's flexibility from above.
+    pub fn with_real_block() -> Self {
+        Self { real_block: true, ..Self::default() }
+    }
 }
 
 impl Default for FrameOptions {
     fn default() -> Self {
-        Self { elements_per_beam: 20, shear_deformation: true, block_stiffness_factor: 1e4 }
+        Self {
+            elements_per_beam: 20,
+            shear_deformation: true,
+            block_stiffness_factor: 1e4,
+            real_block: false,
+        }
     }
 }
 
@@ -96,21 +112,18 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
     }
     let g = &p.geometry;
     let (e, gs) = (p.silicon.youngs_modulus_pa, p.silicon.shear_modulus_pa);
-    let area = g.beam_width_m * g.beam_thickness_m;
-    let beam_section = SectionStiffness {
-        ea: e * area,
-        gj: gs * torsion_factor_m4(g),
-        ei_y: e * second_moment_m4(g),
-        ei_z: e * g.beam_thickness_m * g.beam_width_m.powi(3) / 12.0,
-        kga: if opt.shear_deformation { SHEAR_CORRECTION * gs * area } else { f64::INFINITY },
-    };
-    let f = opt.block_stiffness_factor;
-    let block_section = SectionStiffness {
-        ea: beam_section.ea * f,
-        gj: beam_section.gj * f,
-        ei_y: beam_section.ei_y * f,
-        ei_z: beam_section.ei_z * f,
-        kga: beam_section.kga * f,
+    let beam_section = rectangle(g.beam_width_m, g.beam_thickness_m, e, gs, opt.shear_deformation);
+    let block_section = if opt.real_block {
+        rectangle(2.0 * g.block_half_width_m, g.block_thickness_m, e, gs, opt.shear_deformation)
+    } else {
+        let f = opt.block_stiffness_factor;
+        SectionStiffness {
+            ea: beam_section.ea * f,
+            gj: beam_section.gj * f,
+            ei_y: beam_section.ei_y * f,
+            ei_z: beam_section.ei_z * f,
+            kga: beam_section.kga * f,
+        }
     };
     let (l, c) = (g.beam_length_m, g.block_half_width_m);
     let n_nodes = 1 + 4 * (n + 1);
@@ -149,6 +162,18 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
         displacement,
         beam_elements,
     })
+}
+
+/// Stiffnesses of a rectangular section `width` (in plane) by `thickness` (along z).
+fn rectangle(width: f64, thickness: f64, e: f64, g: f64, shear: bool) -> SectionStiffness {
+    let area = width * thickness;
+    SectionStiffness {
+        ea: e * area,
+        gj: g * rectangle_torsion_factor_m4(width, thickness),
+        ei_y: e * width * thickness.powi(3) / 12.0,
+        ei_z: e * thickness * width.powi(3) / 12.0,
+        kga: if shear { SHEAR_CORRECTION * g * area } else { f64::INFINITY },
+    }
 }
 
 fn element(nodes: [usize; 2], coords: &[[f64; 3]], s: &SectionStiffness) -> Element {

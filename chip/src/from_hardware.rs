@@ -43,6 +43,7 @@ impl TryFrom<&hardware::Chip> for ChipParams {
             beam_thickness_m: c.beam_thickness_um * UM,
             block_half_width_m: c.block_half_width_um * UM,
             pillar_height_m: c.pillar_height_um * UM,
+            block_thickness_m: c.block_thickness_um * UM,
         };
         let silicon = Silicon {
             youngs_modulus_pa: c.youngs_modulus_pa,

@@ -19,6 +19,7 @@ pub mod section;
 pub mod sensitivity;
 pub mod strength;
 pub mod stress;
+pub mod tolerance;
 
 #[cfg(any(test, feature = "std"))]
 pub mod calibration;

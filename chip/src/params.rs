@@ -74,6 +74,8 @@ pub struct Geometry {
     pub block_half_width_m: f64,
     /// Pillar height above the top surface.
     pub pillar_height_m: f64,
+    /// Thickness of the block (the wafer); only the frame-FE check uses it.
+    pub block_thickness_m: f64,
 }
 
 /// Silicon constants.

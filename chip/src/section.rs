@@ -18,7 +18,12 @@ pub fn section_modulus_m3(g: &Geometry) -> f64 {
 /// Table 10.7 case 4; within 4 % of the exact series for every aspect ratio). For a square it
 /// gives 0.1408 q^4 against the exact 0.1406 q^4.
 pub fn torsion_factor_m4(g: &Geometry) -> f64 {
-    let (p, q) = long_short(g);
+    rectangle_torsion_factor_m4(g.beam_width_m, g.beam_thickness_m)
+}
+
+/// The same torsion factor for any rectangle of sides `a_m` and `b_m`.
+pub fn rectangle_torsion_factor_m4(a_m: f64, b_m: f64) -> f64 {
+    let (p, q) = if a_m >= b_m { (a_m, b_m) } else { (b_m, a_m) };
     let ratio = q / p;
     p * cube(q) * (1.0 / 3.0 - 0.21 * ratio * (1.0 - ratio * ratio * ratio * ratio / 12.0))
 }

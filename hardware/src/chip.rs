@@ -21,6 +21,10 @@ pub struct Chip {
     pub block_half_width_um: f64,
     /// Pillar height above the chip's top surface.
     pub pillar_height_um: f64,
+    /// Block (wafer) thickness.
+    pub block_thickness_um: f64,
+    /// Mask overlay tolerance of the resistors against the beams.
+    pub mask_misalignment_um: f64,
     /// Young's modulus along the beams.
     pub youngs_modulus_pa: f64,
     /// Shear modulus used for torsion.
@@ -85,6 +89,8 @@ impl Chip {
             beam_thickness_um: r.f64("geometry.beam_thickness_um", 1.0..=1000.0),
             block_half_width_um: r.f64("geometry.block_half_width_um", 1.0..=5000.0),
             pillar_height_um: r.f64("geometry.pillar_height_um", 0.0..=10_000.0),
+            block_thickness_um: r.f64("geometry.block_thickness_um", 1.0..=2000.0),
+            mask_misalignment_um: r.f64("tolerance.mask_misalignment_um", 0.0..=50.0),
             youngs_modulus_pa: r.f64("silicon.youngs_modulus_pa", 100.0e9..=200.0e9),
             shear_modulus_pa: r.f64("silicon.shear_modulus_pa", 40.0e9..=90.0e9),
             pi_l_per_pa: r.f64("silicon.pi_l_per_pa", -200.0e-11..=200.0e-11),

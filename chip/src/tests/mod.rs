@@ -22,6 +22,7 @@ fn textbook(c_m: f64) -> ChipParams {
         beam_thickness_m: 100e-6,
         block_half_width_m: c_m,
         pillar_height_m: 0.0,
+        block_thickness_m: 525e-6,
     };
     p.silicon.youngs_modulus_pa = 169e9;
     p.silicon.shear_modulus_pa = 63.7e9;
@@ -200,22 +201,30 @@ fn frame_fe_euler_bernoulli_reproduces_the_analytical_model() {
 
 #[test]
 fn frame_fe_timoshenko_agrees_within_five_percent_at_the_resistors() {
+    // Shear deformation with a rigid block, then also with the block as stubs of its own
+    // (wafer-thick) section.
     let p = shipped();
+    for options in [FrameOptions::default(), FrameOptions::with_real_block()] {
+        timoshenko_case(&p, options);
+    }
+}
+
+fn timoshenko_case(p: &ChipParams, options: FrameOptions) {
     for load in [Load::new(1.0, 0.0, 0.0), Load::new(0.0, 1e-4, 0.0), Load::new(0.0, 0.0, 1e-4)] {
-        let fe = frame_fe::solve(&p, load, FrameOptions::default()).expect("frame solves");
+        let fe = frame_fe::solve(p, load, options).expect("frame solves");
         let mut worst = 0.0_f64;
         for bridge in &p.bridges {
             for r in &bridge.resistors {
-                let a = surface_stress_pa(&p, load, r.beam, r.x_m);
-                if a.abs() < 1e-3 * peak(&p, load) {
+                let a = surface_stress_pa(p, load, r.beam, r.x_m);
+                if a.abs() < 1e-3 * peak(p, load) {
                     continue; // a resistor this load does not stress (the other bridges)
                 }
                 let n = fe.surface_stress_pa(r.beam, r.x_m);
                 worst = worst.max(((n - a) / a).abs());
             }
         }
-        println!("{load:?}: largest |FE/analytic - 1| at the resistors = {:.4}", worst);
-        assert!(worst < 0.05, "{load:?}: {worst}");
+        println!("{options:?} {load:?}: largest |FE/analytic - 1| at the resistors = {:.4}", worst);
+        assert!(worst < 0.05, "{options:?} {load:?}: {worst}");
     }
 }
 
@@ -234,6 +243,33 @@ fn exact_bridge_output_at_full_scale_is_reported_not_hidden() {
         assert!(v > last && v < p.excitation_v / 2.0, "{v}");
         last = v;
     }
+}
+
+#[test]
+fn mask_misalignment_creates_crosstalk_in_proportion() {
+    use crate::tolerance::{crosstalk_at_mask_offset, with_mask_offset};
+    let p = shipped();
+    let one = crosstalk_at_mask_offset(&p, 1e-6);
+    let two = crosstalk_at_mask_offset(&p, 2e-6);
+    // A shift along x moves the A and B resistors the opposite way along their beams: under My
+    // (A and B stressed equal and opposite, with a slope along x) the Fz arm no longer cancels.
+    assert!(one[0][2] > 1e-4, "My into the Fz bridge: {one:?}");
+    assert!(close(two[0][2], 2.0 * one[0][2], 0.02), "first order in the offset: {one:?} {two:?}");
+    // An x shift moves A's resistors towards the frame and B's towards the block: under Fz
+    // (stress sloping along every beam) the My bridge's A and B halves no longer cancel, while
+    // the Mx bridge on C and D, not moved along their axes, stays balanced.
+    let q = with_mask_offset(&p, 1e-6, 0.0);
+    let v = bridge_outputs_v(&q, Load::new(1.0, 0.0, 0.0));
+    assert!(v[1].abs() < 1e-12, "{v:?}");
+    assert!(v[2].abs() > 1e-3 * v[0], "{v:?}");
+}
+
+#[test]
+fn pillar_tip_force_becomes_a_moment_at_the_chip() {
+    let mut p = shipped();
+    p.geometry.pillar_height_m = 1e-3;
+    let at_chip = crate::tolerance::load_at_chip(&p, Load::new(1.0, 0.0, 0.0), 0.2, -0.1);
+    assert!(close(at_chip.my_nm, 2e-4, 1e-12) && close(at_chip.mx_nm, 1e-4, 1e-12), "{at_chip:?}");
 }
 
 mod calibration_fit;
