@@ -233,7 +233,7 @@ fn peak(p: &ChipParams, load: Load) -> f64 {
 }
 
 #[test]
-fn exact_bridge_output_at_full_scale_is_reported_not_hidden() {
+fn fz_bridge_output_rises_monotonically_up_to_the_strength() {
     // The divider is exact: at Table I's strength the Fz output departs from S*F (the outputs'
     // own nonlinearity). Check it stays a bounded, monotonic function of the load.
     let p = shipped();

@@ -173,3 +173,36 @@ fn print_text(r: &Value) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_report_carries_table_one_and_the_matrices() {
+        let p = ChipParams::load_default().unwrap();
+        let r = report(&p, 1e-6).unwrap();
+        for (key, paper) in [
+            ("s_fz_mv_per_mn", 0.2),
+            ("s_mx_mv_per_n_um", 2.83),
+            ("s_my_mv_per_n_um", 2.83),
+            ("strength_fz_mn", 5000.0),
+            ("strength_mx_n_um", 800.0),
+            ("strength_my_n_um", 800.0),
+        ] {
+            let got = r[key].as_f64().unwrap();
+            assert!((got / paper - 1.0).abs() < 0.10, "{key}: {got} vs {paper}");
+        }
+        let s = &r["sensitivity_matrix"]["value"];
+        let c = &r["calibration_matrix"]["value"];
+        // C S = I, through the JSON.
+        for i in 0..3 {
+            for j in 0..3 {
+                let v: f64 =
+                    (0..3).map(|k| c[i][k].as_f64().unwrap() * s[k][j].as_f64().unwrap()).sum();
+                assert!((v - f64::from(u8::from(i == j))).abs() < 1e-9, "({i},{j}) {v}");
+            }
+        }
+        assert!(r["crosstalk_at_mask_misalignment"]["value"][1][0].as_f64().unwrap() > 0.0);
+    }
+}
