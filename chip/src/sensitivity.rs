@@ -38,11 +38,14 @@ pub fn determinant(m: &Matrix3) -> f64 {
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
 }
 
-/// Inverse by the adjugate; `None` when the matrix is singular relative to its own scale.
+/// Inverse by the adjugate; `None` when the matrix is singular. The test is scale-free (rows in
+/// V/N and V/(N·m) differ by 10^4): |det| over the product of the row norms (Hadamard's ratio,
+/// 1 for orthogonal rows) must exceed 1e-12.
 pub fn inverse(m: &Matrix3) -> Option<Matrix3> {
     let det = determinant(m);
-    let scale = m.iter().flatten().fold(0.0_f64, |a, v| a.max(v.abs()));
-    if !det.is_finite() || scale == 0.0 || det.abs() <= 1e-12 * scale * scale * scale {
+    let row_norms: f64 =
+        m.iter().map(|r| libm::sqrt(r.iter().map(|v| v * v).sum::<f64>())).product();
+    if !det.is_finite() || row_norms == 0.0 || det.abs() <= 1e-12 * row_norms {
         return None;
     }
     let cof =

@@ -272,4 +272,13 @@ fn pillar_tip_force_becomes_a_moment_at_the_chip() {
     assert!(close(at_chip.my_nm, 2e-4, 1e-12) && close(at_chip.mx_nm, 1e-4, 1e-12), "{at_chip:?}");
 }
 
+#[test]
+fn inverse_is_scale_free_and_refuses_singular_matrices() {
+    let tiny = [[1e-9, 0.0, 0.0], [0.0, 2e-13, 0.0], [0.0, 1e-14, 3e-13]];
+    let inv = inverse(&tiny).expect("well conditioned, only small");
+    assert!(close(inv[1][1], 5e12, 1e-12));
+    let singular = [[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 1.0, 1.0]];
+    assert_eq!(inverse(&singular), None);
+}
+
 mod calibration_fit;
