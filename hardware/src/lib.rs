@@ -12,6 +12,7 @@
 
 mod adc;
 mod board;
+mod chip;
 mod fingertip;
 mod frontend;
 pub mod reader;
@@ -21,6 +22,7 @@ use std::path::{Path, PathBuf};
 
 pub use adc::{Adc, Crc, NOISE_TABLE_GAINS, NOISE_TABLE_OSR};
 pub use board::{Board, ClockSource};
+pub use chip::{Bridge as ChipBridge, Chip, Resistor as ChipResistor, ARM_NAMES, BRIDGE_NAMES};
 pub use fingertip::{CompressionTest, Fingertip};
 pub use frontend::{AntiAlias, Bridge, Frontend, GainStage, InAmp, TempSensor, Trim, BRIDGES};
 pub use reader::Reader;
@@ -31,7 +33,9 @@ pub use reader::Reader;
 pub struct Params {
     /// The gel hemisphere, its mount, the rod and the standard compression test.
     pub fingertip: Fingertip,
-    /// Bridges, trim DAC, amplifiers, anti-alias RC, temperature sensor.
+    /// The silicon cross-beam chip, its piezoresistors and bridges.
+    pub chip: Chip,
+    /// Bridges' mismatch, trim DAC, amplifiers, anti-alias RC, temperature sensor.
     pub frontend: Frontend,
     /// The ADS131M04's configuration and datasheet figures.
     pub adc: Adc,
@@ -57,12 +61,15 @@ impl Params {
     pub fn load(dir: &Path) -> Result<Self, LoadError> {
         let mut errors = Vec::new();
         let fingertip = collect(Fingertip::load(&dir.join("fingertip.toml")), &mut errors);
+        let chip = collect(Chip::load(&dir.join("chip.toml")), &mut errors);
         let frontend = collect(Frontend::load(&dir.join("frontend.toml")), &mut errors);
         let adc = collect(Adc::load(&dir.join("adc.toml")), &mut errors);
         let board = collect(Board::load(&dir.join("board.toml")), &mut errors);
-        match (fingertip, frontend, adc, board) {
-            (Some(fingertip), Some(frontend), Some(adc), Some(board)) if errors.is_empty() => {
-                Ok(Self { fingertip, frontend, adc, board })
+        match (fingertip, chip, frontend, adc, board) {
+            (Some(fingertip), Some(chip), Some(frontend), Some(adc), Some(board))
+                if errors.is_empty() =>
+            {
+                Ok(Self { fingertip, chip, frontend, adc, board })
             }
             _ => Err(LoadError(errors)),
         }
