@@ -1,4 +1,4 @@
-//! `frontend.toml`: bridge excitation and mismatch, the trim-DAC offset cut, the two amplifier
+//! `frontend.toml`: bridge mismatch, the trim-DAC offset cut, the two amplifier
 //! stages, the anti-alias RC and the temperature sensor. Derived figures (gains, trim range,
 //! noise) are computed by the models in `sim::frontend`, not here: this is data.
 
@@ -24,13 +24,9 @@ pub struct Frontend {
     pub temperature: TempSensor,
 }
 
-/// The chip's three Wheatstone bridges as the front end sees them.
+/// How the chip's three bridges (nominal values in `chip.toml`) differ from nominal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bridge {
-    /// Nominal resistance of each arm.
-    pub resistance_ohm: f64,
-    /// Bridge supply voltage.
-    pub excitation_v: f64,
     /// Largest fractional mismatch of any arm: sets the worst-case raw offset.
     pub arm_tolerance: f64,
     /// Fractional mismatch of arms [R1, R2, R3, R4] per channel [Fz, Mx, My].
@@ -44,8 +40,8 @@ pub struct Bridge {
 pub struct Trim {
     /// DAC resolution.
     pub dac_bits: u32,
-    /// Summing resistor from a DAC output to a bridge's positive output node.
-    pub injection_ohm: f64,
+    /// Summing resistor from a DAC output to a bridge's positive output node, per channel.
+    pub injection_ohm: [f64; BRIDGES],
 }
 
 /// The first stage: an instrumentation amplifier per channel.
@@ -116,8 +112,6 @@ impl Frontend {
             supply_v,
             mid_dac_code: r.int("supply.mid_dac_code", 0..=65535) as u32,
             bridge: Bridge {
-                resistance_ohm: r.f64("bridge.resistance_ohm", 100.0..=100.0e3),
-                excitation_v: r.f64("bridge.excitation_v", 0.5..=10.0),
                 arm_tolerance: r.f64("bridge.arm_tolerance", 0.0..=0.05),
                 arm_mismatch: [
                     r.f64_array("bridge.arm_mismatch_fz", -0.05..=0.05),
@@ -128,7 +122,7 @@ impl Frontend {
             },
             trim: Trim {
                 dac_bits: r.int("trim.dac_bits", 8..=16) as u32,
-                injection_ohm: r.f64("trim.injection_ohm", 1.0e3..=100.0e6),
+                injection_ohm: r.f64_array("trim.injection_ohm", 1.0e3..=100.0e6),
             },
             stage1: InAmp {
                 part: r.string("stage1.part"),
@@ -167,10 +161,6 @@ impl Frontend {
 
     /// Rules across keys; each has its own test in `tests/frontend_rules.rs`.
     fn check(&self, r: &mut Reader) {
-        if self.bridge.excitation_v > self.supply_v {
-            let why = "must not exceed supply.analog_v (the bridges run off the analog rail)";
-            r.reject("bridge.excitation_v", why);
-        }
         let full_scale = 1u64 << self.trim.dac_bits;
         if u64::from(self.mid_dac_code) >= full_scale {
             r.reject(

@@ -44,11 +44,20 @@ fn full_scale_imbalance_clips_at_the_adc_before_the_amplifier_rails() {
 }
 
 #[test]
-fn noise_draws_scale_the_adc_input_by_the_front_end_noise() {
-    // The sim adds the front end's noise at the bridge (z * rms) and the ADC's at its input;
-    // one sigma of front-end noise on Fz is 0.843 uV * 3008 = 2.54 mV at the ADC (frontend.md).
+fn fz_noise_at_the_adc_matches_the_hand_budget() {
+    // By hand, nV/rtHz at the bridge: INA333 50 and 200 / G1; the Fz bridge's two output nodes,
+    // 10k || 10k || 3 MOhm and 10k || 10k, at 300 K; OPA333 55 with 29.1k || 1k, / G1. Over the
+    // sinc3 noise bandwidth at 1 kSPS, 275 Hz, times the Fz gain.
     let fe = front_end();
     let fz = &fe.channels[0];
+    let kt4 = 4.0 * 1.380_649e-23 * 300.0;
+    let g1: f64 = 1.0 + 100.0e3 / 1010.0;
+    let bridge = kt4 * (5.0e3 * 3.0e6 / 3.005e6 + 5.0e3);
+    let opa = (55.0e-9f64.powi(2) + kt4 * 29.1e3 * 1.0e3 / 30.1e3) / g1.powi(2);
+    let density = (50.0e-9f64.powi(2) + (200.0e-9 / g1).powi(2) + bridge + opa).sqrt();
+    let sigma_by_hand = density * 275.0f64.sqrt() * fz.gain();
     let sigma = fz.noise_rms_v(fe.adc.data_rate_hz) * fz.gain();
-    assert!((sigma - 2.54e-3).abs() < 0.01e-3, "{sigma}");
+    // The model's bridge resistances carry the arms' +-0.02 % mismatch; the budget does not.
+    let error = (sigma / sigma_by_hand - 1.0).abs();
+    assert!(error < 1.0e-6, "{sigma} vs {sigma_by_hand}");
 }

@@ -48,10 +48,8 @@ fn params_inc(
     let mut s = String::from("* generated from hardware/*.toml by tests/tests/spice_frontend.rs\n");
     let mut param = |name: &str, value: f64| writeln!(s, ".param {name} = {value:e}").unwrap();
     param("vdd", fe.supply_v);
-    param("vexc", fe.bridge.excitation_v);
+    param("vexc", p.chip.excitation_v);
     param("vmid", model.mid_v());
-    param("rb", fe.bridge.resistance_ohm);
-    param("rinj", fe.trim.injection_ohm);
     param("rint", fe.stage1.internal_ohm);
     param("gbw1", fe.stage1.gbw_hz);
     param("swing1", fe.stage1.swing_from_rail_v);
@@ -72,8 +70,13 @@ fn params_inc(
     param("rin_adc", p.adc.input_impedance_ohm);
     for (i, ch) in NAMES.iter().enumerate() {
         for (k, d) in mismatch[i].iter().enumerate() {
+            param(
+                &format!("r{}_{ch}", k + 1),
+                model.channels[i].bridge.nominal_ohm[k],
+            );
             param(&format!("d{}_{ch}", k + 1), *d);
         }
+        param(&format!("rinj_{ch}"), fe.trim.injection_ohm[i]);
         param(&format!("vos_{ch}"), offset_v[i]);
         param(&format!("rg_{ch}"), fe.stage1.gain_resistor_ohm[i]);
         param(&format!("rf_{ch}"), fe.stage2.feedback_ohm[i]);
@@ -257,7 +260,7 @@ fn offset_cut_cancels_the_worst_raw_offset() {
     let (p, model, _) = nominal();
     let fe = &p.frontend;
     let t = fe.bridge.arm_tolerance;
-    let worst = Bridge::worst_raw_offset_v(fe.bridge.excitation_v, t) + fe.stage1.offset_max_v;
+    let worst = Bridge::worst_raw_offset_v(p.chip.excitation_v, t) + fe.stage1.offset_max_v;
     let dac_max = model.channels[0]
         .trim
         .dac_v(model.channels[0].trim.codes() - 1);

@@ -25,17 +25,17 @@ impl Thevenin {
 /// A bridge with its arms' fabrication mismatch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bridge {
-    /// Nominal arm resistance R.
-    pub resistance_ohm: f64,
+    /// Nominal (design) resistance of arms [R1, R2, R3, R4] at zero stress.
+    pub nominal_ohm: [f64; 4],
     pub excitation_v: f64,
     /// Fractional mismatch δ of arms [R1, R2, R3, R4].
     pub mismatch: [f64; 4],
 }
 
 impl Bridge {
-    /// Arm resistances `R (1 + δ_i) (1 + ΔR_i/R)` for the stress-induced changes `dr_r`.
+    /// Arm resistances `R_i (1 + δ_i) (1 + ΔR_i/R_i)` for the stress-induced changes `dr_r`.
     pub fn arms_ohm(&self, dr_r: [f64; 4]) -> [f64; 4] {
-        core::array::from_fn(|i| self.resistance_ohm * (1.0 + self.mismatch[i]) * (1.0 + dr_r[i]))
+        core::array::from_fn(|i| self.nominal_ohm[i] * (1.0 + self.mismatch[i]) * (1.0 + dr_r[i]))
     }
 
     /// The (positive, negative) output nodes for the stress-induced changes `dr_r`.
@@ -44,6 +44,16 @@ impl Bridge {
         let pos = Thevenin::divider(self.excitation_v, r3, r4);
         let neg = Thevenin::divider(self.excitation_v, r1, r2);
         (pos, neg)
+    }
+
+    /// The output nodes for arm resistances computed elsewhere (e.g. the chip model's arms under
+    /// a load, in R1..R4 order), with this bridge's mismatch applied on top.
+    pub fn outputs_for_arms(&self, arms_ohm: [f64; 4]) -> (Thevenin, Thevenin) {
+        let [r1, r2, r3, r4] = core::array::from_fn(|i| arms_ohm[i] * (1.0 + self.mismatch[i]));
+        (
+            Thevenin::divider(self.excitation_v, r3, r4),
+            Thevenin::divider(self.excitation_v, r1, r2),
+        )
     }
 
     /// Differential output `V+ - V-` for the stress-induced changes `dr_r`.
@@ -58,7 +68,8 @@ impl Bridge {
     }
 
     /// Largest raw offset when every arm may be off by up to `tolerance`: arms R1 and R4 high,
-    /// R2 and R3 low give `V_exc (1 + t)/2 - V_exc (1 - t)/2 = V_exc t`.
+    /// R2 and R3 low give, for dividers of equal halves, `V_exc (1 + t)/2 - V_exc (1 - t)/2 =
+    /// V_exc t`.
     pub fn worst_raw_offset_v(excitation_v: f64, tolerance: f64) -> f64 {
         excitation_v * tolerance
     }
@@ -70,7 +81,7 @@ mod tests {
 
     fn bridge(mismatch: [f64; 4]) -> Bridge {
         Bridge {
-            resistance_ohm: 5000.0,
+            nominal_ohm: [5000.0; 4],
             excitation_v: 3.3,
             mismatch,
         }
@@ -89,6 +100,13 @@ mod tests {
         let t = 6.0e-4;
         let b = bridge([t, -t, -t, t]);
         assert!((b.raw_offset_v() - Bridge::worst_raw_offset_v(3.3, t)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn chip_arms_take_the_mismatch_on_top() {
+        let b = bridge([1.0e-3, 0.0, 0.0, 0.0]);
+        let arms = [5000.0, 5000.0, 5000.0, 5000.0];
+        assert_eq!(b.outputs_for_arms(arms), b.outputs([0.0; 4]));
     }
 
     #[test]

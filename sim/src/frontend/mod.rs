@@ -194,13 +194,23 @@ mod tests {
     #[test]
     fn trim_covers_the_worst_raw_offset_and_the_amplifier_offset() {
         let p = hardware::Params::load_default().unwrap();
-        let b = &p.frontend.bridge;
-        let worst = Bridge::worst_raw_offset_v(b.excitation_v, b.arm_tolerance)
-            + p.frontend.stage1.offset_max_v;
+        let t = p.frontend.bridge.arm_tolerance;
+        let worst =
+            Bridge::worst_raw_offset_v(p.chip.excitation_v, t) + p.frontend.stage1.offset_max_v;
         for ch in front_end().channels {
             let (lo, hi) = ch.trim_range_v();
             assert!(lo < -worst && hi > worst, "range {lo}..{hi} vs {worst}");
         }
+    }
+
+    #[test]
+    fn arms_follow_chip_toml() {
+        // chip.toml: Fz = two 5 kOhm piezoresistors per arm on the left, 10 kOhm references on
+        // the right; Mx, My one 5 kOhm piezoresistor per arm.
+        let fe = front_end();
+        assert_eq!(fe.channels[0].bridge.nominal_ohm, [10.0e3; 4]);
+        assert_eq!(fe.channels[1].bridge.nominal_ohm, [5.0e3; 4]);
+        assert_eq!(fe.channels[2].bridge.nominal_ohm, [5.0e3; 4]);
     }
 
     #[test]

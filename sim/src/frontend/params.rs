@@ -6,7 +6,7 @@ impl FrontEnd {
     /// The front end and ADC as `params` describe them.
     pub fn from_params(params: &hardware::Params) -> Self {
         let fe = &params.frontend;
-        let channels = core::array::from_fn(|i| channel(fe, &params.adc, i));
+        let channels = core::array::from_fn(|i| channel(params, i));
         let adc = &params.adc;
         FrontEnd {
             channels,
@@ -26,18 +26,37 @@ impl FrontEnd {
     }
 }
 
-fn channel(fe: &hardware::Frontend, adc: &hardware::Adc, i: usize) -> Channel {
+/// The chip's arm names (`chip.toml`) in the front end's order R1..R4: R1/R2 the negative
+/// divider (the chip's right side, R1 to the supply), R3/R4 the positive one (its left side).
+const ARMS: [&str; 4] = ["upper_right", "lower_right", "upper_left", "lower_left"];
+
+/// Nominal arm resistances of bridge `i`: its piezoresistors in each arm plus the arm's fixed
+/// resistance (the Fz bridge has two piezoresistors per arm on one side, references on the other).
+fn nominal_arms_ohm(chip: &hardware::Chip, i: usize) -> [f64; 4] {
+    let bridge = &chip.bridges[i];
+    ARMS.map(|arm| {
+        let fixed = hardware::ARM_NAMES
+            .iter()
+            .position(|a| *a == arm)
+            .map_or(0.0, |k| bridge.fixed_ohm[k]);
+        let piezos = bridge.resistors.iter().filter(|r| r.arm == arm).count() as f64;
+        fixed + piezos * chip.resistance_ohm
+    })
+}
+
+fn channel(params: &hardware::Params, i: usize) -> Channel {
+    let (fe, adc) = (&params.frontend, &params.adc);
     let (s1, s2) = (&fe.stage1, &fe.stage2);
     Channel {
         bridge: Bridge {
-            resistance_ohm: fe.bridge.resistance_ohm,
-            excitation_v: fe.bridge.excitation_v,
+            nominal_ohm: nominal_arms_ohm(&params.chip, i),
+            excitation_v: params.chip.excitation_v,
             mismatch: fe.bridge.arm_mismatch[i],
         },
         trim: Trim {
             reference_v: fe.supply_v,
             dac_bits: fe.trim.dac_bits,
-            injection_ohm: fe.trim.injection_ohm,
+            injection_ohm: fe.trim.injection_ohm[i],
         },
         stage1: InAmp {
             internal_ohm: s1.internal_ohm,
