@@ -204,6 +204,13 @@ mod tests {
     }
 
     #[test]
+    fn excitation_is_the_analog_rail() {
+        // The trim's zero (mid code) and its ratiometry assume the bridges run off the rail.
+        let p = hardware::Params::load_default().unwrap();
+        assert_eq!(p.chip.excitation_v, p.frontend.supply_v);
+    }
+
+    #[test]
     fn arms_follow_chip_toml() {
         // chip.toml: Fz = two 5 kOhm piezoresistors per arm on the left, 10 kOhm references on
         // the right; Mx, My one 5 kOhm piezoresistor per arm.
