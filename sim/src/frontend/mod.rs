@@ -22,6 +22,11 @@ pub use trim::Trim;
 /// Bridge channels: Fz, Mx, My on ADC channels 0, 1, 2.
 pub const CHANNELS: usize = 3;
 
+/// `chip.toml`'s arm names in this module's order R1..R4: R1/R2 the negative divider (the chip's
+/// right side, R1 to the supply), R3/R4 the positive one (its left side; chip output = left -
+/// right = V+ - V-).
+pub const CHIP_ARM_ORDER: [&str; 4] = ["upper_right", "lower_right", "upper_left", "lower_left"];
+
 /// One bridge's signal path from its arms to its ADC input pair.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Channel {
@@ -49,7 +54,19 @@ impl Channel {
 
     /// Second-stage output relative to VMID (`mid_v`): what the anti-alias RC sees, DC.
     pub fn amp_output_v(&self, dr_r: [f64; 4], imbalance_v: f64, dac_code: u32, mid_v: f64) -> f64 {
-        let v_in = self.amp_input_v(dr_r, imbalance_v, dac_code);
+        self.amplify(self.amp_input_v(dr_r, imbalance_v, dac_code), mid_v)
+    }
+
+    /// The ADC's differential input at DC for arm resistances from the chip model (its loaded
+    /// arms in [`CHIP_ARM_ORDER`], this bridge's mismatch applied on top).
+    pub fn adc_input_v_for_arms(&self, arms_ohm: [f64; 4], dac_code: u32, mid_v: f64) -> f64 {
+        let (pos, neg) = self.bridge.outputs_for_arms(arms_ohm);
+        let v_in = self.trim.inject(pos, dac_code).v - neg.v;
+        self.antialias.dc_gain() * self.amplify(v_in, mid_v)
+    }
+
+    /// Both stages: in-amp differential input to second-stage output minus VMID.
+    fn amplify(&self, v_in: f64, mid_v: f64) -> f64 {
         let o1 = self.stage1.output_v(v_in, mid_v);
         self.stage2.output_v(o1, mid_v) - mid_v
     }
@@ -201,6 +218,18 @@ mod tests {
             let (lo, hi) = ch.trim_range_v();
             assert!(lo < -worst && hi > worst, "range {lo}..{hi} vs {worst}");
         }
+    }
+
+    #[test]
+    fn chip_arms_give_the_same_reading_as_relative_changes() {
+        let fe = front_end();
+        let (mid, codes) = (fe.mid_v(), fe.null_codes());
+        let mx = &fe.channels[1];
+        let dr_r = [1.0e-4, -2.0e-4, 3.0e-4, -1.0e-4];
+        let arms = core::array::from_fn(|i| mx.bridge.nominal_ohm[i] * (1.0 + dr_r[i]));
+        let a = mx.adc_input_v_for_arms(arms, codes[1], mid);
+        let b = mx.adc_input_v(dr_r, 0.0, codes[1], mid);
+        assert!((a - b).abs() < 1e-12, "{a} vs {b}");
     }
 
     #[test]

@@ -26,15 +26,11 @@ impl FrontEnd {
     }
 }
 
-/// The chip's arm names (`chip.toml`) in the front end's order R1..R4: R1/R2 the negative
-/// divider (the chip's right side, R1 to the supply), R3/R4 the positive one (its left side).
-const ARMS: [&str; 4] = ["upper_right", "lower_right", "upper_left", "lower_left"];
-
 /// Nominal arm resistances of bridge `i`: its piezoresistors in each arm plus the arm's fixed
 /// resistance (the Fz bridge has two piezoresistors per arm on one side, references on the other).
 fn nominal_arms_ohm(chip: &hardware::Chip, i: usize) -> [f64; 4] {
     let bridge = &chip.bridges[i];
-    ARMS.map(|arm| {
+    CHIP_ARM_ORDER.map(|arm| {
         let fixed = hardware::ARM_NAMES
             .iter()
             .position(|a| *a == arm)
