@@ -2,3 +2,7 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 
 pub mod ads131m04;
+#[cfg(feature = "std")]
+pub mod link;
+
+pub mod frontend;
