@@ -123,7 +123,8 @@ pub fn device_config() -> firmware::device::DeviceConfig {
             rate: 1.0e-4,
             limit: 20_000,
         },
-        dac_initial: [sim::ads131m04::stimulus::TRIM_MID_CODE; 4],
+        dac_initial: [sim::ads131m04::stimulus::TRIM_MID_CODE; 3],
+        dac_vmid_code: sim::ads131m04::stimulus::TRIM_MID_CODE,
         null_at_power_up: true,
     }
 }

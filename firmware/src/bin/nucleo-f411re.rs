@@ -1,8 +1,8 @@
 //! Firmware for the NUCLEO-F411RE (STM32F411RE, Cortex-M4F at 100 MHz). The ADS131M04 on SPI1
 //! signals each conversion on DRDY (EXTI, falling edge); the interrupt reads it through the driver
 //! and queues the sample. The main loop runs the device core and writes frames to USART2, the
-//! ST-LINK virtual COM port at 921,600 baud. The MCP4728 trim DAC sits on I2C1. Pins: see
-//! hardware/board-pins.md. defmt logs over RTT (`cargo run --release --bin nucleo-f411re`).
+//! ST-LINK virtual COM port. The MCP4728 trim DAC sits on I2C1. Pins and rates: hardware/board.toml
+//! (checked against the code at compile time, see boards/nucleo_f411re.rs). defmt logs over RTT (`cargo run --release --bin nucleo-f411re`).
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(not(target_os = "none"))]
@@ -26,11 +26,11 @@ mod target {
     use embedded_hal::spi::MODE_1;
     use embedded_hal_bus::spi::ExclusiveDevice;
     use embedded_hal_nb::serial::{Read, Write};
-    use firmware::ads131m04::{Ads131m04, Config, Osr, WordLength};
+    use firmware::ads131m04::{Ads131m04, Config, Osr};
     use firmware::device::{Device, Frontend, HardwareError};
-    use firmware::mcp4728::{Mcp4728, DEFAULT_ADDRESS};
+    use firmware::mcp4728::{trim_writes, Mcp4728};
     use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
-    use stm32f4xx_hal::gpio::{Edge, Input, Output, PA10, PB6};
+    use stm32f4xx_hal::gpio::{Edge, Input, Output, PinState, PB6, PC7};
     use stm32f4xx_hal::i2c::{DutyCycle, I2c, Mode as I2cMode};
     use stm32f4xx_hal::pac::{self, interrupt, I2C1, SPI1};
     use stm32f4xx_hal::prelude::*;
@@ -40,7 +40,7 @@ mod target {
     use {defmt_rtt as _, panic_probe as _};
 
     type AdcSpi = ExclusiveDevice<Spi<SPI1>, PB6<Output>, embedded_hal_bus::spi::NoDelay>;
-    type Adc = Ads131m04<AdcSpi, PA10<Input>>;
+    type Adc = Ads131m04<AdcSpi, PC7<Input>>;
 
     struct Acquisition {
         adc: Adc,
@@ -55,7 +55,7 @@ mod target {
 
     /// DRDY fell: a conversion is ready. Read it (CRC checked) and queue it; never wait.
     #[interrupt]
-    fn EXTI15_10() {
+    fn EXTI9_5() {
         critical_section::with(|cs| {
             let mut slot = ACQUISITION.borrow_ref_mut(cs);
             let Some(a) = slot.as_mut() else { return };
@@ -79,8 +79,10 @@ mod target {
     }
 
     impl Frontend for NucleoFrontend {
-        fn set_trim(&mut self, codes: [u16; 4]) -> Result<(), HardwareError> {
-            self.dac.fast_write(codes).map_err(|_| HardwareError::Dac)
+        fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
+            self.dac
+                .multi_write(&trim_writes(codes))
+                .map_err(|_| HardwareError::Dac)
         }
 
         fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError> {
@@ -96,6 +98,7 @@ mod target {
 
     #[entry]
     fn main() -> ! {
+        let () = board::PIN_CHECKS;
         let mut dp = pac::Peripherals::take().unwrap();
         let mut rcc = dp.RCC.freeze(
             RccConfig::hse(board::HSE_HZ.Hz())
@@ -104,13 +107,18 @@ mod target {
         );
         let gpioa = dp.GPIOA.split(&mut rcc);
         let gpiob = dp.GPIOB.split(&mut rcc);
+        let gpioc = dp.GPIOC.split(&mut rcc);
+        // ADC SYNC/RESET held high (the driver resets with the RESET command); DAC LDAC held
+        // low so its outputs follow each write.
+        let _sync_reset = gpioa.pa9.into_push_pull_output_in_state(PinState::High);
+        let _ldac = gpiob.pb10.into_push_pull_output_in_state(PinState::Low);
         let mut syscfg = dp.SYSCFG.constrain(&mut rcc);
 
         let serial = dp
             .USART2
             .serial::<u8>(
                 (gpioa.pa2, gpioa.pa3),
-                SerialConfig::default().baudrate(board::BAUD.bps()),
+                SerialConfig::default().baudrate(board::UART_BAUD.bps()),
                 &mut rcc,
             )
             .unwrap();
@@ -122,11 +130,9 @@ mod target {
             board::SPI_HZ.Hz(),
             &mut rcc,
         );
-        let cs = gpiob
-            .pb6
-            .into_push_pull_output_in_state(stm32f4xx_hal::gpio::PinState::High);
+        let cs = gpiob.pb6.into_push_pull_output_in_state(PinState::High);
         let spi = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
-        let mut drdy = gpioa.pa10.into_pull_up_input();
+        let mut drdy = gpioc.pc7.into_pull_up_input();
         drdy.make_interrupt_source(&mut syscfg);
         drdy.trigger_on_edge(&mut dp.EXTI, Edge::Falling);
         drdy.enable_interrupt(&mut dp.EXTI);
@@ -141,10 +147,10 @@ mod target {
         let config = board::device_config();
         let mut adc = Ads131m04::new(spi, drdy);
         let adc_config = Config {
-            word_length: WordLength::Bits24,
+            word_length: board::word_length(),
             osr: config.osr,
             gains: config.pga,
-            input_crc: true,
+            input_crc: board::ADC_INPUT_CRC,
         };
         match adc.init(&adc_config) {
             Ok(id) => defmt::info!("ADS131M04 ID {=u16:#06x}", id),
@@ -162,14 +168,14 @@ mod target {
             });
         });
         let mut fe = NucleoFrontend {
-            dac: Mcp4728::new(i2c, DEFAULT_ADDRESS),
+            dac: Mcp4728::new(i2c, board::DAC_ADDRESS),
         };
         let mut dev = Device::new(config);
         if dev.power_up(&mut fe).is_err() {
             defmt::error!("MCP4728 did not acknowledge the power-up write");
         }
         // SAFETY: the handler and everything it touches are initialised above.
-        unsafe { cortex_m::peripheral::NVIC::unmask(pac::Interrupt::EXTI15_10) };
+        unsafe { cortex_m::peripheral::NVIC::unmask(pac::Interrupt::EXTI9_5) };
         defmt::info!("streaming core up at {=u32} samples/s", dev.rate_hz());
 
         // No WFI here: USART2 has a one-byte receive register and no receive interrupt is used,

@@ -64,7 +64,7 @@ mod target {
 
     struct NoHardware;
     impl Frontend for NoHardware {
-        fn set_trim(&mut self, _codes: [u16; 4]) -> Result<(), HardwareError> {
+        fn set_trim(&mut self, _codes: [u16; 3]) -> Result<(), HardwareError> {
             Ok(())
         }
         fn set_osr(&mut self, _osr: Osr) -> Result<(), HardwareError> {

@@ -30,7 +30,7 @@ mod target {
     use critical_section::Mutex;
     use firmware::ads131m04::{Ads131m04, Config, Osr, WordLength};
     use firmware::device::{Device, Frontend, HardwareError};
-    use firmware::mcp4728::{Mcp4728, DEFAULT_ADDRESS};
+    use firmware::mcp4728::{trim_writes, Mcp4728, DEFAULT_ADDRESS};
     use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
     use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
     use sim::ads131m04::trim_dac::TrimDac;
@@ -91,8 +91,9 @@ mod target {
 
     /// The DAC handle borrows the chip, so its writes run inside critical sections.
     impl Frontend for QemuFrontend {
-        fn set_trim(&mut self, codes: [u16; 4]) -> Result<(), HardwareError> {
-            critical_section::with(|_| self.dac.fast_write(codes)).map_err(|_| HardwareError::Dac)
+        fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
+            critical_section::with(|_| self.dac.multi_write(&trim_writes(codes)))
+                .map_err(|_| HardwareError::Dac)
         }
 
         fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError> {

@@ -32,8 +32,11 @@ pub struct DeviceConfig {
     pub null_timing: NullTiming,
     /// Drift tracker settings (tracking itself starts off).
     pub drift: DriftSettings,
-    /// Trim-DAC codes written at power-up, before any search.
-    pub dac_initial: [u16; 4],
+    /// Trim-DAC codes (channels A..=C) written at power-up, before any search.
+    pub dac_initial: [u16; 3],
+    /// DAC channel D's code, the analog mid-rail reference (set in the DAC's EEPROM, never
+    /// written by the firmware); reported in the info frame.
+    pub dac_vmid_code: u16,
     /// Run the auto-null search at power-up.
     pub null_at_power_up: bool,
 }

@@ -41,8 +41,9 @@ pub enum HardwareError {
 
 /// What the core asks of the board.
 pub trait Frontend {
-    /// Write the four trim-DAC codes (channels A..=C trim the bridges, D is spare).
-    fn set_trim(&mut self, codes: [u16; 4]) -> Result<(), HardwareError>;
+    /// Write the trim-DAC codes of the three bridges (MCP4728 channels A..=C). Channel D holds
+    /// the analog mid-rail reference and must not be touched.
+    fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError>;
     /// Reprogram the ADC's oversampling ratio (and the sample clock where the board paces it).
     fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError>;
 }
@@ -66,7 +67,8 @@ pub struct Device {
     tare: Tare,
     drift: DriftTracker,
     null: AutoNull,
-    dac: [u16; 4],
+    /// Trim-DAC codes in force, channels A..=C.
+    dac: [u16; 3],
     streaming: bool,
     epoch: u8,
     seq: u32,
@@ -100,10 +102,7 @@ impl Device {
             filters: FilterBank::NONE,
             tare: Tare::new(),
             drift: DriftTracker::new(cfg.drift),
-            null: AutoNull::new(
-                cfg.null_timing,
-                [cfg.dac_initial[0], cfg.dac_initial[1], cfg.dac_initial[2]],
-            ),
+            null: AutoNull::new(cfg.null_timing, cfg.dac_initial),
             dac: cfg.dac_initial,
             streaming: false,
             epoch: 0,
@@ -245,7 +244,7 @@ impl Device {
     }
 
     fn write_null_codes(&mut self, codes: [u16; 3], hw: &mut impl Frontend) {
-        self.dac[..3].copy_from_slice(&codes);
+        self.dac = codes;
         if hw.set_trim(self.dac).is_err() {
             self.null.fail();
         }
@@ -255,13 +254,11 @@ impl Device {
     /// the codes in force stay as they were.
     fn start_null(&mut self, hw: &mut impl Frontend) -> Result<(), HardwareError> {
         let codes = self.null.start();
-        let mut dac = self.dac;
-        dac[..3].copy_from_slice(&codes);
-        if let Err(e) = hw.set_trim(dac) {
+        if let Err(e) = hw.set_trim(codes) {
             self.null.fail();
             return Err(e);
         }
-        self.dac = dac;
+        self.dac = codes;
         self.epoch = self.epoch.wrapping_add(1);
         Ok(())
     }
@@ -404,7 +401,12 @@ impl Device {
             excitation_v: self.cfg.excitation_v,
             filter: self.filter_config,
             calibration: self.calibration,
-            dac_codes: self.dac,
+            dac_codes: [
+                self.dac[0],
+                self.dac[1],
+                self.dac[2],
+                self.cfg.dac_vmid_code,
+            ],
             tare: offset,
             drift: self.drift.correction(),
             null_state: self.null.state(),

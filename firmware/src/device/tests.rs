@@ -9,14 +9,14 @@ use protocol::{Command, NackCode, NullState, SampleFrame, CRC};
 
 #[derive(Default)]
 struct MockFrontend {
-    trims: Vec<[u16; 4]>,
+    trims: Vec<[u16; 3]>,
     osrs: Vec<Osr>,
     fail_dac: bool,
     fail_adc: bool,
 }
 
 impl Frontend for MockFrontend {
-    fn set_trim(&mut self, codes: [u16; 4]) -> Result<(), HardwareError> {
+    fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
         if self.fail_dac {
             return Err(HardwareError::Dac);
         }
@@ -53,7 +53,8 @@ pub(super) fn config() -> DeviceConfig {
             rate: 0.01,
             limit: 500,
         },
-        dac_initial: [2048; 4],
+        dac_initial: [2048; 3],
+        dac_vmid_code: 2048,
         null_at_power_up: false,
     }
 }

@@ -6,7 +6,7 @@
 
 use super::*;
 use crate::ads131m04::{Ads131m04, Config, WordLength};
-use crate::mcp4728::{Mcp4728, DEFAULT_ADDRESS};
+use crate::mcp4728::{trim_writes, Mcp4728, DEFAULT_ADDRESS};
 use core::cell::RefCell;
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::trim_dac::TrimDac;
@@ -20,8 +20,10 @@ struct Bench<'a> {
 }
 
 impl Frontend for Bench<'_> {
-    fn set_trim(&mut self, codes: [u16; 4]) -> Result<(), HardwareError> {
-        self.dac.fast_write(codes).map_err(|_| HardwareError::Dac)
+    fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
+        self.dac
+            .multi_write(&trim_writes(codes))
+            .map_err(|_| HardwareError::Dac)
     }
     fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError> {
         self.adc.set_osr(osr).map_err(|_| HardwareError::Adc)
