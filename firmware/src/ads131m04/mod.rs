@@ -263,22 +263,13 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     /// Check the CRC word and decode response and data words.
     #[inline]
     fn parse(&self, rx: &[u8]) -> Result<Frame, SPI, DRDY> {
-        let wb = self.word.bytes();
-        let crc_at = 5 * wb;
-        let computed = crc::crc16(crc::SEED, &rx[..crc_at]);
-        let received = u16::from_be_bytes([rx[crc_at], rx[crc_at + 1]]);
-        if computed != received {
-            return Err(Error::Crc { computed, received });
+        match self.word {
+            // The common case, with the frame length known at compile time: the CRC and the
+            // decoding unroll completely.
+            WordLength::Bits24 => parse_words::<3, SPI, DRDY>(rx, WordLength::Bits24),
+            WordLength::Bits16 => parse_words::<2, SPI, DRDY>(rx, WordLength::Bits16),
+            word => parse_words::<4, SPI, DRDY>(rx, word),
         }
-        let response = u16::from_be_bytes([rx[0], rx[1]]);
-        let codes = match self.word {
-            // The common case, with the word length known at compile time.
-            WordLength::Bits24 => {
-                core::array::from_fn(|ch| WordLength::Bits24.decode(&rx[3 + 3 * ch..6 + 3 * ch]))
-            }
-            word => core::array::from_fn(|ch| word.decode(&rx[(ch + 1) * wb..(ch + 2) * wb])),
-        };
-        Ok(Frame { response, codes })
     }
 
     fn rebuild_null_frame(&mut self) {
@@ -289,6 +280,30 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             self.null_frame[wb..wb + 2].copy_from_slice(&crc.to_be_bytes());
         }
     }
+}
+
+/// Check the CRC word of a frame of `WB`-byte words and decode its response and data words.
+#[inline]
+fn parse_words<const WB: usize, SPI: SpiDevice, DRDY: InputPin>(
+    rx: &[u8],
+    word: WordLength,
+) -> Result<Frame, SPI, DRDY> {
+    let Some(frame) = rx.get(..FRAME_WORDS * WB) else {
+        // Shorter than a frame: cannot happen (the caller clocks whole frames); report it as a
+        // CRC failure rather than panic.
+        return Err(Error::Crc {
+            computed: 0,
+            received: 0,
+        });
+    };
+    let computed = crc::crc16(crc::SEED, &frame[..5 * WB]);
+    let received = u16::from_be_bytes([frame[5 * WB], frame[5 * WB + 1]]);
+    if computed != received {
+        return Err(Error::Crc { computed, received });
+    }
+    let response = u16::from_be_bytes([frame[0], frame[1]]);
+    let codes = core::array::from_fn(|ch| word.decode(&frame[(ch + 1) * WB..(ch + 2) * WB]));
+    Ok(Frame { response, codes })
 }
 
 #[cfg(test)]
