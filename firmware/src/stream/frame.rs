@@ -80,6 +80,15 @@ fn cobs_short(src: &[u8], dst: &mut [u8]) {
     let mut j = 1;
     for w in &mut words {
         let v = u32::from_le_bytes([w[0], w[1], w[2], w[3]]);
+        if v == 0 {
+            // Four zeros (a channel at rest after a tare): close the open block, then three
+            // one-byte blocks; the fourth zero's slot becomes the open code byte.
+            dst[code_at] = (j - code_at) as u8;
+            dst[j..j + 3].copy_from_slice(&[1, 1, 1]);
+            code_at = j + 3;
+            j += 4;
+            continue;
+        }
         dst[j..j + 4].copy_from_slice(w);
         // 0x80 in exactly the bytes of v that are zero.
         let mut zeros = !(((v & 0x7F7F_7F7F).wrapping_add(0x7F7F_7F7F)) | v | 0x7F7F_7F7F);
@@ -262,7 +271,8 @@ mod tests {
                 dropped: if round % 3 == 0 { 0 } else { next() as u16 },
             };
             let code = |x: u32| {
-                if x % 5 == 0 {
+                // Every fifth code zero, every eleventh frame all zeros (runs of zero words).
+                if x % 5 == 0 || round % 11 == 0 {
                     0
                 } else {
                     ((x as i32) << 8) >> 8
