@@ -8,7 +8,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 "$here/setup-firmware.sh"
 cd "$here/../firmware"
 
-host=x86_64-unknown-linux-gnu
+host="$(rustc -vV | sed -n "s/^host: //p")"
 echo "== firmware host tests"
 cargo test --target "$host"
 
