@@ -2,3 +2,8 @@
 
 pub mod cli;
 pub mod cmd;
+pub mod decode;
+pub mod device;
+pub mod live;
+pub mod logger;
+pub mod plot;

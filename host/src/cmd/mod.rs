@@ -1,6 +1,7 @@
 //! One module per subcommand: its `Args` (clap) and `run`.
 
 pub mod chip;
+pub mod common;
 pub mod config;
 pub mod diagnose;
 pub mod fe;
@@ -34,6 +35,12 @@ pub fn run(command: Command) -> anyhow::Result<()> {
 
 /// The exit code a library error asks for, if `cause` is one of ours. Each module that owns an
 /// error type adds its downcast here.
-pub fn exit_code_of(_cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+    if let Some(e) = cause.downcast_ref::<crate::device::DeviceError>() {
+        return Some(e.exit_code());
+    }
+    if let Some(e) = cause.downcast_ref::<crate::logger::FileError>() {
+        return Some(e.exit_code());
+    }
     None
 }
