@@ -161,6 +161,10 @@ fn open_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
         }
         let flags = libc::fcntl(m, libc::F_GETFL);
         libc::fcntl(m, libc::F_SETFL, flags | libc::O_NONBLOCK);
+        // Child processes (the logger under test) must not inherit the pty: a killed emulator
+        // has to close it for real.
+        libc::fcntl(m, libc::F_SETFD, libc::FD_CLOEXEC);
+        libc::fcntl(s, libc::F_SETFD, libc::FD_CLOEXEC);
     }
     let mut name = [0 as libc::c_char; 256];
     // SAFETY: the buffer is 256 bytes and its length is passed.
