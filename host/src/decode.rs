@@ -106,6 +106,7 @@ impl FastDecoder {
 
 /// COBS-decode `src` (no zero inside) into `dst`, block by block; the same acceptance rule as
 /// `cobs::decode_in_place` (a block may end exactly at the frame's end, not past it).
+#[inline]
 fn cobs_decode(src: &[u8], dst: &mut [u8; MAX_ENCODED]) -> Option<usize> {
     let end = src.len();
     let (mut si, mut di) = (0usize, 0usize);
@@ -127,6 +128,7 @@ fn cobs_decode(src: &[u8], dst: &mut [u8; MAX_ENCODED]) -> Option<usize> {
 }
 
 /// Judge one delimited, non-empty frame of at most [`MAX_ENCODED`] bytes.
+#[inline]
 fn judge(frame: &[u8], scratch: &mut [u8; MAX_ENCODED]) -> Outcome {
     let Some(decoded) = cobs_decode(frame, scratch) else {
         return Outcome::Malformed(Malformed::Cobs);
@@ -148,12 +150,14 @@ fn judge(frame: &[u8], scratch: &mut [u8; MAX_ENCODED]) -> Outcome {
     }
 }
 
+#[inline(always)]
 fn i24(b: &[u8]) -> Code {
     i32::from_le_bytes([b[0], b[1], b[2], 0]) << 8 >> 8
 }
 
 /// The common case, a well-formed sample frame, read with fixed offsets. Anything unusual
 /// returns `None` and goes to the protocol crate's parser, which names the fault.
+#[inline]
 fn parse_sample_frame(body: &[u8]) -> Option<SampleFrame> {
     if body.len() < SAMPLE_HEADER_LEN || body[0] != protocol::kind::SAMPLE {
         return None;
