@@ -17,8 +17,10 @@ use ratatui::{Frame as TermFrame, Terminal};
 
 use crate::device::{Counters, Event, GapKind, Scale};
 
-/// Points kept per sparkline (one per received frame).
-const HISTORY: usize = 240;
+/// Points kept per sparkline.
+const HISTORY: usize = 600;
+/// One sparkline point per this interval: a 50-column sparkline spans five seconds.
+const POINT_EVERY: Duration = Duration::from_millis(100);
 
 /// What the dashboard shows of one sensor, updated from its events.
 #[derive(Debug, Clone)]
@@ -30,6 +32,7 @@ pub struct SensorView {
     pub volts: [f64; 3],
     history: [VecDeque<f64>; 3],
     arrivals: VecDeque<(Instant, usize)>,
+    last_point: Option<Instant>,
     pub last_gap: Option<String>,
 }
 
@@ -43,6 +46,7 @@ impl SensorView {
             volts: [0.0; 3],
             history: Default::default(),
             arrivals: VecDeque::new(),
+            last_point: None,
             last_gap: None,
         }
     }
@@ -50,17 +54,20 @@ impl SensorView {
     pub fn on_event(&mut self, ev: &Event) {
         match ev {
             Event::Frame(f) => {
+                let now = Instant::now();
                 if let Some(s) = f.frame.samples().last() {
                     self.loads = self.scale.loads(s);
                     self.volts = self.scale.adc_volts(s);
-                    for (h, v) in self.history.iter_mut().zip(self.loads) {
-                        if h.len() == HISTORY {
-                            h.pop_front();
+                    if self.last_point.is_none_or(|t| now.duration_since(t) >= POINT_EVERY) {
+                        self.last_point = Some(now);
+                        for (h, v) in self.history.iter_mut().zip(self.loads) {
+                            if h.len() == HISTORY {
+                                h.pop_front();
+                            }
+                            h.push_back(v);
                         }
-                        h.push_back(v);
                     }
                 }
-                let now = Instant::now();
                 self.arrivals.push_back((now, f.frame.len()));
                 while self.arrivals.front().is_some_and(|(t, _)| now.duration_since(*t) > Duration::from_secs(1)) {
                     self.arrivals.pop_front();
@@ -89,12 +96,14 @@ impl SensorView {
         self.arrivals.iter().map(|(_, n)| *n as f64).sum()
     }
 
-    /// The history of channel `i` scaled to 0..=100 for the sparkline.
-    fn spark(&self, i: usize) -> Vec<u64> {
+    /// The newest `width` points of channel `i` scaled to 1..=100 between their minimum and
+    /// maximum, which are returned too.
+    fn spark(&self, i: usize, width: usize) -> (Vec<u64>, f64, f64) {
         let h = &self.history[i];
-        let (lo, hi) = h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+        let shown: Vec<f64> = h.iter().skip(h.len().saturating_sub(width)).copied().collect();
+        let (lo, hi) = shown.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
         let span = (hi - lo).max(1e-12);
-        h.iter().map(|v| ((v - lo) / span * 100.0) as u64).collect()
+        (shown.iter().map(|v| 1 + ((v - lo) / span * 99.0) as u64).collect(), lo, hi)
     }
 }
 
@@ -176,16 +185,16 @@ fn render_sensor(f: &mut TermFrame<'_>, area: Rect, v: &SensorView, c: &Counters
         .direction(Direction::Horizontal)
         .constraints([Constraint::Ratio(1, 3); 3])
         .split(parts[1]);
-    let names = ["Fz", "Mx", "My"];
+    let names = ["Fz [N]", "Mx [N·m]", "My [N·m]"];
     let colors = [Color::Cyan, Color::Yellow, Color::Magenta];
     for i in 0..3 {
-        let data = v.spark(i);
         // The sparkline draws from the left: keep the newest points that fit.
         let fit = usize::from(sparks[i].width.saturating_sub(2));
-        let data = &data[data.len().saturating_sub(fit)..];
+        let (data, lo, hi) = v.spark(i, fit);
+        let title = format!(" {} {:.4} … {:.4}, last {:.0} s ", names[i], lo, hi, data.len() as f64 * POINT_EVERY.as_secs_f64());
         let w = Sparkline::default()
-            .block(Block::default().borders(Borders::ALL).title(format!(" {} ", names[i])))
-            .data(data)
+            .block(Block::default().borders(Borders::ALL).title(title))
+            .data(&data)
             .max(100)
             .style(Style::default().fg(colors[i]));
         f.render_widget(w, sparks[i]);
