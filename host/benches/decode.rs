@@ -17,8 +17,17 @@ fn stream(frames: usize) -> Vec<u8> {
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let mut out = Vec::with_capacity(frames * 168);
     for seq in 0..frames as u32 {
-        let status = Status { null_state: NullState::Nulled, config_epoch: 3, ..Status::default() };
-        let mut f = SampleFrame::new(seq, seq.wrapping_mul(16_000), status, rng.random_range(-(1 << 23)..(1 << 23)));
+        let status = Status {
+            null_state: NullState::Nulled,
+            config_epoch: 3,
+            ..Status::default()
+        };
+        let mut f = SampleFrame::new(
+            seq,
+            seq.wrapping_mul(16_000),
+            status,
+            rng.random_range(-(1 << 23)..(1 << 23)),
+        );
         for _ in 0..16 {
             let ch = [0; 3].map(|_: i32| rng.random_range(-(1 << 23)..(1 << 23)));
             let _ = f.push(Sample { ch });
@@ -47,7 +56,9 @@ fn plain(bytes: &[u8]) -> u64 {
     let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
     let mut samples = 0u64;
     for frame in bytes.split(|b| *b == 0).filter(|f| !f.is_empty()) {
-        let Ok(decoded) = cobs::decode_vec(frame) else { continue };
+        let Ok(decoded) = cobs::decode_vec(frame) else {
+            continue;
+        };
         if decoded.len() <= CRC_LEN {
             continue;
         }
@@ -86,10 +97,17 @@ fn main() {
     let (best_fast, med_fast, n_fast) = throughput(&bytes, fast, runs);
     let (best_plain, med_plain, n_plain) = throughput(&bytes, plain, runs);
     assert_eq!(n_fast, n_plain, "both paths must decode the same samples");
-    println!("decode benchmark: {:.1} MB of 168-byte sample frames ({n_fast} samples), {runs} runs each", bytes.len() as f64 / 1e6);
+    println!(
+        "decode benchmark: {:.1} MB of 168-byte sample frames ({n_fast} samples), {runs} runs each",
+        bytes.len() as f64 / 1e6
+    );
     println!("host fast path (memchr, block COBS, crc32c, fixed-offset parse): best {best_fast:.3} GB/s, median {med_fast:.3} GB/s");
     println!("plain pipeline (split on 0, cobs::decode_vec, crc Crc<u32> CRC-32C, decode_body): best {best_plain:.3} GB/s, median {med_plain:.3} GB/s");
-    println!("ratio: best {:.2}x, median {:.2}x (goal: >= 1 GB/s and >= 2x)", best_fast / best_plain, med_fast / med_plain);
+    println!(
+        "ratio: best {:.2}x, median {:.2}x (goal: >= 1 GB/s and >= 2x)",
+        best_fast / best_plain,
+        med_fast / med_plain
+    );
     // The same on a stream larger than the caches (16.8 MB), fewer runs.
     let big = stream(if quick { 1_000 } else { 100_000 });
     let big_runs = if quick { 1 } else { 20 };

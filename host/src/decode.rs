@@ -38,7 +38,11 @@ impl Default for FastDecoder {
 
 impl FastDecoder {
     pub fn new() -> Self {
-        Self { carry: Vec::with_capacity(MAX_ENCODED), overflowed: false, scratch: Box::new([0; MAX_ENCODED]) }
+        Self {
+            carry: Vec::with_capacity(MAX_ENCODED),
+            overflowed: false,
+            scratch: Box::new([0; MAX_ENCODED]),
+        }
     }
 
     /// Forget any partial frame (after reopening a port).
@@ -64,10 +68,16 @@ impl FastDecoder {
             input = &input[end + 1..];
             let carry = std::mem::take(&mut self.carry);
             if std::mem::take(&mut self.overflowed) {
-                sink(Judged { outcome: Outcome::Overflow, raw: &[] });
+                sink(Judged {
+                    outcome: Outcome::Overflow,
+                    raw: &[],
+                });
             } else if !carry.is_empty() {
                 let outcome = judge(&carry, &mut self.scratch);
-                sink(Judged { outcome, raw: &carry });
+                sink(Judged {
+                    outcome,
+                    raw: &carry,
+                });
             }
             self.carry = carry;
             self.carry.clear();
@@ -85,7 +95,11 @@ impl FastDecoder {
             } else {
                 judge(frame, &mut self.scratch)
             };
-            let raw = if matches!(outcome, Outcome::Overflow) { &[][..] } else { frame };
+            let raw = if matches!(outcome, Outcome::Overflow) {
+                &[][..]
+            } else {
+                frame
+            };
             sink(Judged { outcome, raw });
         }
         self.absorb(&input[start..]);
@@ -116,7 +130,8 @@ fn cobs_decode(src: &[u8], dst: &mut [u8; MAX_ENCODED]) -> Option<usize> {
             return None;
         }
         let n = code - 1;
-        dst.get_mut(di..di + n)?.copy_from_slice(&src[si + 1..si + code]);
+        dst.get_mut(di..di + n)?
+            .copy_from_slice(&src[si + 1..si + code]);
         si += code;
         di += n;
         if code != 0xFF && si < end {
@@ -190,7 +205,9 @@ fn parse_sample_frame(body: &[u8]) -> Option<SampleFrame> {
     let mut frame = SampleFrame::new(seq, t_us, status, i24(&body[14..17]));
     for s in body[SAMPLE_HEADER_LEN..].chunks_exact(SAMPLE_LEN) {
         // Cannot overflow: n <= MAX_BATCH was checked above.
-        let _ = frame.push(Sample { ch: [i24(&s[0..3]), i24(&s[3..6]), i24(&s[6..9])] });
+        let _ = frame.push(Sample {
+            ch: [i24(&s[0..3]), i24(&s[3..6]), i24(&s[6..9])],
+        });
     }
     Some(frame)
 }
@@ -212,17 +229,25 @@ mod tests {
     fn decodes_a_sample_frame_split_anywhere() {
         let mut f = SampleFrame::new(7, 1000, Status::default(), -5);
         for k in 0..16 {
-            f.push(Sample { ch: [k, -k, 1 << 22] }).unwrap();
+            f.push(Sample {
+                ch: [k, -k, 1 << 22],
+            })
+            .unwrap();
         }
         let wire = protocol::encode_vec(&Message::Sample(f.clone())).unwrap();
         for split in 0..wire.len() {
-            assert_eq!(outcomes(&wire, split), vec![Outcome::Message(Message::Sample(f.clone()))]);
+            assert_eq!(
+                outcomes(&wire, split),
+                vec![Outcome::Message(Message::Sample(f.clone()))]
+            );
         }
     }
 
     #[test]
     fn crc_error_overflow_and_cobs_faults_are_outcomes() {
-        let wire = protocol::encode_vec(&Message::Reply(protocol::Reply::Ack { tag: 1, opcode: 2 })).unwrap();
+        let wire =
+            protocol::encode_vec(&Message::Reply(protocol::Reply::Ack { tag: 1, opcode: 2 }))
+                .unwrap();
         let mut bad = wire.clone();
         bad[2] ^= 0x10;
         assert_eq!(outcomes(&bad, 3), vec![Outcome::CrcError]);
@@ -230,7 +255,10 @@ mod tests {
         let mut stream = long.clone();
         stream.push(0);
         assert_eq!(outcomes(&stream, 100), vec![Outcome::Overflow]);
-        assert_eq!(outcomes(&[9, 1, 0], 1), vec![Outcome::Malformed(Malformed::Cobs)]);
+        assert_eq!(
+            outcomes(&[9, 1, 0], 1),
+            vec![Outcome::Malformed(Malformed::Cobs)]
+        );
     }
 
     mod equivalence {
@@ -261,11 +289,16 @@ mod tests {
                 };
                 let mut f = SampleFrame::new(rng.random(), rng.random(), status, code(rng));
                 for _ in 0..rng.random_range(1..=MAX_BATCH) {
-                    let _ = f.push(Sample { ch: [code(rng), code(rng), code(rng)] });
+                    let _ = f.push(Sample {
+                        ch: [code(rng), code(rng), code(rng)],
+                    });
                 }
                 Message::Sample(f)
             } else {
-                Message::Reply(Reply::Pong { tag: rng.random(), nonce: rng.random() })
+                Message::Reply(Reply::Pong {
+                    tag: rng.random(),
+                    nonce: rng.random(),
+                })
             }
         }
 
@@ -289,7 +322,9 @@ mod tests {
                         w.insert(i, rng.random());
                     }
                     3 => w.truncate(rng.random_range(0..w.len())),
-                    4 => w.extend((0..rng.random_range(0..400)).map(|_| rng.random_range(1..=255u8))),
+                    4 => {
+                        w.extend((0..rng.random_range(0..400)).map(|_| rng.random_range(1..=255u8)))
+                    }
                     5 => w.extend((0..rng.random_range(0..40)).map(|_| rng.random::<u8>())),
                     _ => {}
                 }

@@ -29,7 +29,11 @@ pub enum PlotError {
     NoFont,
 }
 
-const CHANNELS: [(&str, &str); 3] = [("fz_V", "Fz bridge [V]"), ("mx_V", "Mx bridge [V]"), ("my_V", "My bridge [V]")];
+const CHANNELS: [(&str, &str); 3] = [
+    ("fz_V", "Fz bridge [V]"),
+    ("mx_V", "Mx bridge [V]"),
+    ("my_V", "My bridge [V]"),
+];
 const SIZE: (u32, u32) = (1200, 900);
 /// Most points drawn per line; longer series are thinned by a stride.
 const MAX_POINTS: usize = 20_000;
@@ -39,7 +43,10 @@ const MAX_POINTS: usize = 20_000;
 fn register_font() -> Result<(), PlotError> {
     static DONE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     let ok = *DONE.get_or_init(|| {
-        let mut candidates: Vec<PathBuf> = std::env::var_os("TACTILE_FONT").map(PathBuf::from).into_iter().collect();
+        let mut candidates: Vec<PathBuf> = std::env::var_os("TACTILE_FONT")
+            .map(PathBuf::from)
+            .into_iter()
+            .collect();
         candidates.extend(
             [
                 "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
@@ -49,10 +56,13 @@ fn register_font() -> Result<(), PlotError> {
             ]
             .map(PathBuf::from),
         );
-        candidates.iter().find_map(|p| std::fs::read(p).ok()).is_some_and(|bytes| {
-            let leaked: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-            plotters::style::register_font("sans-serif", FontStyle::Normal, leaked).is_ok()
-        })
+        candidates
+            .iter()
+            .find_map(|p| std::fs::read(p).ok())
+            .is_some_and(|bytes| {
+                let leaked: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                plotters::style::register_font("sans-serif", FontStyle::Normal, leaked).is_ok()
+            })
     });
     if ok {
         Ok(())
@@ -79,7 +89,11 @@ fn segments(x: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
 }
 
 fn range(v: impl Iterator<Item = f64>) -> Range<f64> {
-    let (lo, hi) = v.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    let (lo, hi) = v
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
     if !lo.is_finite() {
         return 0.0..1.0;
     }
@@ -87,7 +101,12 @@ fn range(v: impl Iterator<Item = f64>) -> Range<f64> {
     (lo - pad)..(hi + pad)
 }
 
-fn panels<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rec: &Recording, x_col: &str, x_desc: &str) -> Result<(), String> {
+fn panels<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    rec: &Recording,
+    x_col: &str,
+    x_desc: &str,
+) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let x = rec.values(x_col).unwrap_or_default();
     let areas = root.split_evenly((3, 1));
@@ -100,37 +119,70 @@ fn panels<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rec: &Recording, x_
             .y_label_area_size(80)
             .build_cartesian_2d(range(x.iter().copied()), range(y.iter().copied()))
             .map_err(|e| e.to_string())?;
-        chart.configure_mesh().x_desc(x_desc).y_desc(*desc).draw().map_err(|e| e.to_string())?;
+        chart
+            .configure_mesh()
+            .x_desc(x_desc)
+            .y_desc(*desc)
+            .draw()
+            .map_err(|e| e.to_string())?;
         for seg in segments(&x, &y) {
             if x_col == "t_s" {
-                chart.draw_series(LineSeries::new(seg, &color)).map_err(|e| e.to_string())?;
+                chart
+                    .draw_series(LineSeries::new(seg, &color))
+                    .map_err(|e| e.to_string())?;
             } else {
-                chart.draw_series(seg.into_iter().map(|p| Circle::new(p, 1, color.filled()))).map_err(|e| e.to_string())?;
+                chart
+                    .draw_series(seg.into_iter().map(|p| Circle::new(p, 1, color.filled())))
+                    .map_err(|e| e.to_string())?;
             }
         }
     }
     root.present().map_err(|e| e.to_string())
 }
 
-fn draw_one(path: &Path, format: Format, rec: &Recording, x_col: &str, x_desc: &str) -> Result<(), PlotError> {
+fn draw_one(
+    path: &Path,
+    format: Format,
+    rec: &Recording,
+    x_col: &str,
+    x_desc: &str,
+) -> Result<(), PlotError> {
     let res = match format {
         Format::Png => {
             register_font()?;
-            panels(&BitMapBackend::new(path, SIZE).into_drawing_area(), rec, x_col, x_desc)
+            panels(
+                &BitMapBackend::new(path, SIZE).into_drawing_area(),
+                rec,
+                x_col,
+                x_desc,
+            )
         }
-        Format::Svg => panels(&SVGBackend::new(path, SIZE).into_drawing_area(), rec, x_col, x_desc),
+        Format::Svg => panels(
+            &SVGBackend::new(path, SIZE).into_drawing_area(),
+            rec,
+            x_col,
+            x_desc,
+        ),
     };
-    res.map_err(|why| PlotError::Draw { path: path.to_path_buf(), why })
+    res.map_err(|why| PlotError::Draw {
+        path: path.to_path_buf(),
+        why,
+    })
 }
 
 /// Draw `<prefix>-time.<ext>` and, when the recording has reference loads, `<prefix>-load.<ext>`;
 /// returns the files written.
 pub fn plot(rec: &Recording, prefix: &Path, formats: &[Format]) -> Result<Vec<PathBuf>, PlotError> {
-    let has_load = rec.values("load_N").is_some_and(|v| v.iter().any(|x| x.is_finite()));
+    let has_load = rec
+        .values("load_N")
+        .is_some_and(|v| v.iter().any(|x| x.is_finite()));
     let mut written = Vec::new();
     for &format in formats {
         let ext = if format == Format::Png { "png" } else { "svg" };
-        let stem = prefix.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let stem = prefix
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let time = prefix.with_file_name(format!("{stem}-time.{ext}"));
         draw_one(&time, format, rec, "t_s", "t [s]")?;
         written.push(time);
@@ -151,7 +203,10 @@ mod tests {
     fn gaps_split_the_line_and_thin_long_series() {
         let x = [0.0, 1.0, f64::NAN, 3.0, 4.0];
         let y = [1.0, 2.0, 3.0, f64::NAN, 5.0];
-        assert_eq!(segments(&x, &y), vec![vec![(0.0, 1.0), (1.0, 2.0)], vec![(4.0, 5.0)]]);
+        assert_eq!(
+            segments(&x, &y),
+            vec![vec![(0.0, 1.0), (1.0, 2.0)], vec![(4.0, 5.0)]]
+        );
         let long: Vec<f64> = (0..100_000).map(f64::from).collect();
         assert!(segments(&long, &long)[0].len() <= MAX_POINTS);
     }

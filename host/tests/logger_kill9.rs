@@ -32,26 +32,64 @@ fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {
     child.wait().unwrap();
 
     let text = std::fs::read_to_string(&csv).unwrap();
-    assert!(text.ends_with('\n'), "torn last row: {:?}", text.lines().last());
+    assert!(
+        text.ends_with('\n'),
+        "torn last row: {:?}",
+        text.lines().last()
+    );
     let rec = read_recording(&csv).expect("every row complete and valid");
     let scale = Scale::from_info(&info_for(&cfg));
-    let v = verify(&rec, usize::from(cfg.batch), cfg.rate_hz, scale.volts_per_code[0]).unwrap();
+    let v = verify(
+        &rec,
+        usize::from(cfg.batch),
+        cfg.rate_hz,
+        scale.volts_per_code[0],
+    )
+    .unwrap();
     let t_host = rec.values("t_host_s").unwrap();
-    let last = t_host.iter().copied().filter(|t| t.is_finite()).fold(f64::NAN, f64::max);
-    assert!(killed_at - last <= 1.0, "the CSV ends {:.3} s before the kill", killed_at - last);
+    let last = t_host
+        .iter()
+        .copied()
+        .filter(|t| t.is_finite())
+        .fold(f64::NAN, f64::max);
+    assert!(
+        killed_at - last <= 1.0,
+        "the CSV ends {:.3} s before the kill",
+        killed_at - last
+    );
     assert!(v.samples > 500);
 
     let mcap = dir.join("rec.mcap");
     let r = recover(&mcap).unwrap();
     assert!(!r.messages.is_empty());
     let last_mcap_ns = r.messages.iter().map(|m| m.publish_ns).max().unwrap();
-    assert!(killed_at - last_mcap_ns as f64 * 1e-9 <= 1.0, "MCAP ends too early");
+    assert!(
+        killed_at - last_mcap_ns as f64 * 1e-9 <= 1.0,
+        "MCAP ends too early"
+    );
     let out = dir.join("replayed.csv");
-    let st = Command::new(env!("CARGO_BIN_EXE_tactile")).arg("replay").arg(&mcap).arg("-o").arg(&out).status().unwrap();
+    let st = Command::new(env!("CARGO_BIN_EXE_tactile"))
+        .arg("replay")
+        .arg(&mcap)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
     assert!(st.success());
     let again = read_recording(&out).unwrap();
-    let v2 = verify(&again, usize::from(cfg.batch), cfg.rate_hz, scale.volts_per_code[0]).unwrap();
+    let v2 = verify(
+        &again,
+        usize::from(cfg.batch),
+        cfg.rate_hz,
+        scale.volts_per_code[0],
+    )
+    .unwrap();
     assert_eq!(v2.first_seq, v.first_seq);
-    assert!(v2.samples + 1000 >= v.samples, "MCAP recovered {} samples, CSV has {}", v2.samples, v.samples);
+    assert!(
+        v2.samples + 1000 >= v.samples,
+        "MCAP recovered {} samples, CSV has {}",
+        v2.samples,
+        v.samples
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

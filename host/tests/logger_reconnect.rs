@@ -29,23 +29,45 @@ fn reconnects_after_the_emulator_dies_and_marks_the_gap() {
         .spawn()
         .unwrap();
     std::thread::sleep(Duration::from_millis(1500));
-    let sent_before = emu.stats.frames_sent.load(std::sync::atomic::Ordering::Relaxed);
+    let sent_before = emu
+        .stats
+        .frames_sent
+        .load(std::sync::atomic::Ordering::Relaxed);
     emu.kill();
     std::thread::sleep(Duration::from_millis(700));
     let emu2 = Emulator::spawn(cfg.clone()).unwrap();
     let status = child.wait().unwrap();
     drop(emu2);
     assert!(status.success(), "tactile log failed: {status}");
-    assert!(sent_before > 50, "emulator streamed only {sent_before} frames before the kill");
+    assert!(
+        sent_before > 50,
+        "emulator streamed only {sent_before} frames before the kill"
+    );
 
     let rec = read_recording(&csv).expect("the CSV follows the contract");
     let scale = Scale::from_info(&info_for(&cfg));
-    let v = verify(&rec, usize::from(cfg.batch), cfg.rate_hz, scale.volts_per_code[0]).unwrap();
+    let v = verify(
+        &rec,
+        usize::from(cfg.batch),
+        cfg.rate_hz,
+        scale.volts_per_code[0],
+    )
+    .unwrap();
     let codes: Vec<u32> = v.gaps.iter().map(|g| g.0).collect();
-    assert!(codes.contains(&(gap_code::DISCONNECTED as u32)), "no disconnection marked: {:?}", v.gaps);
-    let reconnected = v.gaps.iter().find(|g| g.0 == gap_code::RECONNECTED as u32).expect("reconnection marked");
+    assert!(
+        codes.contains(&(gap_code::DISCONNECTED as u32)),
+        "no disconnection marked: {:?}",
+        v.gaps
+    );
+    let reconnected = v
+        .gaps
+        .iter()
+        .find(|g| g.0 == gap_code::RECONNECTED as u32)
+        .expect("reconnection marked");
     // The device clock ran on during the 0.7 s outage: about 70 frames of 10 ms are missing.
-    let missing = reconnected.1.expect("the restarted device continued its sequence");
+    let missing = reconnected
+        .1
+        .expect("the restarted device continued its sequence");
     assert!((40..400).contains(&missing), "missing {missing}");
     assert!(v.samples > 2000, "only {} samples", v.samples);
 
@@ -54,10 +76,25 @@ fn reconnects_after_the_emulator_dies_and_marks_the_gap() {
     let r = recover(&mcap).unwrap();
     assert!(r.truncated.is_none(), "{:?}", r.truncated);
     let out = dir.join("replayed.csv");
-    let st = Command::new(env!("CARGO_BIN_EXE_tactile")).arg("replay").arg(&mcap).arg("-o").arg(&out).status().unwrap();
+    let st = Command::new(env!("CARGO_BIN_EXE_tactile"))
+        .arg("replay")
+        .arg(&mcap)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
     assert!(st.success());
     let again = read_recording(&out).unwrap();
-    let v2 = verify(&again, usize::from(cfg.batch), cfg.rate_hz, scale.volts_per_code[0]).unwrap();
-    assert_eq!((v2.samples, v2.first_seq, v2.last_seq), (v.samples, v.first_seq, v.last_seq));
+    let v2 = verify(
+        &again,
+        usize::from(cfg.batch),
+        cfg.rate_hz,
+        scale.volts_per_code[0],
+    )
+    .unwrap();
+    assert_eq!(
+        (v2.samples, v2.first_seq, v2.last_seq),
+        (v.samples, v.first_seq, v.last_seq)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

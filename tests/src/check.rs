@@ -15,7 +15,9 @@ pub fn scratch(name: &str) -> PathBuf {
 }
 
 fn nanos() -> u128 {
-    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos())
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos())
 }
 
 /// A gap that does not say how many frames it cost.
@@ -36,7 +38,12 @@ pub struct Verified {
 /// the frame; consecutive frames must follow each other by sequence unless a gap row between
 /// them accounts for every missing frame. Volts are converted back to codes with the
 /// emulator's ADC scale (`volts_per_code`).
-pub fn verify(rec: &Recording, batch: usize, rate_hz: u32, volts_per_code: f64) -> Result<Verified, String> {
+pub fn verify(
+    rec: &Recording,
+    batch: usize,
+    rate_hz: u32,
+    volts_per_code: f64,
+) -> Result<Verified, String> {
     let col = |n: &str| rec.column(n).ok_or(format!("no column {n}"));
     let (seq_c, gap_c, miss_c) = (col("seq")?, col("gap")?, col("missing")?);
     let ch = [col("fz_V")?, col("mx_V")?, col("my_V")?];
@@ -63,7 +70,9 @@ pub fn verify(rec: &Recording, batch: usize, rate_hz: u32, volts_per_code: f64) 
             _ => 0,
         };
         if k >= batch {
-            return Err(format!("row {i}: sample {k} of frame {seq}: more than {batch} (duplicate?)"));
+            return Err(format!(
+                "row {i}: sample {k} of frame {seq}: more than {batch} (duplicate?)"
+            ));
         }
         if k == 0 {
             if let Some((s, kp)) = prev {
@@ -71,13 +80,19 @@ pub fn verify(rec: &Recording, batch: usize, rate_hz: u32, volts_per_code: f64) 
                     return Err(format!("row {i}: frame {s} has {} samples", kp + 1));
                 }
                 let jump = u64::from(seq.wrapping_sub(s));
-                let ok = jump == 1 || allowance.is_some_and(|a| jump >= 1 && (a == UNKNOWN || jump - 1 == a));
+                let ok = jump == 1
+                    || allowance.is_some_and(|a| jump >= 1 && (a == UNKNOWN || jump - 1 == a));
                 if !ok {
-                    return Err(format!("row {i}: frame {seq} follows {s} without a gap row accounting for it"));
+                    return Err(format!(
+                        "row {i}: frame {seq} follows {s} without a gap row accounting for it"
+                    ));
                 }
                 if let Some(a) = allowance {
                     if a != UNKNOWN && jump - 1 != a {
-                        return Err(format!("row {i}: gap says {a} frames missing, sequence says {}", jump - 1));
+                        return Err(format!(
+                            "row {i}: gap says {a} frames missing, sequence says {}",
+                            jump - 1
+                        ));
                     }
                 }
             } else {
@@ -90,7 +105,10 @@ pub fn verify(rec: &Recording, batch: usize, rate_hz: u32, volts_per_code: f64) 
         for c in 0..3 {
             let code = (row[ch[c]] / volts_per_code).round() as i32;
             if code != truth.ch[c] {
-                return Err(format!("row {i}: frame {seq} sample {k} channel {c}: {code} != truth {}", truth.ch[c]));
+                return Err(format!(
+                    "row {i}: frame {seq} sample {k} channel {c}: {code} != truth {}",
+                    truth.ch[c]
+                ));
             }
         }
         prev = Some((seq, k));

@@ -80,7 +80,12 @@ pub fn frame_time_us(seq: u64, batch: u8, rate_hz: u32) -> u32 {
 
 /// The complete frame `seq` as the emulator sends it (status aside).
 pub fn truth_frame(seq: u32, batch: u8, rate_hz: u32, status: Status) -> SampleFrame {
-    let mut f = SampleFrame::new(seq, frame_time_us(u64::from(seq), batch, rate_hz), status, truth_temp(seq));
+    let mut f = SampleFrame::new(
+        seq,
+        frame_time_us(u64::from(seq), batch, rate_hz),
+        status,
+        truth_temp(seq),
+    );
     for k in 0..u64::from(batch) {
         let _ = f.push(truth_sample(u64::from(seq) * u64::from(batch) + k, rate_hz));
     }
@@ -112,11 +117,18 @@ impl Emulator {
         let stop = Arc::new(AtomicBool::new(false));
         let stats = Arc::new(EmuStats::default());
         let (s2, st2) = (stop.clone(), stats.clone());
-        let thread = std::thread::Builder::new().name("tactile-emu".into()).spawn(move || {
-            let _keep_slave_open = slave_fd;
-            Device::new(cfg, File::from(master), st2).run(&s2)
-        })?;
-        Ok(Self { stop, thread: Some(thread), slave, stats })
+        let thread = std::thread::Builder::new()
+            .name("tactile-emu".into())
+            .spawn(move || {
+                let _keep_slave_open = slave_fd;
+                Device::new(cfg, File::from(master), st2).run(&s2)
+            })?;
+        Ok(Self {
+            stop,
+            thread: Some(thread),
+            slave,
+            stats,
+        })
     }
 
     /// Stop abruptly and close the pty (the host sees the device vanish).
@@ -126,7 +138,9 @@ impl Emulator {
 
     /// Wait until the emulator stops by itself (after a cut mid-frame).
     pub fn wait(mut self) -> io::Result<()> {
-        self.thread.take().map_or(Ok(()), |t| t.join().unwrap_or(Ok(())))
+        self.thread
+            .take()
+            .map_or(Ok(()), |t| t.join().unwrap_or(Ok(())))
     }
 
     fn halt(&mut self) {
@@ -143,10 +157,24 @@ impl Drop for Emulator {
     }
 }
 
+/// A pty whose other end nobody answers: a serial device that is not a tactile sensor. Keep
+/// both fds for as long as the device should exist.
+pub fn silent_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
+    open_pty()
+}
+
 fn open_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
     let (mut m, mut s) = (0, 0);
     // SAFETY: openpty writes two fds into the given ints; null name/termios/winsize are allowed.
-    let r = unsafe { libc::openpty(&mut m, &mut s, std::ptr::null_mut(), std::ptr::null(), std::ptr::null()) };
+    let r = unsafe {
+        libc::openpty(
+            &mut m,
+            &mut s,
+            std::ptr::null_mut(),
+            std::ptr::null(),
+            std::ptr::null(),
+        )
+    };
     if r != 0 {
         return Err(io::Error::last_os_error());
     }
@@ -174,7 +202,11 @@ fn open_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
     }
     // SAFETY: ttyname_r wrote a NUL-terminated string into the buffer.
     let path = unsafe { std::ffi::CStr::from_ptr(name.as_ptr()) };
-    Ok((master, slave, PathBuf::from(path.to_string_lossy().into_owned())))
+    Ok((
+        master,
+        slave,
+        PathBuf::from(path.to_string_lossy().into_owned()),
+    ))
 }
 
 /// Atomically (re)point `link` at `target`.
@@ -188,25 +220,25 @@ fn relink(link: &Path, target: &Path) -> io::Result<()> {
 /// The info frame the emulator sends for `cfg` (at power-up, before any command).
 pub fn info_for(cfg: &EmuConfig) -> Info {
     Info {
-            protocol_version: protocol::PROTOCOL_VERSION,
-            fw_version: [0, 1, 0],
-            chip_serial: cfg.chip_serial,
-            sample_rate_hz: cfg.rate_hz,
-            batch: cfg.batch,
-            pga_gain: [1, 1, 1, 1],
-            vref_mv: 1200,
-            amp_gain: [3000.0, 1000.0, 1000.0],
-            excitation_v: 3.3,
-            filter: FilterConfig::NONE,
-            calibration: [[100.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]],
-            dac_codes: [2048; 4],
-            tare: [0; 3],
-            drift: [0; 3],
-            null_state: NullState::Off,
-            drift_tracking: false,
-            streaming: cfg.autostart,
-            config_epoch: 0,
-        }
+        protocol_version: protocol::PROTOCOL_VERSION,
+        fw_version: [0, 1, 0],
+        chip_serial: cfg.chip_serial,
+        sample_rate_hz: cfg.rate_hz,
+        batch: cfg.batch,
+        pga_gain: [1, 1, 1, 1],
+        vref_mv: 1200,
+        amp_gain: [3000.0, 1000.0, 1000.0],
+        excitation_v: 3.3,
+        filter: FilterConfig::NONE,
+        calibration: [[100.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]],
+        dac_codes: [2048; 4],
+        tare: [0; 3],
+        drift: [0; 3],
+        null_state: NullState::Off,
+        drift_tracking: false,
+        streaming: cfg.autostart,
+        config_epoch: 0,
+    }
 }
 
 /// Largest backlog of unsent bytes before the emulated device drops whole frames, like a
@@ -229,7 +261,17 @@ impl Device {
     fn new(cfg: EmuConfig, port: File, stats: Arc<EmuStats>) -> Self {
         let info = info_for(&cfg);
         let streaming = cfg.autostart;
-        Self { cfg, port, stats, info, streaming, next_seq: None, dropped: 0, tx: Vec::new(), acc: Accumulator::new() }
+        Self {
+            cfg,
+            port,
+            stats,
+            info,
+            streaming,
+            next_seq: None,
+            dropped: 0,
+            tx: Vec::new(),
+            acc: Accumulator::new(),
+        }
     }
 
     fn run(mut self, stop: &AtomicBool) -> io::Result<()> {
@@ -268,13 +310,19 @@ impl Device {
     }
 
     fn due_seq(&self) -> u64 {
-        let elapsed = SystemTime::now().duration_since(self.cfg.epoch).unwrap_or_default();
+        let elapsed = SystemTime::now()
+            .duration_since(self.cfg.epoch)
+            .unwrap_or_default();
         let frame_s = f64::from(self.cfg.batch) / f64::from(self.cfg.rate_hz);
         (elapsed.as_secs_f64() / frame_s) as u64
     }
 
     fn status(&self) -> Status {
-        Status { config_epoch: self.info.config_epoch, dropped: self.dropped, ..Status::default() }
+        Status {
+            config_epoch: self.info.config_epoch,
+            dropped: self.dropped,
+            ..Status::default()
+        }
     }
 
     fn produce(&mut self) {
@@ -294,7 +342,9 @@ impl Device {
                     self.tx.extend_from_slice(&w);
                 }
                 self.stats.frames_sent.fetch_add(1, Ordering::Relaxed);
-                self.stats.last_seq_plus_one.store(next + 1, Ordering::Relaxed);
+                self.stats
+                    .last_seq_plus_one
+                    .store(next + 1, Ordering::Relaxed);
             }
             next += 1;
         }
@@ -354,7 +404,11 @@ impl Device {
                     self.send(&info);
                 }
             }
-            Err(code) => self.send(&Message::Reply(Reply::Nack { tag, opcode: op, code })),
+            Err(code) => self.send(&Message::Reply(Reply::Nack {
+                tag,
+                opcode: op,
+                code,
+            })),
         }
     }
 

@@ -8,13 +8,20 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
 use tests::check::scratch;
-use tests::emu::{truth_frame, EmuConfig};
+use tests::emu::truth_frame;
 
 fn emulator(link: &std::path::Path, epoch_s: f64) -> Child {
     let child = Command::new(env!("CARGO_BIN_EXE_tactile-emu"))
         .arg("--link")
         .arg(link)
-        .args(["--rate", "1000", "--batch", "10", "--epoch-unix", &epoch_s.to_string()])
+        .args([
+            "--rate",
+            "1000",
+            "--batch",
+            "10",
+            "--epoch-unix",
+            &epoch_s.to_string(),
+        ])
         .stdout(Stdio::null())
         .spawn()
         .unwrap();
@@ -33,7 +40,10 @@ fn emulator(link: &std::path::Path, epoch_s: f64) -> Child {
 fn the_driver_survives_a_killed_emulator_process() {
     let dir = scratch("driver");
     let link = dir.join("tactile0");
-    let epoch_s = SystemTime::now().duration_since(UNIX_EPOCH).unwrap().as_secs_f64();
+    let epoch_s = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64();
     let mut emu = emulator(&link, epoch_s);
     let dev = Device::open(&PortSpec::Path(link.clone()), OpenOptions::default()).unwrap();
     let info = dev.get_info().unwrap();
@@ -60,9 +70,16 @@ fn the_driver_survives_a_killed_emulator_process() {
         match dev.events().recv_timeout(Duration::from_millis(50)) {
             Ok(Event::Frame(f)) => {
                 let truth = truth_frame(f.seq, info.batch, info.sample_rate_hz, f.frame.status);
-                assert_eq!(f.frame, truth, "frame {} differs from the emulator's truth", f.seq);
+                assert_eq!(
+                    f.frame, truth,
+                    "frame {} differs from the emulator's truth",
+                    f.seq
+                );
                 frames += 1;
-                if gaps.iter().any(|g| matches!(g, GapKind::Reconnected { .. })) {
+                if gaps
+                    .iter()
+                    .any(|g| matches!(g, GapKind::Reconnected { .. }))
+                {
                     after_reconnect += 1;
                 }
             }
@@ -73,14 +90,22 @@ fn the_driver_survives_a_killed_emulator_process() {
     emu.kill().ok();
     emu.wait().ok();
     assert!(frames > 150, "{frames} frames");
-    assert!(matches!(gaps.first(), Some(GapKind::Disconnected)), "{gaps:?}");
+    assert!(
+        matches!(gaps.first(), Some(GapKind::Disconnected)),
+        "{gaps:?}"
+    );
     let missing = gaps.iter().find_map(|g| match g {
         GapKind::Reconnected { missing, .. } => Some(*missing),
         _ => None,
     });
-    let missing = missing.expect("reconnection marked").expect("sequence continued");
+    let missing = missing
+        .expect("reconnection marked")
+        .expect("sequence continued");
     assert!((30..300).contains(&missing), "missing {missing}");
-    assert!(after_reconnect > 50, "streaming did not resume: {after_reconnect} frames");
+    assert!(
+        after_reconnect > 50,
+        "streaming did not resume: {after_reconnect} frames"
+    );
     let c = dev.counters();
     assert_eq!(c.reconnects, 1);
     assert_eq!(c.duplicates, 0);

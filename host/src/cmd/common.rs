@@ -53,20 +53,42 @@ pub fn print_info(port: &str, info: &protocol::Info) {
     let fw = info.fw_version;
     println!("port             {port}");
     println!("chip serial      {:08x}", info.chip_serial);
-    println!("firmware         {}.{}.{} (protocol {})", fw[0], fw[1], fw[2], info.protocol_version);
-    println!("sample rate      {} Hz, {} samples/frame", info.sample_rate_hz, info.batch);
-    println!("PGA gain         {:?}, vref {} mV", info.pga_gain, info.vref_mv);
-    println!("amplifier gain   Fz {} Mx {} My {}", info.amp_gain[0], info.amp_gain[1], info.amp_gain[2]);
+    println!(
+        "firmware         {}.{}.{} (protocol {})",
+        fw[0], fw[1], fw[2], info.protocol_version
+    );
+    println!(
+        "sample rate      {} Hz, {} samples/frame",
+        info.sample_rate_hz, info.batch
+    );
+    println!(
+        "PGA gain         {:?}, vref {} mV",
+        info.pga_gain, info.vref_mv
+    );
+    println!(
+        "amplifier gain   Fz {} Mx {} My {}",
+        info.amp_gain[0], info.amp_gain[1], info.amp_gain[2]
+    );
     println!("excitation       {} V", info.excitation_v);
     let f = info.filter;
-    println!("filter           smoother alpha {}, Butterworth order {} at {} Hz", f.smoother_alpha, f.butterworth_order, f.cutoff_hz);
+    println!(
+        "filter           smoother alpha {}, Butterworth order {} at {} Hz",
+        f.smoother_alpha, f.butterworth_order, f.cutoff_hz
+    );
     for (i, row) in info.calibration.iter().enumerate() {
         let name = ["Fz [N]  ", "Mx [N·m]", "My [N·m]"][i];
-        println!("calibration {name} = {:>12} {:>12} {:>12} · V", row[0], row[1], row[2]);
+        println!(
+            "calibration {name} = {:>12} {:>12} {:>12} · V",
+            row[0], row[1], row[2]
+        );
     }
     println!("trim DAC         {:?}", info.dac_codes);
     println!("tare (codes)     {:?}", info.tare);
-    println!("drift (codes)    {:?}, tracking {}", info.drift, if info.drift_tracking { "on" } else { "off" });
+    println!(
+        "drift (codes)    {:?}, tracking {}",
+        info.drift,
+        if info.drift_tracking { "on" } else { "off" }
+    );
     println!("null state       {:?}", info.null_state);
     println!("streaming        {}", info.streaming);
     println!("config epoch     {}", info.config_epoch);

@@ -47,21 +47,44 @@ fn alpha(s: &str) -> Result<f64, String> {
 /// Read a 3×3 matrix file; errors name the line.
 pub fn read_matrix(path: &std::path::Path) -> anyhow::Result<[[f32; 3]; 3]> {
     use crate::logger::FileError;
-    let text = std::fs::read_to_string(path).map_err(|e| FileError::Open { path: path.into(), source: e })?;
-    let rows: Vec<(usize, &str)> =
-        text.lines().enumerate().map(|(i, l)| (i + 1, l.trim())).filter(|(_, l)| !l.is_empty() && !l.starts_with('#')).collect();
-    let bad = |line, why: String| FileError::Malformed { path: path.into(), line, field: "calibration".into(), why };
+    let text = std::fs::read_to_string(path).map_err(|e| FileError::Open {
+        path: path.into(),
+        source: e,
+    })?;
+    let rows: Vec<(usize, &str)> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+        .collect();
+    let bad = |line, why: String| FileError::Malformed {
+        path: path.into(),
+        line,
+        field: "calibration".into(),
+        why,
+    };
     if rows.len() != 3 {
-        return Err(bad(rows.last().map_or(1, |r| r.0), format!("{} rows, expected 3", rows.len())).into());
+        return Err(bad(
+            rows.last().map_or(1, |r| r.0),
+            format!("{} rows, expected 3", rows.len()),
+        )
+        .into());
     }
     let mut m = [[0f32; 3]; 3];
     for (r, (line, l)) in rows.iter().enumerate() {
-        let vals: Vec<&str> = l.split(|c: char| c == ',' || c.is_whitespace()).filter(|s| !s.is_empty()).collect();
+        let vals: Vec<&str> = l
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|s| !s.is_empty())
+            .collect();
         if vals.len() != 3 {
             return Err(bad(*line, format!("{} numbers, expected 3", vals.len())).into());
         }
         for (c, v) in vals.iter().enumerate() {
-            m[r][c] = v.parse::<f32>().ok().filter(|x| x.is_finite()).ok_or_else(|| bad(*line, format!("not a number: {v:?}")))?;
+            m[r][c] = v
+                .parse::<f32>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| bad(*line, format!("not a number: {v:?}")))?;
         }
     }
     Ok(m)
@@ -74,9 +97,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(hz) = args.rate {
         dev.set_rate(hz)?;
     }
-    if args.smoother_alpha.is_some() || args.butterworth_order.is_some() || args.cutoff_hz.is_some() {
+    if args.smoother_alpha.is_some() || args.butterworth_order.is_some() || args.cutoff_hz.is_some()
+    {
         let f = info.filter;
-        let order = args.butterworth_order.as_deref().map_or(f.butterworth_order, |o| o.parse().unwrap_or(0));
+        let order = args
+            .butterworth_order
+            .as_deref()
+            .map_or(f.butterworth_order, |o| o.parse().unwrap_or(0));
         dev.set_filter(FilterConfig {
             smoother_alpha: args.smoother_alpha.map_or(f.smoother_alpha, |a| a as f32),
             butterworth_order: order,

@@ -11,7 +11,12 @@ pub fn run(_args: Args) -> anyhow::Result<()> {
         eprintln!("no serial ports found");
     }
     for p in ports {
-        println!("{}\t{}\t{}", p.path, p.serial_number.as_deref().unwrap_or("-"), p.description);
+        println!(
+            "{}\t{}\t{}",
+            p.path,
+            p.serial_number.as_deref().unwrap_or("-"),
+            p.description
+        );
     }
     Ok(())
 }

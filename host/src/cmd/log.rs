@@ -95,9 +95,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let _ = ctrlc::set_handler(move || s2.store(true, Ordering::Relaxed));
     let start = SystemTime::now();
     let (mut sensors, mcap) = open_all(&args, start)?;
-    let deadline = args.duration.map(|d| Instant::now() + Duration::from_secs_f64(d));
-    let mut dash = if args.live { Some(Dashboard::enter()?) } else { None };
-    let result = pump(&mut sensors, &stop, deadline, dash.as_mut(), args.quiet || args.live);
+    let deadline = args
+        .duration
+        .map(|d| Instant::now() + Duration::from_secs_f64(d));
+    let mut dash = if args.live {
+        Some(Dashboard::enter()?)
+    } else {
+        None
+    };
+    let result = pump(
+        &mut sensors,
+        &stop,
+        deadline,
+        dash.as_mut(),
+        args.quiet || args.live,
+    );
     drop(dash);
     let finished = finish_files(&mut sensors, mcap);
     let mut gone = None;
@@ -111,8 +123,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     finished?;
     if let Some(reference) = &args.reference {
         let align = match args.align {
-            AlignArg::Time => Align::Time { offset_s: args.reference_offset_s },
-            AlignArg::Xcorr => Align::Xcorr { max_lag_s: args.max_lag_s },
+            AlignArg::Time => Align::Time {
+                offset_s: args.reference_offset_s,
+            },
+            AlignArg::Xcorr => Align::Xcorr {
+                max_lag_s: args.max_lag_s,
+            },
         };
         for path in csv_paths(&args) {
             let off = merge_file(&path, reference, align)?;
@@ -127,7 +143,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 fn csv_paths(args: &Args) -> Vec<PathBuf> {
     let several = args.port.len() > 1;
-    args.port.iter().map(|p| per_sensor_path(&args.out, &PortSpec::parse(p).label(), several)).collect()
+    args.port
+        .iter()
+        .map(|p| per_sensor_path(&args.out, &PortSpec::parse(p).label(), several))
+        .collect()
 }
 
 type SharedSink = Rc<RefCell<McapSink>>;
@@ -161,18 +180,28 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
         (Some(p), false) => Some(p.clone()),
         (None, false) => Some(args.out.with_extension("mcap")),
     };
-    let mcap = mcap.map(|p| McapSink::create(&p)).transpose()?.map(|m| Rc::new(RefCell::new(m)));
+    let mcap = mcap
+        .map(|p| McapSink::create(&p))
+        .transpose()?
+        .map(|m| Rc::new(RefCell::new(m)));
     let mut sensors = Vec::new();
     for ((spec, dev, info), csv) in devices.into_iter().zip(csv_paths(args)) {
         setup.source = format!("tactile log {}", dev.port().display());
         let mut rec = Recorder::create(&csv, &info, &setup, start)?;
         if let Some(m) = &mcap {
-            let ch = m.borrow_mut().add_sensor(&spec.label(), &metadata(&info, &setup, start))?;
+            let ch = m
+                .borrow_mut()
+                .add_sensor(&spec.label(), &metadata(&info, &setup, start))?;
             rec = rec.with_mcap((m.clone(), ch));
             rec.on_event(&Event::Info(info.clone()))?;
         }
         let view = SensorView::new(spec.label(), Scale::from_info(&info), info.sample_rate_hz);
-        sensors.push(Sensor { dev, rec, view, ended: false });
+        sensors.push(Sensor {
+            dev,
+            rec,
+            view,
+            ended: false,
+        });
     }
     for s in &sensors {
         s.dev.start()?;
@@ -211,7 +240,10 @@ fn pump(
             s.rec.maybe_flush()?;
         }
         let all_ended = sensors.iter().all(|s| s.ended);
-        if stop.load(Ordering::Relaxed) || deadline.is_some_and(|d| Instant::now() >= d) || all_ended {
+        if stop.load(Ordering::Relaxed)
+            || deadline.is_some_and(|d| Instant::now() >= d)
+            || all_ended
+        {
             return Ok(());
         }
         if let Some(d) = dash.as_deref_mut() {
@@ -234,7 +266,11 @@ fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
     let mut line = format!("{:7.1} s", elapsed.as_secs_f64());
     for s in sensors {
         let c = s.dev.counters();
-        let state = if s.dev.is_connected() { "" } else { " DISCONNECTED" };
+        let state = if s.dev.is_connected() {
+            ""
+        } else {
+            " DISCONNECTED"
+        };
         line.push_str(&format!(
             " | {}{state}: {:.0} S/s, {} rows, lost {} dropped {} crc {} reconnects {}",
             s.view.label,

@@ -28,7 +28,9 @@ pub enum FormatArg {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let rec = read_recording(&args.recording)?;
-    let prefix = args.out.unwrap_or_else(|| args.recording.with_extension(""));
+    let prefix = args
+        .out
+        .unwrap_or_else(|| args.recording.with_extension(""));
     let formats: &[Format] = match args.format {
         FormatArg::Png => &[Format::Png],
         FormatArg::Svg => &[Format::Svg],

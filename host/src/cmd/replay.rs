@@ -37,14 +37,20 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let mut setup = Setup::from_hardware(format!("tactile replay {}", args.input.display())).context("hardware parameters")?;
+    let mut setup = Setup::from_hardware(format!("tactile replay {}", args.input.display()))
+        .context("hardware parameters")?;
     if let Some(a) = args.contact_angle_deg {
         setup.contact_angle_deg = a;
     }
     if let Some(a) = args.azimuth_deg {
         setup.azimuth_deg = a;
     }
-    let s = replay(&args.input, args.out.as_deref(), &setup, args.sensor.as_deref())?;
+    let s = replay(
+        &args.input,
+        args.out.as_deref(),
+        &setup,
+        args.sensor.as_deref(),
+    )?;
     eprintln!(
         "{}: {} frames, {} rows, {} gaps, {} CRC errors, {} malformed, {} overflows{}",
         args.input.display(),
@@ -54,7 +60,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         s.crc_errors,
         s.malformed,
         s.overflows,
-        s.truncated.map(|t| format!("; file ends early (writer killed?): {t}")).unwrap_or_default()
+        s.truncated
+            .map(|t| format!("; file ends early (writer killed?): {t}"))
+            .unwrap_or_default()
     );
     if let (Some(reference), Some(out)) = (&args.reference, &args.out) {
         let align = match args.xcorr_max_lag_s {

@@ -37,6 +37,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     let info = dev.get_info()?;
-    println!("{}: tare {:?} codes (config epoch {})", dev.port().display(), info.tare, info.config_epoch);
+    println!(
+        "{}: tare {:?} codes (config epoch {})",
+        dev.port().display(),
+        info.tare,
+        info.config_epoch
+    );
     Ok(())
 }

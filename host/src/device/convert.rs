@@ -27,7 +27,11 @@ impl Scale {
         let per_code = |pga: u8| vref_v / (f64::from(pga.max(1)) * FULL_SCALE_CODES);
         let c = info.calibration.map(|row| row.map(f64::from));
         Self {
-            volts_per_code: [per_code(info.pga_gain[0]), per_code(info.pga_gain[1]), per_code(info.pga_gain[2])],
+            volts_per_code: [
+                per_code(info.pga_gain[0]),
+                per_code(info.pga_gain[1]),
+                per_code(info.pga_gain[2]),
+            ],
             temp_volts_per_code: per_code(info.pga_gain[3]),
             amp_gain: info.amp_gain.map(f64::from),
             calibration: c,
@@ -48,7 +52,8 @@ impl Scale {
     /// (Fz in N, Mx in N·m, My in N·m).
     pub fn loads(&self, s: &Sample) -> [f64; 3] {
         let v = self.adc_volts(s);
-        self.calibration.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
+        self.calibration
+            .map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
     }
 }
 
@@ -82,7 +87,9 @@ mod tests {
     #[test]
     fn full_scale_code_is_vref_over_pga() {
         let s = Scale::from_info(&info());
-        let fs = Sample { ch: [protocol::CODE_MAX + 1 - 1, protocol::CODE_MIN, 1 << 22] };
+        let fs = Sample {
+            ch: [protocol::CODE_MAX + 1 - 1, protocol::CODE_MIN, 1 << 22],
+        };
         let v = s.adc_volts(&fs);
         assert!((v[0] - 0.6 * (8_388_607.0 / 8_388_608.0)).abs() < 1e-12);
         assert!((v[1] + 1.2).abs() < 1e-12);

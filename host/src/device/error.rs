@@ -29,16 +29,27 @@ pub enum DeviceError {
     Gone { port: PathBuf },
     /// The device did not answer a command within its timeout, after every retry.
     #[error("port {port}: no reply to {command} after {attempts} attempts")]
-    Timeout { port: PathBuf, command: &'static str, attempts: u32 },
+    Timeout {
+        port: PathBuf,
+        command: &'static str,
+        attempts: u32,
+    },
     /// The device refused a command.
     #[error("port {port}: {command} refused by the device ({code:?})")]
-    Nack { port: PathBuf, command: &'static str, code: NackCode },
+    Nack {
+        port: PathBuf,
+        command: &'static str,
+        code: NackCode,
+    },
     /// The device speaks another protocol version.
     #[error("port {port}: device speaks protocol version {got}, this host speaks {want}")]
     Version { port: PathBuf, got: u8, want: u8 },
     /// Any other operating-system error on the port.
     #[error("port {port}: {source}")]
-    Io { port: PathBuf, source: std::io::Error },
+    Io {
+        port: PathBuf,
+        source: std::io::Error,
+    },
 }
 
 impl DeviceError {

@@ -10,8 +10,11 @@ use std::time::{Duration, Instant, SystemTime};
 use protocol::{opcode, Command, Message, Outcome, Reply, Request, SampleFrame};
 use serialport::TTYPort;
 
-use super::{command_name, Answer, Control, DeviceError, Event, Frame, Gap, GapKind, OpenOptions, PortSpec, Shared};
 use super::track::{Step, Tracker};
+use super::{
+    command_name, Answer, Control, DeviceError, Event, Frame, Gap, GapKind, OpenOptions, PortSpec,
+    Shared,
+};
 use crate::decode::{FastDecoder, Judged};
 
 /// A request waiting for its reply.
@@ -128,10 +131,16 @@ impl Io {
         }
     }
 
-    fn submit(&mut self, command: Command, reply: Option<mpsc::Sender<Result<Answer, DeviceError>>>) {
+    fn submit(
+        &mut self,
+        command: Command,
+        reply: Option<mpsc::Sender<Result<Answer, DeviceError>>>,
+    ) {
         if self.link.is_none() {
             if let Some(r) = reply {
-                let _ = r.send(Err(DeviceError::Gone { port: self.path.clone() }));
+                let _ = r.send(Err(DeviceError::Gone {
+                    port: self.path.clone(),
+                }));
             }
             return;
         }
@@ -143,7 +152,15 @@ impl Io {
         };
         self.write(&wire);
         let deadline = Instant::now() + self.opts.command_timeout;
-        self.inflight.push(Inflight { tag, command, wire, deadline, attempts: 1, reply, acked: false });
+        self.inflight.push(Inflight {
+            tag,
+            command,
+            wire,
+            deadline,
+            attempts: 1,
+            reply,
+            acked: false,
+        });
     }
 
     fn send_raw(&mut self, command: Command, tag: u8) -> Option<()> {
@@ -152,7 +169,10 @@ impl Io {
     }
 
     fn write(&mut self, bytes: &[u8]) {
-        let ok = self.link.as_mut().is_some_and(|l| l.write_all(bytes).and_then(|_| l.flush()).is_ok());
+        let ok = self
+            .link
+            .as_mut()
+            .is_some_and(|l| l.write_all(bytes).and_then(|_| l.flush()).is_ok());
         if !ok && self.link.is_some() {
             self.lost();
         }
@@ -191,7 +211,9 @@ impl Io {
     }
 
     fn complete(&mut self, tag: u8, result: Result<Answer, DeviceError>) {
-        let Some(i) = self.inflight.iter().position(|f| f.tag == tag) else { return };
+        let Some(i) = self.inflight.iter().position(|f| f.tag == tag) else {
+            return;
+        };
         let f = self.inflight.remove(i);
         if result.is_ok() {
             match f.command {
@@ -241,7 +263,9 @@ impl Io {
         }
         // The info frame answers the oldest acked (or, if the ack was lost, any) get info.
         let pending = self.inflight.iter().position(|f| f.acked).or_else(|| {
-            self.inflight.iter().position(|f| matches!(f.command, Command::GetInfo))
+            self.inflight
+                .iter()
+                .position(|f| matches!(f.command, Command::GetInfo))
         });
         if let Some(i) = pending {
             let tag = self.inflight[i].tag;
@@ -260,8 +284,16 @@ impl Io {
             Reply::Ack { tag, .. } => self.complete(tag, Ok(Answer::Ack)),
             Reply::Pong { tag, nonce } => self.complete(tag, Ok(Answer::Pong { nonce })),
             Reply::Nack { tag, code, .. } => {
-                let command = self.inflight.iter().find(|f| f.tag == tag).map_or("command", |f| command_name(&f.command));
-                let err = DeviceError::Nack { port: self.path.clone(), command, code };
+                let command = self
+                    .inflight
+                    .iter()
+                    .find(|f| f.tag == tag)
+                    .map_or("command", |f| command_name(&f.command));
+                let err = DeviceError::Nack {
+                    port: self.path.clone(),
+                    command,
+                    code,
+                };
                 self.complete(tag, Err(err));
             }
         }
@@ -271,7 +303,12 @@ impl Io {
         let shared = self.shared.clone();
         let c = &shared.counters;
         add(&c.dropped_by_device, u64::from(f.status.dropped));
-        let Step::Keep { gap, t_device_us, session } = self.track.step(f.seq, f.t_us, f.status.dropped) else {
+        let Step::Keep {
+            gap,
+            t_device_us,
+            session,
+        } = self.track.step(f.seq, f.t_us, f.status.dropped)
+        else {
             add(&c.duplicates, 1);
             return;
         };
@@ -284,18 +321,36 @@ impl Io {
                 let d = f.seq.wrapping_sub(before);
                 (d != 0 && d < 1 << 31).then(|| u64::from(d - 1))
             });
-            gap = Some(GapKind::Reconnected { downtime: since.elapsed(), missing });
+            gap = Some(GapKind::Reconnected {
+                downtime: since.elapsed(),
+                missing,
+            });
         }
         if let Some(kind) = gap {
-            self.emit(Event::Gap(Gap { kind, host_time: now, session }));
+            self.emit(Event::Gap(Gap {
+                kind,
+                host_time: now,
+                session,
+            }));
         }
         if self.queue_drops_pending > 0 {
             let frames = std::mem::take(&mut self.queue_drops_pending);
-            self.emit(Event::Gap(Gap { kind: GapKind::HostQueueFull { frames }, host_time: now, session }));
+            self.emit(Event::Gap(Gap {
+                kind: GapKind::HostQueueFull { frames },
+                host_time: now,
+                session,
+            }));
         }
         add(&c.frames, 1);
         add(&c.samples, f.len() as u64);
-        let ev = Event::Frame(Frame { seq: f.seq, t_device_us, host_time: now, session, frame: f, raw: raw.to_vec() });
+        let ev = Event::Frame(Frame {
+            seq: f.seq,
+            t_device_us,
+            host_time: now,
+            session,
+            frame: f,
+            raw: raw.to_vec(),
+        });
         if let Err(mpsc::TrySendError::Full(_)) = self.events.try_send(ev) {
             add(&self.shared.counters.host_queue_drops, 1);
             self.queue_drops_pending += 1;
@@ -315,10 +370,16 @@ impl Io {
         let now = SystemTime::now();
         self.lost_since = Some((Instant::now(), now));
         self.seq_before_outage = self.track.last_seq().or(self.seq_before_outage);
-        self.emit(Event::Gap(Gap { kind: GapKind::Disconnected, host_time: now, session: self.track.session() }));
+        self.emit(Event::Gap(Gap {
+            kind: GapKind::Disconnected,
+            host_time: now,
+            session: self.track.session(),
+        }));
         for f in self.inflight.drain(..) {
             if let Some(r) = f.reply {
-                let _ = r.send(Err(DeviceError::Gone { port: self.path.clone() }));
+                let _ = r.send(Err(DeviceError::Gone {
+                    port: self.path.clone(),
+                }));
             }
         }
     }
@@ -331,8 +392,12 @@ impl Io {
             return false;
         }
         std::thread::sleep(Duration::from_millis(100));
-        let Ok(path) = self.spec.resolve() else { return true };
-        let Ok(tty) = super::port::open_path(&path) else { return true };
+        let Ok(path) = self.spec.resolve() else {
+            return true;
+        };
+        let Ok(tty) = super::port::open_path(&path) else {
+            return true;
+        };
         self.path = path;
         self.link = Some(tty);
         decoder.reset();
@@ -350,5 +415,10 @@ impl Io {
 }
 
 fn is_transient(e: &std::io::Error) -> bool {
-    matches!(e.kind(), std::io::ErrorKind::TimedOut | std::io::ErrorKind::WouldBlock | std::io::ErrorKind::Interrupted)
+    matches!(
+        e.kind(),
+        std::io::ErrorKind::TimedOut
+            | std::io::ErrorKind::WouldBlock
+            | std::io::ErrorKind::Interrupted
+    )
 }

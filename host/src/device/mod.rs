@@ -22,8 +22,8 @@ use protocol::{Calibration, Command, FilterConfig, Info, SampleFrame};
 
 pub use convert::Scale;
 pub use error::DeviceError;
-pub use track::{Step, Tracker};
 pub use port::{list_ports, open_path, PortEntry, PortSpec, BAUD};
+pub use track::{Step, Tracker};
 
 /// How the driver behaves.
 #[derive(Debug, Clone)]
@@ -73,12 +73,20 @@ pub struct Frame {
 pub enum GapKind {
     /// Frames are missing by sequence: `lost_on_link` were lost between device and host,
     /// `dropped_by_device` were dropped by the device itself (its `status.dropped`).
-    Sequence { after_seq: u32, missing: u64, lost_on_link: u64, dropped_by_device: u64 },
+    Sequence {
+        after_seq: u32,
+        missing: u64,
+        lost_on_link: u64,
+        dropped_by_device: u64,
+    },
     /// The port went away; nothing arrives until [`GapKind::Reconnected`].
     Disconnected,
     /// The port is back after `downtime`; `missing` frames by sequence if the device kept
     /// counting through the outage (None if it restarted).
-    Reconnected { downtime: Duration, missing: Option<u64> },
+    Reconnected {
+        downtime: Duration,
+        missing: Option<u64>,
+    },
     /// The device's sequence went backwards: it restarted. A new session begins.
     DeviceRestart { last_seq: u32, new_seq: u32 },
     /// The reader fell behind and this many frames were discarded by the host.
@@ -205,11 +213,22 @@ impl Device {
         let shared = Arc::new(Shared::default());
         let (ctl_tx, ctl_rx) = mpsc::channel();
         let (ev_tx, ev_rx) = mpsc::sync_channel(opts.queue.max(1));
-        let io = io::Io::new(spec.clone(), path.clone(), tty, opts.clone(), shared.clone(), ev_tx, ctl_rx);
+        let io = io::Io::new(
+            spec.clone(),
+            path.clone(),
+            tty,
+            opts.clone(),
+            shared.clone(),
+            ev_tx,
+            ctl_rx,
+        );
         let thread = std::thread::Builder::new()
             .name(format!("tactile-io {}", path.display()))
             .spawn(move || io.run())
-            .map_err(|e| DeviceError::Io { port: path.clone(), source: e })?;
+            .map_err(|e| DeviceError::Io {
+                port: path.clone(),
+                source: e,
+            })?;
         let dev = Self {
             spec: spec.clone(),
             port: path,
@@ -264,15 +283,23 @@ impl Device {
 
     /// Why the stream ended, if it did.
     pub fn gone_error(&self) -> Option<DeviceError> {
-        self.shared.gone.load(Ordering::Relaxed).then(|| DeviceError::Gone { port: self.port.clone() })
+        self.shared
+            .gone
+            .load(Ordering::Relaxed)
+            .then(|| DeviceError::Gone {
+                port: self.port.clone(),
+            })
     }
 
     /// Send `command` and wait for its outcome (timeouts and retries as in [`OpenOptions`]).
     pub fn command(&self, command: Command) -> Result<Answer, DeviceError> {
-        let gone = || DeviceError::Gone { port: self.port.clone() };
+        let gone = || DeviceError::Gone {
+            port: self.port.clone(),
+        };
         let (tx, rx) = mpsc::channel();
         let ctl = self.control.as_ref().ok_or_else(gone)?;
-        ctl.send(Control { command, reply: tx }).map_err(|_| gone())?;
+        ctl.send(Control { command, reply: tx })
+            .map_err(|_| gone())?;
         let attempts = self.opts.retries + 1;
         // The I/O thread answers every request; this bound only guards against its death.
         let bound = self.opts.command_timeout * attempts + Duration::from_secs(2);
@@ -286,7 +313,11 @@ impl Device {
     pub fn get_info(&self) -> Result<Info, DeviceError> {
         match self.command(Command::GetInfo)? {
             Answer::Info(i) => Ok(i),
-            _ => Err(DeviceError::Timeout { port: self.port.clone(), command: "get info", attempts: 1 }),
+            _ => Err(DeviceError::Timeout {
+                port: self.port.clone(),
+                command: "get info",
+                attempts: 1,
+            }),
         }
     }
 
@@ -327,7 +358,11 @@ impl Device {
         let nonce = t0.elapsed().subsec_nanos() ^ 0x5a5a_a5a5;
         match self.command(Command::Ping { nonce })? {
             Answer::Pong { nonce: n } if n == nonce => Ok(t0.elapsed()),
-            _ => Err(DeviceError::Timeout { port: self.port.clone(), command: "ping", attempts: 1 }),
+            _ => Err(DeviceError::Timeout {
+                port: self.port.clone(),
+                command: "ping",
+                attempts: 1,
+            }),
         }
     }
 

@@ -72,11 +72,21 @@ pub fn list_ports() -> Vec<PortEntry> {
                     u.product.unwrap_or_default()
                 ),
             },
-            SerialPortType::PciPort => PortEntry { path: p.port_name, serial_number: None, description: "PCI".into() },
-            SerialPortType::BluetoothPort => {
-                PortEntry { path: p.port_name, serial_number: None, description: "Bluetooth".into() }
-            }
-            SerialPortType::Unknown => PortEntry { path: p.port_name, serial_number: None, description: "other".into() },
+            SerialPortType::PciPort => PortEntry {
+                path: p.port_name,
+                serial_number: None,
+                description: "PCI".into(),
+            },
+            SerialPortType::BluetoothPort => PortEntry {
+                path: p.port_name,
+                serial_number: None,
+                description: "Bluetooth".into(),
+            },
+            SerialPortType::Unknown => PortEntry {
+                path: p.port_name,
+                serial_number: None,
+                description: "other".into(),
+            },
         })
         .collect()
 }
@@ -86,7 +96,7 @@ pub fn list_ports() -> Vec<PortEntry> {
 pub const BAUD: u32 = 921_600;
 
 /// How long one blocking read waits before the I/O loop looks at commands and deadlines.
-pub const READ_POLL: Duration = Duration::from_millis(20);
+pub const READ_POLL: Duration = Duration::from_millis(10);
 
 /// Open `path` exclusively (TIOCEXCL and an exclusive `flock`, which also holds against root),
 /// naming the precise reason when it fails.
@@ -94,10 +104,16 @@ pub fn open_path(path: &Path) -> Result<TTYPort, DeviceError> {
     let port = path.to_path_buf();
     let meta = std::fs::metadata(path).map_err(|e| classify_io(&port, e))?;
     if meta.is_dir() {
-        return Err(DeviceError::NotATty { port, what: "a directory" });
+        return Err(DeviceError::NotATty {
+            port,
+            what: "a directory",
+        });
     }
     if meta.is_file() {
-        return Err(DeviceError::NotATty { port, what: "a regular file" });
+        return Err(DeviceError::NotATty {
+            port,
+            what: "a regular file",
+        });
     }
     let builder = serialport::new(path.to_string_lossy(), BAUD).timeout(READ_POLL);
     let tty = TTYPort::open(&builder).map_err(|e| classify_serial(&port, e))?;
@@ -118,10 +134,16 @@ fn classify_serial(port: &Path, e: serialport::Error) -> DeviceError {
     let port = port.to_path_buf();
     match e.kind() {
         serialport::ErrorKind::NoDevice => DeviceError::Busy { port },
-        serialport::ErrorKind::Io(kind) => classify_io(&port, std::io::Error::new(kind, e.description)),
-        _ if e.description.contains("Inappropriate ioctl") => {
-            DeviceError::NotATty { port, what: "not a terminal" }
+        serialport::ErrorKind::Io(kind) => {
+            classify_io(&port, std::io::Error::new(kind, e.description))
         }
-        _ => DeviceError::Io { port, source: std::io::Error::other(e.description) },
+        _ if e.description.contains("Inappropriate ioctl") => DeviceError::NotATty {
+            port,
+            what: "not a terminal",
+        },
+        _ => DeviceError::Io {
+            port,
+            source: std::io::Error::other(e.description),
+        },
     }
 }

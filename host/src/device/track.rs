@@ -11,7 +11,11 @@ pub enum Step {
     Duplicate,
     /// A frame to keep; `gap` is set when frames are missing before it (or the device
     /// restarted), `t_device_us` is its unwrapped device time within the session.
-    Keep { gap: Option<GapKind>, t_device_us: u64, session: u32 },
+    Keep {
+        gap: Option<GapKind>,
+        t_device_us: u64,
+        session: u32,
+    },
 }
 
 /// The bookkeeping state.
@@ -48,7 +52,10 @@ impl Tracker {
                 return Step::Duplicate;
             }
             if d >= 1 << 31 {
-                gap = Some(GapKind::DeviceRestart { last_seq: last, new_seq: seq });
+                gap = Some(GapKind::DeviceRestart {
+                    last_seq: last,
+                    new_seq: seq,
+                });
                 self.session += 1;
                 self.last_seq = None;
             } else if d > 1 {
@@ -69,7 +76,11 @@ impl Tracker {
         }
         self.last_seq = Some(seq);
         self.last_t = t_us;
-        Step::Keep { gap, t_device_us: self.t64, session: self.session }
+        Step::Keep {
+            gap,
+            t_device_us: self.t64,
+            session: self.session,
+        }
     }
 }
 
@@ -80,9 +91,15 @@ mod tests {
     #[test]
     fn unwraps_time_and_sequence_across_the_u32_wrap() {
         let mut t = Tracker::default();
-        assert!(matches!(t.step(u32::MAX, u32::MAX - 5, 0), Step::Keep { gap: None, t_device_us, .. } if t_device_us == u64::from(u32::MAX - 5)));
+        assert!(
+            matches!(t.step(u32::MAX, u32::MAX - 5, 0), Step::Keep { gap: None, t_device_us, .. } if t_device_us == u64::from(u32::MAX - 5))
+        );
         match t.step(0, 4, 0) {
-            Step::Keep { gap: None, t_device_us, session: 0 } => assert_eq!(t_device_us, u64::from(u32::MAX) + 5),
+            Step::Keep {
+                gap: None,
+                t_device_us,
+                session: 0,
+            } => assert_eq!(t_device_us, u64::from(u32::MAX) + 5),
             other => panic!("{other:?}"),
         }
     }
@@ -93,11 +110,28 @@ mod tests {
         t.step(10, 0, 0);
         assert_eq!(t.step(10, 0, 0), Step::Duplicate);
         match t.step(15, 50, 3) {
-            Step::Keep { gap: Some(GapKind::Sequence { missing: 4, lost_on_link: 1, dropped_by_device: 3, after_seq: 10 }), .. } => {}
+            Step::Keep {
+                gap:
+                    Some(GapKind::Sequence {
+                        missing: 4,
+                        lost_on_link: 1,
+                        dropped_by_device: 3,
+                        after_seq: 10,
+                    }),
+                ..
+            } => {}
             other => panic!("{other:?}"),
         }
         match t.step(2, 0, 0) {
-            Step::Keep { gap: Some(GapKind::DeviceRestart { last_seq: 15, new_seq: 2 }), session: 1, .. } => {}
+            Step::Keep {
+                gap:
+                    Some(GapKind::DeviceRestart {
+                        last_seq: 15,
+                        new_seq: 2,
+                    }),
+                session: 1,
+                ..
+            } => {}
             other => panic!("{other:?}"),
         }
     }

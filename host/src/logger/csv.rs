@@ -41,7 +41,11 @@ impl<W: Write> CsvSink<W> {
             writeln!(out, "# {k} = {v}")?;
         }
         writeln!(out, "{}", columns.join(","))?;
-        Ok(Self { out, columns: columns.len(), line: String::with_capacity(256) })
+        Ok(Self {
+            out,
+            columns: columns.len(),
+            line: String::with_capacity(256),
+        })
     }
 
     /// One row; `None` is a missing value (an empty field). Extra values beyond the header are
@@ -83,7 +87,10 @@ pub struct Recording {
 
 impl Recording {
     pub fn meta(&self, key: &str) -> Option<&str> {
-        self.meta.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+        self.meta
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
     }
 
     pub fn column(&self, name: &str) -> Option<usize> {
@@ -98,7 +105,12 @@ impl Recording {
 }
 
 fn malformed(path: &Path, line: usize, field: &str, why: impl Into<String>) -> FileError {
-    FileError::Malformed { path: path.to_path_buf(), line, field: field.to_owned(), why: why.into() }
+    FileError::Malformed {
+        path: path.to_path_buf(),
+        line,
+        field: field.to_owned(),
+        why: why.into(),
+    }
 }
 
 /// Read a recording with every rule of the contract: required keys and columns, numeric fields
@@ -107,7 +119,11 @@ fn malformed(path: &Path, line: usize, field: &str, why: impl Into<String>) -> F
 pub fn read_recording(path: &Path) -> Result<Recording, FileError> {
     let bytes = std::fs::read(path).map_err(|e| FileError::open(path, e))?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()].iter().filter(|b| **b == b'\n').count() + 1;
+        let line = bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|b| **b == b'\n')
+            .count()
+            + 1;
         malformed(path, line, "(text)", "not UTF-8")
     })?;
     parse_recording(path, text)
@@ -116,7 +132,10 @@ pub fn read_recording(path: &Path) -> Result<Recording, FileError> {
 /// [`read_recording`] on text already in memory.
 pub fn parse_recording(path: &Path, text: &str) -> Result<Recording, FileError> {
     let mut meta = Vec::new();
-    let mut lines = text.split_inclusive('\n').enumerate().map(|(i, l)| (i + 1, l));
+    let mut lines = text
+        .split_inclusive('\n')
+        .enumerate()
+        .map(|(i, l)| (i + 1, l));
     let mut header = None;
     for (n, line) in lines.by_ref() {
         let l = line.trim_end_matches(['\n', '\r']);
@@ -140,9 +159,17 @@ pub fn parse_recording(path: &Path, text: &str) -> Result<Recording, FileError> 
             return Err(malformed(path, hline, key, "required metadata key missing"));
         }
     }
-    let format = meta.iter().find(|(k, _)| k == "format").map(|(_, v)| v.as_str());
+    let format = meta
+        .iter()
+        .find(|(k, _)| k == "format")
+        .map(|(_, v)| v.as_str());
     if format != Some(FORMAT) {
-        return Err(malformed(path, hline, "format", format!("expected {FORMAT}")));
+        return Err(malformed(
+            path,
+            hline,
+            "format",
+            format!("expected {FORMAT}"),
+        ));
     }
     let columns: Vec<String> = header.split(',').map(|c| c.trim().to_owned()).collect();
     for col in REQUIRED_COLUMNS {
@@ -155,7 +182,12 @@ pub fn parse_recording(path: &Path, text: &str) -> Result<Recording, FileError> 
     let mut last_t = f64::NEG_INFINITY;
     for (n, line) in lines {
         if !line.ends_with('\n') {
-            return Err(malformed(path, n, "(row)", "unfinished last line (no line end)"));
+            return Err(malformed(
+                path,
+                n,
+                "(row)",
+                "unfinished last line (no line end)",
+            ));
         }
         let l = line.trim_end_matches(['\n', '\r']);
         if l.trim().is_empty() {
@@ -168,18 +200,30 @@ pub fn parse_recording(path: &Path, text: &str) -> Result<Recording, FileError> 
         }
         let mut row = Vec::with_capacity(fields.len());
         for (f, col) in fields.iter().zip(&columns) {
-            row.push(parse_field(f).ok_or_else(|| malformed(path, n, col, format!("not a number: {f:?}")))?);
+            row.push(
+                parse_field(f)
+                    .ok_or_else(|| malformed(path, n, col, format!("not a number: {f:?}")))?,
+            );
         }
         let t = row[t_col];
         if t < last_t {
-            return Err(malformed(path, n, "t_s", format!("decreases from {last_t} to {t}")));
+            return Err(malformed(
+                path,
+                n,
+                "t_s",
+                format!("decreases from {last_t} to {t}"),
+            ));
         }
         if !t.is_nan() {
             last_t = t;
         }
         rows.push(row);
     }
-    Ok(Recording { meta, columns, rows })
+    Ok(Recording {
+        meta,
+        columns,
+        rows,
+    })
 }
 
 fn parse_field(f: &str) -> Option<f64> {
@@ -195,8 +239,14 @@ pub fn per_sensor_path(base: &Path, label: &str, several: bool) -> PathBuf {
     if !several {
         return base.to_path_buf();
     }
-    let clean: String = label.chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '_' }).collect();
-    let stem = base.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let clean: String = label
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    let stem = base
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     base.with_file_name(format!("{stem}-{}.csv", clean.trim_matches('_')))
 }
 
@@ -205,8 +255,14 @@ mod tests {
     use super::*;
 
     fn meta() -> Vec<(String, String)> {
-        let v = [FORMAT, "1000", "20", "60", "20", "3000", "1000", "1000", "3.3"];
-        REQUIRED_KEYS.iter().zip(v).map(|(k, v)| (k.to_string(), v.to_string())).collect()
+        let v = [
+            FORMAT, "1000", "20", "60", "20", "3000", "1000", "1000", "3.3",
+        ];
+        REQUIRED_KEYS
+            .iter()
+            .zip(v)
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect()
     }
 
     #[test]
@@ -215,7 +271,16 @@ mod tests {
         let mut cols = REQUIRED_COLUMNS.to_vec();
         cols.push("seq");
         let mut w = CsvSink::new(&mut out, &meta(), &cols).unwrap();
-        w.row(&[Some(0.0), None, None, Some(1.5e-3), Some(-2e-3), Some(0.0), Some(7.0)]).unwrap();
+        w.row(&[
+            Some(0.0),
+            None,
+            None,
+            Some(1.5e-3),
+            Some(-2e-3),
+            Some(0.0),
+            Some(7.0),
+        ])
+        .unwrap();
         w.row(&[Some(0.001)]).unwrap();
         let text = String::from_utf8(out).unwrap();
         let r = parse_recording(Path::new("x.csv"), &text).unwrap();
@@ -228,9 +293,16 @@ mod tests {
     #[test]
     fn refuses_contract_violations_naming_line_and_field() {
         let head = "# format = tactile-recording/1\n# sample_rate_hz = 1\n# contact_angle_deg = 0\n# azimuth_deg = 0\n# fingertip_radius_mm = 20\n# gain_fz = 1\n# gain_mx = 1\n# gain_my = 1\n# excitation_V = 3\nt_s,rod_mm,load_N,fz_V,mx_V,my_V\n";
-        let err = |t: &str| parse_recording(Path::new("r.csv"), t).unwrap_err().to_string();
+        let err = |t: &str| {
+            parse_recording(Path::new("r.csv"), t)
+                .unwrap_err()
+                .to_string()
+        };
         assert!(err(&format!("{head}0,1,2,3,x,5\n")).contains("r.csv:11: field mx_V"));
-        assert!(err(&format!("{head}1,,,,,\n0,,,,,\n")).contains("line 12") || err(&format!("{head}1,,,,,\n0,,,,,\n")).contains(":12: field t_s"));
+        assert!(
+            err(&format!("{head}1,,,,,\n0,,,,,\n")).contains("line 12")
+                || err(&format!("{head}1,,,,,\n0,,,,,\n")).contains(":12: field t_s")
+        );
         assert!(err(&format!("{head}0,1,2")).contains("unfinished"));
         assert!(err(&head.replace("# gain_my = 1\n", "")).contains("gain_my"));
         assert!(err(&head.replace(",my_V", "")).contains("my_V"));

@@ -48,7 +48,10 @@ pub struct McapSink {
 
 impl McapSink {
     pub fn create(path: &Path) -> Result<Self, FileError> {
-        let err = |e: mcap::McapError| FileError::Write { path: path.to_path_buf(), source: std::io::Error::other(e) };
+        let err = |e: mcap::McapError| FileError::Write {
+            path: path.to_path_buf(),
+            source: std::io::Error::other(e),
+        };
         let file = File::create(path).map_err(|e| FileError::write(path, e))?;
         let opts = mcap::WriteOptions::new()
             .compression(None)
@@ -57,30 +60,69 @@ impl McapSink {
             // Chunks are assembled in memory and written whole: a kill leaves whole chunks.
             .disable_seeking(true);
         let mut w = opts.create(BufWriter::new(file)).map_err(err)?;
-        let sample_schema = w.add_schema("tactile.Sample", "jsonschema", SAMPLE_SCHEMA.as_bytes()).map_err(err)?;
-        let gap_schema = w.add_schema("tactile.Gap", "jsonschema", GAP_SCHEMA.as_bytes()).map_err(err)?;
-        Ok(Self { path: path.to_path_buf(), w, sample_schema, gap_schema, seq: 0 })
+        let sample_schema = w
+            .add_schema("tactile.Sample", "jsonschema", SAMPLE_SCHEMA.as_bytes())
+            .map_err(err)?;
+        let gap_schema = w
+            .add_schema("tactile.Gap", "jsonschema", GAP_SCHEMA.as_bytes())
+            .map_err(err)?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            w,
+            sample_schema,
+            gap_schema,
+            seq: 0,
+        })
     }
 
     fn err(&self, e: mcap::McapError) -> FileError {
-        FileError::Write { path: self.path.clone(), source: std::io::Error::other(e) }
+        FileError::Write {
+            path: self.path.clone(),
+            source: std::io::Error::other(e),
+        }
     }
 
     /// Register a sensor's topics under `/tactile/<label>/`.
-    pub fn add_sensor(&mut self, label: &str, meta: &[(String, String)]) -> Result<SensorChannels, FileError> {
+    pub fn add_sensor(
+        &mut self,
+        label: &str,
+        meta: &[(String, String)],
+    ) -> Result<SensorChannels, FileError> {
         let md: BTreeMap<String, String> = meta.iter().cloned().collect();
         let base = format!("/tactile/{}", label.trim_start_matches('/'));
-        let raw = self.w.add_channel(0, &format!("{base}/raw"), RAW_ENCODING, &md).map_err(|e| self.err(e))?;
-        let sample = self.w.add_channel(self.sample_schema, &format!("{base}/sample"), "json", &md).map_err(|e| self.err(e))?;
-        let gap = self.w.add_channel(self.gap_schema, &format!("{base}/gap"), "json", &md).map_err(|e| self.err(e))?;
+        let raw = self
+            .w
+            .add_channel(0, &format!("{base}/raw"), RAW_ENCODING, &md)
+            .map_err(|e| self.err(e))?;
+        let sample = self
+            .w
+            .add_channel(self.sample_schema, &format!("{base}/sample"), "json", &md)
+            .map_err(|e| self.err(e))?;
+        let gap = self
+            .w
+            .add_channel(self.gap_schema, &format!("{base}/gap"), "json", &md)
+            .map_err(|e| self.err(e))?;
         Ok(SensorChannels { raw, sample, gap })
     }
 
     /// One message; times in ns since the Unix epoch.
-    pub fn write(&mut self, channel: u16, log_ns: u64, publish_ns: u64, data: &[u8]) -> Result<(), FileError> {
+    pub fn write(
+        &mut self,
+        channel: u16,
+        log_ns: u64,
+        publish_ns: u64,
+        data: &[u8],
+    ) -> Result<(), FileError> {
         self.seq = self.seq.wrapping_add(1);
-        let header = MessageHeader { channel_id: channel, sequence: self.seq, log_time: log_ns, publish_time: publish_ns };
-        self.w.write_to_known_channel(&header, data).map_err(|e| self.err(e))
+        let header = MessageHeader {
+            channel_id: channel,
+            sequence: self.seq,
+            log_time: log_ns,
+            publish_time: publish_ns,
+        };
+        self.w
+            .write_to_known_channel(&header, data)
+            .map_err(|e| self.err(e))
     }
 
     /// Close the current chunk and push it to the file.
@@ -118,8 +160,12 @@ pub struct Recovered {
 /// says where it stopped.
 pub fn recover(path: &Path) -> Result<Recovered, FileError> {
     let buf = std::fs::read(path).map_err(|e| FileError::open(path, e))?;
-    let stream = mcap::MessageStream::new_with_options(&buf, mcap::read::Options::IgnoreEndMagic.into())
-        .map_err(|e| FileError::Capture { path: path.to_path_buf(), why: format!("not an MCAP file ({e})") })?;
+    let stream =
+        mcap::MessageStream::new_with_options(&buf, mcap::read::Options::IgnoreEndMagic.into())
+            .map_err(|e| FileError::Capture {
+                path: path.to_path_buf(),
+                why: format!("not an MCAP file ({e})"),
+            })?;
     let mut messages = Vec::new();
     let mut truncated = None;
     let mut topics: BTreeMap<u16, (Arc<str>, Arc<str>)> = BTreeMap::new();
@@ -128,13 +174,24 @@ pub fn recover(path: &Path) -> Result<Recovered, FileError> {
             Ok(m) => {
                 let (topic, encoding) = topics
                     .entry(m.channel.id)
-                    .or_insert_with(|| (Arc::from(m.channel.topic.as_str()), Arc::from(m.channel.message_encoding.as_str())))
+                    .or_insert_with(|| {
+                        (
+                            Arc::from(m.channel.topic.as_str()),
+                            Arc::from(m.channel.message_encoding.as_str()),
+                        )
+                    })
                     .clone();
                 let data = match m.data {
                     Cow::Borrowed(b) => b.to_vec(),
                     Cow::Owned(v) => v,
                 };
-                messages.push(StoredMessage { topic, encoding, log_ns: m.log_time, publish_ns: m.publish_time, data });
+                messages.push(StoredMessage {
+                    topic,
+                    encoding,
+                    log_ns: m.log_time,
+                    publish_ns: m.publish_time,
+                    data,
+                });
             }
             Err(e) => {
                 truncated = Some(e.to_string());
@@ -142,5 +199,8 @@ pub fn recover(path: &Path) -> Result<Recovered, FileError> {
             }
         }
     }
-    Ok(Recovered { messages, truncated })
+    Ok(Recovered {
+        messages,
+        truncated,
+    })
 }

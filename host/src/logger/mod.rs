@@ -16,8 +16,8 @@ use std::cell::RefCell;
 use std::fmt::Write as _;
 use std::fs::File;
 use std::io::BufWriter;
-use std::rc::Rc;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use protocol::Info;
@@ -38,13 +38,24 @@ pub const FLUSH_EVERY: Duration = Duration::from_millis(250);
 pub enum FileError {
     /// The file could not be opened or read.
     #[error("{}: {source}", .path.display())]
-    Open { path: PathBuf, source: std::io::Error },
+    Open {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// The file breaks its format at this line and field.
     #[error("{}:{line}: field {field}: {why}", .path.display())]
-    Malformed { path: PathBuf, line: usize, field: String, why: String },
+    Malformed {
+        path: PathBuf,
+        line: usize,
+        field: String,
+        why: String,
+    },
     /// Writing an output failed.
     #[error("{}: {source}", .path.display())]
-    Write { path: PathBuf, source: std::io::Error },
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// An MCAP or raw capture that cannot be read at all.
     #[error("{}: {why}", .path.display())]
     Capture { path: PathBuf, why: String },
@@ -52,11 +63,17 @@ pub enum FileError {
 
 impl FileError {
     pub(crate) fn open(path: &Path, source: std::io::Error) -> Self {
-        Self::Open { path: path.to_path_buf(), source }
+        Self::Open {
+            path: path.to_path_buf(),
+            source,
+        }
     }
 
     pub(crate) fn write(path: &Path, source: std::io::Error) -> Self {
-        Self::Write { path: path.to_path_buf(), source }
+        Self::Write {
+            path: path.to_path_buf(),
+            source,
+        }
     }
 
     pub fn exit_code(&self) -> u8 {
@@ -75,8 +92,19 @@ impl FileError {
 
 /// Columns written after the contract's: both timestamps, the sequence, the gap marks, the
 /// loads through the calibration matrix and the raw temperature code.
-pub const EXTRA_COLUMNS: [&str; 11] =
-    ["seq", "t_device_s", "t_host_s", "session", "gap", "missing", "fz_N", "mx_Nm", "my_Nm", "temp_code", "saturated"];
+pub const EXTRA_COLUMNS: [&str; 11] = [
+    "seq",
+    "t_device_s",
+    "t_host_s",
+    "session",
+    "gap",
+    "missing",
+    "fz_N",
+    "mx_Nm",
+    "my_Nm",
+    "temp_code",
+    "saturated",
+];
 
 /// `gap` column codes.
 pub mod gap_code {
@@ -117,9 +145,15 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Vec<(String, S
     let mut m: Vec<(String, String)> = vec![
         ("format".into(), csv::FORMAT.into()),
         ("sample_rate_hz".into(), info.sample_rate_hz.to_string()),
-        ("contact_angle_deg".into(), setup.contact_angle_deg.to_string()),
+        (
+            "contact_angle_deg".into(),
+            setup.contact_angle_deg.to_string(),
+        ),
         ("azimuth_deg".into(), setup.azimuth_deg.to_string()),
-        ("fingertip_radius_mm".into(), setup.fingertip_radius_mm.to_string()),
+        (
+            "fingertip_radius_mm".into(),
+            setup.fingertip_radius_mm.to_string(),
+        ),
         ("gain_fz".into(), info.amp_gain[0].to_string()),
         ("gain_mx".into(), info.amp_gain[1].to_string()),
         ("gain_my".into(), info.amp_gain[2].to_string()),
@@ -137,7 +171,8 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Vec<(String, S
 }
 
 pub fn unix_s(t: SystemTime) -> f64 {
-    t.duration_since(UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64())
+    t.duration_since(UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
 }
 
 /// Writes one sensor's CSV. Times: within a connection session `t_s` follows the device clock
@@ -162,7 +197,12 @@ fn ns(unix_s: f64) -> u64 {
 }
 
 impl Recorder {
-    pub fn create(path: &Path, info: &Info, setup: &Setup, start: SystemTime) -> Result<Self, FileError> {
+    pub fn create(
+        path: &Path,
+        info: &Info,
+        setup: &Setup,
+        start: SystemTime,
+    ) -> Result<Self, FileError> {
         let file = File::create(path).map_err(|e| FileError::write(path, e))?;
         Self::create_on(Box::new(file), path, info, setup, start)
     }
@@ -179,7 +219,8 @@ impl Recorder {
         let mut columns = REQUIRED_COLUMNS.to_vec();
         columns.extend(EXTRA_COLUMNS);
         let out = BufWriter::with_capacity(1 << 20, file);
-        let mut csv = CsvSink::new(out, &metadata(info, setup, start), &columns).map_err(|e| FileError::write(path, e))?;
+        let mut csv = CsvSink::new(out, &metadata(info, setup, start), &columns)
+            .map_err(|e| FileError::write(path, e))?;
         csv.flush().map_err(|e| FileError::write(path, e))?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -246,7 +287,8 @@ impl Recorder {
         let t_host = unix_s(f.host_time);
         let start = unix_s(self.start);
         if let Some((m, ch)) = &self.mcap {
-            m.borrow_mut().write(ch.raw, ns(start + anchor + t_dev0_s), ns(t_host), &f.raw)?;
+            m.borrow_mut()
+                .write(ch.raw, ns(start + anchor + t_dev0_s), ns(t_host), &f.raw)?;
         }
         for (k, s) in f.frame.samples().iter().enumerate() {
             let t_dev_s = t_dev0_s + k as f64 / self.rate_hz;
@@ -273,16 +315,32 @@ impl Recorder {
                 Some(f64::from(f.frame.temp)),
                 Some(f64::from(f.frame.status.saturated)),
             ];
-            self.csv.row(&row).map_err(|e| FileError::write(&self.path, e))?;
+            self.csv
+                .row(&row)
+                .map_err(|e| FileError::write(&self.path, e))?;
             self.rows += 1;
             if let Some((m, ch)) = &self.mcap {
                 self.json.clear();
                 let _ = write!(
                     self.json,
                     r#"{{"t_s":{t_s},"t_device_s":{t_dev_s},"t_host_s":{t_host},"seq":{},"session":{},"fz_V":{},"mx_V":{},"my_V":{},"fz_N":{},"mx_Nm":{},"my_Nm":{},"temp_code":{},"saturated":{}}}"#,
-                    f.seq, f.session, v[0], v[1], v[2], l[0], l[1], l[2], f.frame.temp, f.frame.status.saturated
+                    f.seq,
+                    f.session,
+                    v[0],
+                    v[1],
+                    v[2],
+                    l[0],
+                    l[1],
+                    l[2],
+                    f.frame.temp,
+                    f.frame.status.saturated
                 );
-                m.borrow_mut().write(ch.sample, ns(start + t_s), ns(t_host), self.json.as_bytes())?;
+                m.borrow_mut().write(
+                    ch.sample,
+                    ns(start + t_s),
+                    ns(t_host),
+                    self.json.as_bytes(),
+                )?;
             }
         }
         self.maybe_flush()
@@ -294,7 +352,9 @@ impl Recorder {
         let (code, missing) = match &g.kind {
             GapKind::Sequence { missing, .. } => (gap_code::SEQUENCE, Some(*missing as f64)),
             GapKind::Disconnected => (gap_code::DISCONNECTED, None),
-            GapKind::Reconnected { missing, .. } => (gap_code::RECONNECTED, missing.map(|m| m as f64)),
+            GapKind::Reconnected { missing, .. } => {
+                (gap_code::RECONNECTED, missing.map(|m| m as f64))
+            }
             GapKind::DeviceRestart { .. } => (gap_code::DEVICE_RESTART, None),
             GapKind::HostQueueFull { frames } => (gap_code::HOST_QUEUE, Some(*frames as f64)),
         };
@@ -306,7 +366,9 @@ impl Recorder {
         row[9] = Some(f64::from(g.session));
         row[10] = Some(code);
         row[11] = missing;
-        self.csv.row(&row).map_err(|e| FileError::write(&self.path, e))?;
+        self.csv
+            .row(&row)
+            .map_err(|e| FileError::write(&self.path, e))?;
         if let Some((m, ch)) = &self.mcap {
             let kind = match &g.kind {
                 GapKind::Sequence { .. } => "sequence",
@@ -321,7 +383,8 @@ impl Recorder {
                 g.session
             );
             let t = ns(unix_s(self.start) + t_s);
-            m.borrow_mut().write(ch.gap, t, ns(unix_s(g.host_time)), json.as_bytes())?;
+            m.borrow_mut()
+                .write(ch.gap, t, ns(unix_s(g.host_time)), json.as_bytes())?;
         }
         // A gap is exactly what a later reader must not miss: write it out now.
         self.flush()
@@ -336,7 +399,9 @@ impl Recorder {
 
     pub fn flush(&mut self) -> Result<(), FileError> {
         self.last_flush = Instant::now();
-        self.csv.flush().map_err(|e| FileError::write(&self.path, e))?;
+        self.csv
+            .flush()
+            .map_err(|e| FileError::write(&self.path, e))?;
         if let Some((m, _)) = &self.mcap {
             m.borrow_mut().flush()?;
         }

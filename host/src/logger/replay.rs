@@ -62,8 +62,18 @@ impl Replayer<'_> {
         }
     }
 
-    fn on_sample(&mut self, f: protocol::SampleFrame, raw: &[u8], host_time: Option<SystemTime>) -> Result<(), FileError> {
-        let Step::Keep { gap, t_device_us, session } = self.tracker.step(f.seq, f.t_us, f.status.dropped) else {
+    fn on_sample(
+        &mut self,
+        f: protocol::SampleFrame,
+        raw: &[u8],
+        host_time: Option<SystemTime>,
+    ) -> Result<(), FileError> {
+        let Step::Keep {
+            gap,
+            t_device_us,
+            session,
+        } = self.tracker.step(f.seq, f.t_us, f.status.dropped)
+        else {
             return Ok(());
         };
         // A raw capture has no host clock: the device clock stands in for it.
@@ -71,32 +81,60 @@ impl Replayer<'_> {
         if self.rec.is_none() {
             let info = self.info.as_ref().ok_or_else(|| FileError::Capture {
                 path: self.input.clone(),
-                why: "no info frame before the first sample frame: cannot convert codes to volts".into(),
+                why: "no info frame before the first sample frame: cannot convert codes to volts"
+                    .into(),
             })?;
             self.rec = Some(match self.out {
                 Some(path) => Recorder::create(path, info, self.setup, host_time)?,
-                None => Recorder::create_on(Box::new(std::io::stdout()), Path::new("stdout"), info, self.setup, host_time)?,
+                None => Recorder::create_on(
+                    Box::new(std::io::stdout()),
+                    Path::new("stdout"),
+                    info,
+                    self.setup,
+                    host_time,
+                )?,
             });
         }
         let rec = self.rec.as_mut().expect("created above");
         if let Some(kind) = gap {
             self.summary.gaps += 1;
-            rec.on_event(&Event::Gap(Gap { kind, host_time, session }))?;
+            rec.on_event(&Event::Gap(Gap {
+                kind,
+                host_time,
+                session,
+            }))?;
         }
         self.summary.frames += 1;
         let seq = f.seq;
-        rec.on_event(&Event::Frame(Frame { seq, t_device_us, host_time, session, frame: f, raw: raw.to_vec() }))
+        rec.on_event(&Event::Frame(Frame {
+            seq,
+            t_device_us,
+            host_time,
+            session,
+            frame: f,
+            raw: raw.to_vec(),
+        }))
     }
 
     fn on_gap_json(&mut self, data: &[u8], host_time: SystemTime) -> Result<(), FileError> {
-        let v: serde_json::Value = serde_json::from_slice(data)
-            .map_err(|e| FileError::Capture { path: self.input.clone(), why: format!("gap message: {e}") })?;
-        let missing = v.get("missing").and_then(|m| m.as_f64()).filter(|m| *m >= 0.0).map(|m| m as u64);
+        let v: serde_json::Value =
+            serde_json::from_slice(data).map_err(|e| FileError::Capture {
+                path: self.input.clone(),
+                why: format!("gap message: {e}"),
+            })?;
+        let missing = v
+            .get("missing")
+            .and_then(|m| m.as_f64())
+            .filter(|m| *m >= 0.0)
+            .map(|m| m as u64);
         let kind = match v.get("kind").and_then(|k| k.as_str()) {
             Some("disconnected") => GapKind::Disconnected,
             Some("reconnected") => {
                 self.tracker.new_session();
-                GapKind::Reconnected { downtime: Duration::ZERO, missing }
+                GapKind::Reconnected {
+                    downtime: Duration::ZERO,
+                    missing,
+                }
             }
             // Sequence gaps, restarts and queue drops are found again from the frames themselves.
             _ => return Ok(()),
@@ -104,7 +142,11 @@ impl Replayer<'_> {
         self.summary.gaps += 1;
         let session = self.tracker.session();
         match self.rec.as_mut() {
-            Some(r) => r.on_event(&Event::Gap(Gap { kind, host_time, session })),
+            Some(r) => r.on_event(&Event::Gap(Gap {
+                kind,
+                host_time,
+                session,
+            })),
             None => Ok(()),
         }
     }
@@ -112,7 +154,12 @@ impl Replayer<'_> {
 
 /// Replay `input` into the CSV `out` (stdout if `None`). `sensor` picks one sensor of a
 /// multi-sensor MCAP.
-pub fn replay(input: &Path, out: Option<&Path>, setup: &Setup, sensor: Option<&str>) -> Result<ReplaySummary, FileError> {
+pub fn replay(
+    input: &Path,
+    out: Option<&Path>,
+    setup: &Setup,
+    sensor: Option<&str>,
+) -> Result<ReplaySummary, FileError> {
     let head = {
         use std::io::Read;
         let mut f = std::fs::File::open(input).map_err(|e| FileError::open(input, e))?;
@@ -151,31 +198,57 @@ pub fn replay(input: &Path, out: Option<&Path>, setup: &Setup, sensor: Option<&s
         for chunk in bytes.chunks(64 * 1024) {
             decoder.feed(chunk, |j| r.on_outcome(j.outcome, j.raw, None));
         }
-        if r.info.is_none() && r.summary.frames == 0 && r.summary.crc_errors + r.summary.malformed + r.summary.overflows == 0 {
-            return Err(FileError::Capture { path: input.into(), why: "no frame found: not a tactile capture".into() });
+        if r.info.is_none()
+            && r.summary.frames == 0
+            && r.summary.crc_errors + r.summary.malformed + r.summary.overflows == 0
+        {
+            return Err(FileError::Capture {
+                path: input.into(),
+                why: "no frame found: not a tactile capture".into(),
+            });
         }
     }
     if let Some(e) = r.error {
         return Err(e);
     }
-    let mut rec = r.rec.ok_or_else(|| FileError::Capture { path: input.into(), why: "no sample frame in the capture".into() })?;
+    let mut rec = r.rec.ok_or_else(|| FileError::Capture {
+        path: input.into(),
+        why: "no sample frame in the capture".into(),
+    })?;
     rec.flush()?;
     r.summary.rows = rec.rows;
     Ok(r.summary)
 }
 
-fn pick_topic(input: &Path, messages: &[StoredMessage], sensor: Option<&str>) -> Result<String, FileError> {
-    let mut topics: Vec<&str> = messages.iter().filter(|m| &*m.encoding == RAW_ENCODING).map(|m| &*m.topic).collect();
+fn pick_topic(
+    input: &Path,
+    messages: &[StoredMessage],
+    sensor: Option<&str>,
+) -> Result<String, FileError> {
+    let mut topics: Vec<&str> = messages
+        .iter()
+        .filter(|m| &*m.encoding == RAW_ENCODING)
+        .map(|m| &*m.topic)
+        .collect();
     topics.dedup();
     topics.sort_unstable();
     topics.dedup();
-    let chosen: Vec<&&str> = topics.iter().filter(|t| sensor.is_none_or(|s| t.contains(s))).collect();
+    let chosen: Vec<&&str> = topics
+        .iter()
+        .filter(|t| sensor.is_none_or(|s| t.contains(s)))
+        .collect();
     match chosen.as_slice() {
         [one] => Ok((**one).to_owned()),
-        [] => Err(FileError::Capture { path: input.into(), why: "no raw tactile frames in this MCAP".into() }),
+        [] => Err(FileError::Capture {
+            path: input.into(),
+            why: "no raw tactile frames in this MCAP".into(),
+        }),
         many => Err(FileError::Capture {
             path: input.into(),
-            why: format!("several sensors ({}); choose one with --sensor", many.iter().map(|t| **t).collect::<Vec<_>>().join(", ")),
+            why: format!(
+                "several sensors ({}); choose one with --sensor",
+                many.iter().map(|t| **t).collect::<Vec<_>>().join(", ")
+            ),
         }),
     }
 }

@@ -21,7 +21,10 @@ fn main() -> ExitCode {
     }
 }
 
-fn value<T: std::str::FromStr>(args: &mut impl Iterator<Item = String>, flag: &str) -> Result<T, String> {
+fn value<T: std::str::FromStr>(
+    args: &mut impl Iterator<Item = String>,
+    flag: &str,
+) -> Result<T, String> {
     let v = args.next().ok_or_else(|| format!("{flag} needs a value"))?;
     v.parse().map_err(|_| format!("{flag}: cannot read {v:?}"))
 }
@@ -36,8 +39,12 @@ fn run() -> Result<(), String> {
             "--rate" => cfg.rate_hz = value(&mut args, &a)?,
             "--batch" => cfg.batch = value(&mut args, &a)?,
             "--autostart" => cfg.autostart = true,
-            "--epoch-unix" => cfg.epoch = UNIX_EPOCH + Duration::from_secs_f64(value(&mut args, &a)?),
-            "--cut-after" => cfg.cut_mid_frame_after = Some(Duration::from_secs_f64(value(&mut args, &a)?)),
+            "--epoch-unix" => {
+                cfg.epoch = UNIX_EPOCH + Duration::from_secs_f64(value(&mut args, &a)?)
+            }
+            "--cut-after" => {
+                cfg.cut_mid_frame_after = Some(Duration::from_secs_f64(value(&mut args, &a)?))
+            }
             "--run-for" => run_for = Some(Duration::from_secs_f64(value(&mut args, &a)?)),
             "-h" | "--help" => {
                 println!("usage: tactile-emu --link PATH [--rate HZ] [--batch N] [--autostart] [--epoch-unix S] [--cut-after S] [--run-for S]");
@@ -49,11 +56,18 @@ fn run() -> Result<(), String> {
     if cfg.rate_hz == 0 || !(1..=16).contains(&cfg.batch) {
         return Err("--rate must be > 0 and --batch in 1..=16".into());
     }
-    let since = SystemTime::now().duration_since(cfg.epoch).unwrap_or_default();
+    let since = SystemTime::now()
+        .duration_since(cfg.epoch)
+        .unwrap_or_default();
     let cut = cfg.cut_mid_frame_after;
     let link = cfg.link.clone();
     let emu = Emulator::spawn(cfg).map_err(|e| format!("{}: {e}", link.display()))?;
-    println!("{} -> {} (device clock at {:.3} s)", link.display(), emu.slave.display(), since.as_secs_f64());
+    println!(
+        "{} -> {} (device clock at {:.3} s)",
+        link.display(),
+        emu.slave.display(),
+        since.as_secs_f64()
+    );
     if cut.is_some() {
         return emu.wait().map_err(|e| e.to_string());
     }
