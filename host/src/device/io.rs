@@ -334,12 +334,21 @@ impl Io {
             }));
         }
         if self.queue_drops_pending > 0 {
-            let frames = std::mem::take(&mut self.queue_drops_pending);
-            self.emit(Event::Gap(Gap {
-                kind: GapKind::HostQueueFull { frames },
-                host_time: now,
-                session,
-            }));
+            // Report the loss as soon as there is room for the report; until then keep counting.
+            let kind = GapKind::HostQueueFull {
+                frames: self.queue_drops_pending,
+            };
+            if self
+                .events
+                .try_send(Event::Gap(Gap {
+                    kind,
+                    host_time: now,
+                    session,
+                }))
+                .is_ok()
+            {
+                self.queue_drops_pending = 0;
+            }
         }
         add(&c.frames, 1);
         add(&c.samples, f.len() as u64);

@@ -53,9 +53,18 @@ impl Replayer<'_> {
             }
             Outcome::Message(Message::Sample(f)) => self.on_sample(f, raw, host_time),
             Outcome::Message(_) => Ok(()),
-            Outcome::CrcError => Ok(self.summary.crc_errors += 1),
-            Outcome::Malformed(_) => Ok(self.summary.malformed += 1),
-            Outcome::Overflow => Ok(self.summary.overflows += 1),
+            Outcome::CrcError => {
+                self.summary.crc_errors += 1;
+                Ok(())
+            }
+            Outcome::Malformed(_) => {
+                self.summary.malformed += 1;
+                Ok(())
+            }
+            Outcome::Overflow => {
+                self.summary.overflows += 1;
+                Ok(())
+            }
         };
         if let Err(e) = r {
             self.error = Some(e);
