@@ -131,6 +131,8 @@ pub fn read_recording(path: &Path) -> Result<Recording, FileError> {
 
 /// [`read_recording`] on text already in memory.
 pub fn parse_recording(path: &Path, text: &str) -> Result<Recording, FileError> {
+    // A byte-order mark from a spreadsheet export is not part of the first line.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut meta = Vec::new();
     let mut lines = text
         .split_inclusive('\n')
