@@ -293,6 +293,16 @@ mod tests {
     }
 
     #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_key() {
+        let mut out = Vec::new();
+        let mut w = CsvSink::new(&mut out, &meta(), &REQUIRED_COLUMNS).unwrap();
+        w.row(&[Some(0.0)]).unwrap();
+        let text = format!("\u{feff}{}", String::from_utf8(out).unwrap());
+        let r = parse_recording(Path::new("bom.csv"), &text).unwrap();
+        assert_eq!(r.meta("format"), Some(FORMAT));
+    }
+
+    #[test]
     fn refuses_contract_violations_naming_line_and_field() {
         let head = "# format = tactile-recording/1\n# sample_rate_hz = 1\n# contact_angle_deg = 0\n# azimuth_deg = 0\n# fingertip_radius_mm = 20\n# gain_fz = 1\n# gain_mx = 1\n# gain_my = 1\n# excitation_V = 3\nt_s,rod_mm,load_N,fz_V,mx_V,my_V\n";
         let err = |t: &str| {
