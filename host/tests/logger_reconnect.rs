@@ -75,6 +75,26 @@ fn reconnects_after_the_emulator_dies_and_marks_the_gap() {
     let mcap = dir.join("rec.mcap");
     let r = recover(&mcap).unwrap();
     assert!(r.truncated.is_none(), "{:?}", r.truncated);
+    // What Foxglove needs: a summary with chunk indexes, JSON schemas, JSON sample messages.
+    let bytes = std::fs::read(&mcap).unwrap();
+    let summary = mcap::Summary::read(&bytes)
+        .unwrap()
+        .expect("a summary section");
+    assert!(!summary.chunk_indexes.is_empty());
+    assert_eq!(summary.channels.len(), 3);
+    for schema in summary.schemas.values() {
+        assert_eq!(schema.encoding, "jsonschema");
+        serde_json::from_slice::<serde_json::Value>(&schema.data).expect("schema is JSON");
+    }
+    let sample = r
+        .messages
+        .iter()
+        .find(|m| m.topic.ends_with("/sample"))
+        .unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&sample.data).unwrap();
+    assert!(
+        json["fz_V"].is_number() && json["t_device_s"].is_number() && json["t_host_s"].is_number()
+    );
     let out = dir.join("replayed.csv");
     let st = Command::new(env!("CARGO_BIN_EXE_tactile"))
         .arg("replay")
