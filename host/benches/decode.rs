@@ -3,6 +3,11 @@
 //! pipeline a first implementation would write with the same crates the protocol uses (split on
 //! 0, `cobs::decode_vec`, `crc::Crc<u32>` CRC-32C with its default table, `Message::decode_body`),
 //! on the same bytes, in the same run. Run: `cargo bench -p host --bench decode`.
+//!
+//! Measured on the shared 2-core development machine (load average 10-12 from parallel builds):
+//! 2 MB cache-resident stream, 400 runs: fast path best 1.65-1.68 GB/s (median 1.59-1.64),
+//! plain pipeline best 0.15-0.24 GB/s (median 0.08-0.10): 7-11x on the best runs.
+//! 16.8 MB stream, 20 runs: fast best 0.81 GB/s, plain best 0.16 GB/s: 4.95x.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
