@@ -74,6 +74,22 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
     ExitCode::from(exit_code(err))
 }
 
+/// Print a clap outcome: `--help` and `--version` go to stdout with success; a bad flag or value
+/// goes to stderr with [`exit::USAGE`], like every other error of ours, not clap's own 2.
+pub fn report_usage(err: &clap::Error) -> ExitCode {
+    if !err.use_stderr() {
+        // Printing help into a closed pipe is not an error either.
+        let _ = err.print();
+        return ExitCode::SUCCESS;
+    }
+    // One line, like every other error: clap's own first line names the flag and the value.
+    let text = err.render().to_string();
+    let line = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("invalid arguments");
+    let line = line.trim_start_matches("error: ");
+    eprintln!("tactile: error: {line} (see --help)");
+    ExitCode::from(exit::USAGE)
+}
+
 fn is_broken_pipe(err: &anyhow::Error) -> bool {
     err.chain().any(|e| {
         e.downcast_ref::<std::io::Error>()
