@@ -4,4 +4,5 @@
 #[cfg(feature = "std")]
 pub mod link;
 
+pub mod ads131m04;
 pub mod frontend;
