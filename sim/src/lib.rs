@@ -6,3 +6,8 @@ pub mod link;
 
 pub mod ads131m04;
 pub mod frontend;
+pub mod load;
+pub mod pillar;
+pub mod temperature;
+#[cfg(feature = "std")]
+pub mod chain;
