@@ -2,3 +2,4 @@
 
 pub mod emu;
 pub mod check;
+pub mod hil;
