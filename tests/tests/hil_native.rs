@@ -66,6 +66,9 @@ fn hil_native_firmware_library_against_the_emulated_sensor_over_a_pty() {
     };
     pump(&dev, &mut frames, t, |f| f.last().is_some_and(|f| device_time_s(f) > end_s));
     let streamed_s = wall.elapsed().as_secs_f64();
+    let tail = &frames[frames.len() - 100..];
+    let span = tail.last().unwrap().host_time.duration_since(tail[0].host_time).unwrap_or_default();
+    let steady_fps = 99.0 / span.as_secs_f64();
     let counters = dev.counters();
     dev.close();
     let stats = sensor.stop().expect("device thread");
@@ -125,7 +128,7 @@ fn hil_native_firmware_library_against_the_emulated_sensor_over_a_pty() {
     let samples: u64 = frames.iter().map(|f| f.frame.len() as u64).sum();
     eprintln!(
         "hil_native: {} frames, {samples} samples in {streamed_s:.2} s wall: {:.0} frames/s, {:.0} samples/s; \
-         pacing lag max {:.1} ms",
+         pacing lag max {:.1} ms; steady state at {FAST_HZ} Hz: {steady_fps:.1} frames/s",
         frames.len(),
         frames.len() as f64 / streamed_s,
         samples as f64 / streamed_s,
