@@ -7,7 +7,9 @@
 //! effect are all checked. QEMU is always killed at the end (see `tests::hil::qemu`).
 //!
 //! Needs `qemu-system-arm` (scripts/setup.sh installs it) and builds the thumb ELF if missing.
-//! Run: `cargo test -p tests --test hil_qemu -- --nocapture` (prints the figures).
+//! Run: `cargo test -p tests --test hil_qemu -- --nocapture` (prints the figures); with
+//! `TACTILE_HIL_QEMU_CLOCK=virtual` QEMU runs as fast as it can (`-icount shift=0,sleep=off`),
+//! which measures the path's capacity instead of the real-time rate.
 
 use std::os::fd::{FromRawFd, OwnedFd};
 use std::time::{Duration, Instant, SystemTime};
@@ -17,7 +19,7 @@ use host::logger::{Recorder, Setup};
 use protocol::{FilterConfig, NullState};
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::{ideal_code, VREF_V};
-use tests::hil::qemu::{build_elf, QemuBoard};
+use tests::hil::qemu::{build_elf, Clock, QemuBoard};
 use tests::hil::reference::ReferenceFilter;
 
 const FILTER: FilterConfig = FilterConfig { smoother_alpha: 1.0, butterworth_order: 4, cutoff_hz: 50.0 };
@@ -70,7 +72,7 @@ fn hold_open(path: &std::path::Path) -> OwnedFd {
 #[test]
 fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
     let elf = build_elf().expect("build the QEMU firmware");
-    let mut board = QemuBoard::spawn(&elf).expect("start qemu-system-arm");
+    let mut board = QemuBoard::spawn(&elf, Clock::from_env()).expect("start qemu-system-arm");
     let keeper = hold_open(&board.pty);
     board.resume().unwrap();
     let opts = OpenOptions { reconnect: false, ..OpenOptions::default() };
@@ -187,9 +189,10 @@ fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
     eprintln!(
         "hil_qemu: {} frames, {samples} samples in {streamed_s:.2} s wall: {:.0} frames/s, {:.0} samples/s; \
          {exact} samples exact, {filtered} filtered within {worst_filter:.1} codes of the f64 reference; \
-         steady state at {FAST_HZ} Hz: {steady_fps:.1} frames/s",
+         steady state at {FAST_HZ} Hz: {steady_fps:.1} frames/s ({:?} clock)",
         frames.len(),
         frames.len() as f64 / streamed_s,
         samples as f64 / streamed_s,
+        Clock::from_env(),
     );
 }

@@ -1,8 +1,14 @@
 //! HIL path 2: the firmware's QEMU board binary (`qemu-mps2-an386`) in `qemu-system-arm -machine
 //! mps2-an386`, UART0 on a pty. QEMU 7.2 drops pty output until a reader opens the slave, so QEMU
 //! starts halted (`-S`), the host opens the pty, and only then does [`QemuBoard::resume`] send
-//! `cont` on the monitor (QEMU's stdin). QEMU runs in real time (no `-icount`): SysTick paces
-//! the conversions at the data rate as the real sample clock would.
+//! `cont` on the monitor (QEMU's stdin).
+//!
+//! Two clocks: [`Clock::RealTime`] (no `-icount`): SysTick paces the conversions against the
+//! host's clock like the real sample clock, so the host's commands land at realistic device
+//! times; QEMU re-arms SysTick after each interrupt, so on a loaded host the delivered rate falls
+//! below nominal (device time, counted in conversions, then runs slow against wall time).
+//! [`Clock::Virtual`] (`-icount shift=0,sleep=off`): one instruction per virtual ns, idle time
+//! skipped: the guest runs as fast as QEMU can execute it, which measures the path's capacity.
 //!
 //! QEMU is killed when the board is dropped (test failure included), and through
 //! `PR_SET_PDEATHSIG` when the thread that started it dies, so no run leaves a stray process.
@@ -36,6 +42,25 @@ pub fn build_elf() -> io::Result<PathBuf> {
     Ok(dir.join("target/thumbv7em-none-eabihf/release/qemu-mps2-an386"))
 }
 
+/// How QEMU's clock runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Clock {
+    /// Virtual time follows the host's clock.
+    RealTime,
+    /// `-icount shift=0,sleep=off`: deterministic instruction timing, idle periods skipped.
+    Virtual,
+}
+
+impl Clock {
+    /// `TACTILE_HIL_QEMU_CLOCK=virtual` selects [`Clock::Virtual`]; real time otherwise.
+    pub fn from_env() -> Self {
+        match std::env::var("TACTILE_HIL_QEMU_CLOCK").as_deref() {
+            Ok("virtual") => Self::Virtual,
+            _ => Self::RealTime,
+        }
+    }
+}
+
 /// A halted or running QEMU with the firmware.
 pub struct QemuBoard {
     child: Child,
@@ -46,9 +71,13 @@ pub struct QemuBoard {
 
 impl QemuBoard {
     /// Start QEMU halted with `elf` and UART0 on a new pty; returns once QEMU has named the pty.
-    pub fn spawn(elf: &Path) -> io::Result<Self> {
+    pub fn spawn(elf: &Path, clock: Clock) -> io::Result<Self> {
         let mut cmd = Command::new("qemu-system-arm");
-        cmd.args(["-machine", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-S"])
+        cmd.args(["-machine", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-S"]);
+        if clock == Clock::Virtual {
+            cmd.args(["-icount", "shift=0,sleep=off"]);
+        }
+        cmd
             .args(["-serial", "pty", "-monitor", "stdio"])
             .arg("-kernel")
             .arg(elf)
