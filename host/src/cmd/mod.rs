@@ -34,6 +34,9 @@ pub fn run(command: Command) -> anyhow::Result<()> {
 
 /// The exit code a library error asks for, if `cause` is one of ours. Each module that owns an
 /// error type adds its downcast here.
-pub fn exit_code_of(_cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+    if let Some(e) = cause.downcast_ref::<crate::recording::RecordingError>() {
+        return Some(e.exit_code());
+    }
     None
 }
