@@ -3,3 +3,5 @@
 
 #[cfg(feature = "std")]
 pub mod effects;
+#[cfg(feature = "std")]
+pub mod compression;
