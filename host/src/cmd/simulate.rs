@@ -1,8 +1,106 @@
-//! `tactile simulate`.
+//! `tactile simulate`: the baseline model's recording of the standard compression test
+//! (diagnosis-v1), optionally with catalogue effects and noise.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use sim::effects::Effect;
+
+use crate::diagnosis::standin::{self, HertzContact};
+use crate::diagnosis::synth::{simulate, Noise, SimSpec};
+use crate::recording::Recording;
 
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Inclination theta_p of the load axis from the fingertip axis, deg.
+    #[arg(long, allow_hyphen_values = true)]
+    pub contact_angle: f64,
+    /// Azimuth phi of the tilt plane from the chip's x axis, deg.
+    #[arg(long, allow_hyphen_values = true)]
+    pub azimuth: f64,
+    /// Load at which the rod stops and holds, N.
+    #[arg(long)]
+    pub peak_load: f64,
+    /// Output recording (recording-v1 CSV).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Sample rate, Hz [default: hardware/fingertip.toml test.sample_rate_hz].
+    #[arg(long)]
+    pub rate: Option<f64>,
+    /// Gel Young's modulus, Pa [default: hardware/fingertip.toml].
+    #[arg(long)]
+    pub modulus_pa: Option<f64>,
+    /// Repeat the compression cycle with these further peak loads, N.
+    #[arg(long = "then-peak-load")]
+    pub then_peak_load: Vec<f64>,
+    /// White noise on each output, V (standard deviation).
+    #[arg(long, default_value_t = 0.0)]
+    pub noise_v: f64,
+    /// White noise on the load cell, N.
+    #[arg(long, default_value_t = 0.0)]
+    pub noise_load_n: f64,
+    /// Noise seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Switch on a catalogue effect: `name:param=value,...`, e.g.
+    /// `viscoelastic_relaxation:tau_s=4,fraction=0.3`. Repeatable.
+    #[arg(long = "effect")]
+    pub effects: Vec<String>,
+    /// Amplifier gains Fz, Mx, My [default: the stand-in front end until hardware/frontend.toml].
+    #[arg(long, value_delimiter = ',', num_args = 3)]
+    pub gain: Option<Vec<f64>>,
+    /// Bridge excitation, V [default: the stand-in front end].
+    #[arg(long)]
+    pub excitation_v: Option<f64>,
+}
 
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`tactile simulate` is not available in this build yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let params = hardware::Params::load_default().context("loading hardware/")?;
+    let tip = &params.fingertip;
+    let effects = args
+        .effects
+        .iter()
+        .map(|s| Effect::from_spec(s).map_err(anyhow::Error::msg))
+        .collect::<anyhow::Result<Vec<_>>>()
+        .context("--effect")?;
+    anyhow::ensure!(args.peak_load > 0.0, "--peak-load must be positive");
+    let test = sim::compression::CompressionTest {
+        sample_rate_hz: args.rate.unwrap_or(tip.test.sample_rate_hz),
+        speed_mm_per_min: tip.test.rod_speed_mm_per_min,
+        hold_s: tip.test.hold_s,
+        return_speed_mm_per_min: tip.test.return_speed_mm_per_min,
+        recovery_s: tip.test.recovery_s,
+        ..Default::default()
+    };
+    let gain = match args.gain.as_deref() {
+        Some([a, b, c]) => [*a, *b, *c],
+        _ => standin::GAIN,
+    };
+    let fingertip = HertzContact {
+        radius_mm: tip.radius_mm,
+        poisson: tip.poisson,
+        contact_angle_deg: args.contact_angle,
+        azimuth_deg: args.azimuth,
+    };
+    let names: Vec<String> = effects.iter().map(|e| e.kind().name().to_string()).collect();
+    let spec = SimSpec {
+        fingertip: &fingertip,
+        front_end: standin::front_end(gain, args.excitation_v.unwrap_or(standin::EXCITATION_V)),
+        youngs_modulus_pa: args.modulus_pa.unwrap_or(tip.youngs_modulus_pa),
+        contact_angle_deg: args.contact_angle,
+        azimuth_deg: args.azimuth,
+        radius_mm: tip.radius_mm,
+        test,
+        peak_loads_n: std::iter::once(args.peak_load).chain(args.then_peak_load.iter().copied()).collect(),
+        effects,
+        noise: Noise { load_n: args.noise_load_n, volts: [args.noise_v; 3], temp_c: 0.0 },
+        seed: args.seed,
+        ambient_c: 25.0,
+        warm_up_rise_c: 5.0,
+        source: format!("tactile simulate (stand-in Hertz baseline); effects: [{}]", names.join(" ")),
+    };
+    let rec: Recording = simulate(&spec);
+    let file = std::fs::File::create(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    rec.write_to(file).with_context(|| format!("writing {}", args.out.display()))?;
+    Ok(())
 }

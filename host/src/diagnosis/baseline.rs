@@ -1,0 +1,233 @@
+//! The baseline model of a compression test: what the project predicts with no catalogue effect.
+//!
+//! rod travel -> [`FingertipResponse`] (probe force and chip loads per unit gel modulus; the
+//! neo-Hookean response scales linearly with E at fixed geometry) -> x E -> chip sensitivity,
+//! excitation and amplifier gains ([`FrontEnd`]) -> output volts. The catalogue effects of
+//! `sim::effects` slot in between (mechanical on loads, electrical on volts); see [`evaluate`].
+
+use sim::effects::Chain;
+
+/// Probe force and chip loads per pascal of gel modulus at one rod travel.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct UnitResponse {
+    /// Force along the rod axis, N/Pa.
+    pub force_n: f64,
+    /// Chip loads [Fz (N), Mx (N·m), My (N·m)] per Pa.
+    pub chip: [f64; 3],
+}
+
+/// A fingertip model: the quasi-static response to rod travel at unit modulus.
+pub trait FingertipResponse: Sync {
+    fn unit_response(&self, rod_mm: f64) -> UnitResponse;
+}
+
+/// A tabulated response (from the FE model or any other source), linear between points and
+/// zero before the first (no contact).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResponseTable {
+    rod_mm: Vec<f64>,
+    points: Vec<UnitResponse>,
+}
+
+impl ResponseTable {
+    /// `rod_mm` increasing, one point each.
+    pub fn new(rod_mm: Vec<f64>, points: Vec<UnitResponse>) -> Self {
+        assert_eq!(rod_mm.len(), points.len(), "one response per rod travel");
+        assert!(rod_mm.windows(2).all(|w| w[1] > w[0]), "rod travel must increase");
+        Self { rod_mm, points }
+    }
+
+    /// Tabulate any response on `n` even steps of `0..=max_rod_mm`.
+    pub fn sample(model: &dyn FingertipResponse, max_rod_mm: f64, n: usize) -> Self {
+        let rod: Vec<f64> = (0..n).map(|i| max_rod_mm * i as f64 / (n - 1) as f64).collect();
+        let points = rod.iter().map(|&d| model.unit_response(d)).collect();
+        Self::new(rod, points)
+    }
+}
+
+impl FingertipResponse for ResponseTable {
+    fn unit_response(&self, rod_mm: f64) -> UnitResponse {
+        let n = self.rod_mm.len();
+        if n == 0 || rod_mm <= self.rod_mm[0] {
+            return UnitResponse::default();
+        }
+        let i = self.rod_mm.partition_point(|&r| r <= rod_mm).min(n - 1).max(1);
+        let (r0, r1) = (self.rod_mm[i - 1], self.rod_mm[i]);
+        let u = ((rod_mm - r0) / (r1 - r0)).min(1.0);
+        let (a, b) = (self.points[i - 1], self.points[i]);
+        // Past the table's end, extrapolate along the last interval.
+        let u = if rod_mm > self.rod_mm[n - 1] { (rod_mm - r0) / (r1 - r0) } else { u };
+        UnitResponse {
+            force_n: a.force_n + u * (b.force_n - a.force_n),
+            chip: std::array::from_fn(|k| a.chip[k] + u * (b.chip[k] - a.chip[k])),
+        }
+    }
+}
+
+/// From chip loads to the volts at the ADC input.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrontEnd {
+    /// Bridge output per volt of excitation, per N (row Fz) or per N·m (rows Mx, My):
+    /// rows = bridges [Fz, Mx, My], columns = loads [Fz, Mx, My].
+    pub sensitivity_per_v: [[f64; 3]; 3],
+    /// Amplifier voltage gains [Fz, Mx, My].
+    pub gain: [f64; 3],
+    pub excitation_v: f64,
+}
+
+impl FrontEnd {
+    pub fn volts(&self, chip: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|b| {
+            let s = &self.sensitivity_per_v[b];
+            self.gain[b] * self.excitation_v * (s[0] * chip[0] + s[1] * chip[1] + s[2] * chip[2])
+        })
+    }
+}
+
+/// The baseline's free parameters, calibrated by the diagnosis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaselineParams {
+    pub youngs_modulus_pa: f64,
+    /// Change of the force–indentation exponent against the fingertip model's own.
+    pub exponent_shift: f64,
+    /// Sensitivity scale of the Fz channel against the nominal front end.
+    pub scale_fz: f64,
+    /// Sensitivity scale of both moment channels (identical bridges).
+    pub scale_moment: f64,
+    /// Azimuth correction: rotation of the moment vector, deg.
+    pub azimuth_shift_deg: f64,
+    /// Offsets of load_N, fz_V, mx_V, my_V.
+    pub offset: [f64; 4],
+}
+
+impl BaselineParams {
+    pub fn nominal(youngs_modulus_pa: f64) -> Self {
+        Self {
+            youngs_modulus_pa,
+            exponent_shift: 0.0,
+            scale_fz: 1.0,
+            scale_moment: 1.0,
+            azimuth_shift_deg: 0.0,
+            offset: [0.0; 4],
+        }
+    }
+}
+
+/// The drive of one evaluation: a time base and the unit response at each time.
+#[derive(Debug, Clone)]
+pub struct Drive {
+    pub t_s: Vec<f64>,
+    pub unit: Vec<UnitResponse>,
+    /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
+    ln_rel_rod: Vec<f64>,
+}
+
+impl Drive {
+    pub fn new(model: &dyn FingertipResponse, t_s: Vec<f64>, rod_mm: &[f64]) -> Self {
+        let rod_max = rod_mm.iter().cloned().fold(0.0, f64::max);
+        let unit = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
+        let ln_rel_rod = rod_mm
+            .iter()
+            .map(|&d| if d > 0.0 && rod_max > 0.0 { (d / rod_max).ln() } else { 0.0 })
+            .collect();
+        Self { t_s, unit, ln_rel_rod }
+    }
+
+    pub fn len(&self) -> usize {
+        self.t_s.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.t_s.is_empty()
+    }
+}
+
+/// Model output: load and the three output voltages on the drive's time base.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outputs {
+    pub load_n: Vec<f64>,
+    pub volts: [Vec<f64>; 3],
+}
+
+impl Outputs {
+    /// Channel `c` in contract order load_N, fz_V, mx_V, my_V.
+    pub fn channel(&self, c: usize) -> &[f64] {
+        if c == 0 { &self.load_n } else { &self.volts[c - 1] }
+    }
+}
+
+/// Run the baseline with `chain` switched on. `before_rails` is called on the volts after the
+/// offsets and before saturation (the simulator adds its noise there).
+pub fn evaluate(
+    drive: &Drive,
+    front_end: &FrontEnd,
+    p: &BaselineParams,
+    chain: &Chain,
+    contact_angle_deg: f64,
+    before_rails: Option<&mut dyn FnMut(&mut [Vec<f64>; 3])>,
+) -> Outputs {
+    let n = drive.len();
+    let mut load = Vec::with_capacity(n);
+    let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
+    for (u, &l) in drive.unit.iter().zip(&drive.ln_rel_rod) {
+        let w = p.youngs_modulus_pa * if p.exponent_shift != 0.0 { (p.exponent_shift * l).exp() } else { 1.0 };
+        load.push(u.force_n * w);
+        let (mx, my) = (u.chip[1] * w, u.chip[2] * w);
+        chip[0].push(u.chip[0] * w);
+        chip[1].push(mx * c - my * s);
+        chip[2].push(mx * s + my * c);
+    }
+    chain.apply_mechanical(&drive.t_s, &mut load, &mut chip, contact_angle_deg);
+    let scale = [p.scale_fz, p.scale_moment, p.scale_moment];
+    let mut volts: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+    for k in 0..n {
+        let v = front_end.volts([chip[0][k], chip[1][k], chip[2][k]]);
+        for b in 0..3 {
+            volts[b].push(v[b] * scale[b]);
+        }
+    }
+    chain.apply_electrical(&drive.t_s, &mut volts);
+    load.iter_mut().for_each(|f| *f += p.offset[0]);
+    for b in 0..3 {
+        volts[b].iter_mut().for_each(|v| *v += p.offset[b + 1]);
+    }
+    if let Some(f) = before_rails {
+        f(&mut volts);
+    }
+    chain.apply_saturation(&mut volts);
+    Outputs { load_n: load, volts }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Linear;
+    impl FingertipResponse for Linear {
+        fn unit_response(&self, rod_mm: f64) -> UnitResponse {
+            let d = rod_mm.max(0.0);
+            UnitResponse { force_n: d, chip: [d, -d, 0.5 * d] }
+        }
+    }
+
+    #[test]
+    fn table_interpolates_and_is_zero_before_contact() {
+        let t = ResponseTable::sample(&Linear, 10.0, 11);
+        assert_eq!(t.unit_response(-1.0), UnitResponse::default());
+        assert!((t.unit_response(3.5).force_n - 3.5).abs() < 1e-12);
+        assert!((t.unit_response(12.0).chip[2] - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn outputs_scale_linearly_with_modulus() {
+        let fe = FrontEnd { sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], gain: [2.0, 3.0, 3.0], excitation_v: 1.5 };
+        let drive = Drive::new(&Linear, vec![0.0, 1.0, 2.0], &[0.0, 1.0, 2.0]);
+        let chain = Chain::default();
+        let a = evaluate(&drive, &fe, &BaselineParams::nominal(1.0), &chain, 20.0, None);
+        let b = evaluate(&drive, &fe, &BaselineParams::nominal(2.0), &chain, 20.0, None);
+        assert_eq!(a.volts[0], vec![0.0, 3.0, 6.0]);
+        assert_eq!(b.volts[1], vec![0.0, -9.0, -18.0]);
+        assert_eq!(b.load_n[2], 4.0);
+    }
+}
