@@ -38,5 +38,8 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     if let Some(e) = cause.downcast_ref::<crate::recording::RecordingError>() {
         return Some(e.exit_code());
     }
+    if cause.downcast_ref::<crate::diagnosis::data::DataError>().is_some() {
+        return Some(crate::cli::exit::DATA);
+    }
     None
 }

@@ -5,3 +5,15 @@
 pub mod baseline;
 pub mod standin;
 pub mod synth;
+pub mod data;
+pub mod evidence;
+pub mod fit;
+pub mod lm;
+pub mod localise;
+pub mod mains;
+pub mod output;
+pub mod pipeline;
+pub mod regimes;
+
+pub use pipeline::{diagnose, Diagnosis, Options};
+pub mod report;
