@@ -1,13 +1,18 @@
 //! The recording as the diagnosis sees it: gaps dropped, the four compared channels, a noise
-//! estimate per channel, and a block-averaged copy at about 50 Hz for fitting slow dynamics
-//! (block averaging over 20 ms also cancels 50 Hz mains and its harmonics exactly).
+//! estimate per channel, and a block-averaged copy for fitting: 20 ms blocks (50 Hz) where the
+//! rod moves fast or changes speed, 200 ms blocks (5 Hz) where everything is slow. Blocks of
+//! whole mains periods also cancel 50 Hz pickup and its harmonics.
 
 use crate::recording::Recording;
 
 /// Compared channels, in contract order.
 pub const CHANNELS: [&str; 4] = ["load_N", "fz_V", "mx_V", "my_V"];
-/// Target rate of the decimated copy.
-pub const FIT_RATE_HZ: f64 = 50.0;
+/// Block length where the rod is fast or changes speed, and elsewhere.
+pub const FINE_BLOCK_S: f64 = 0.02;
+pub const COARSE_BLOCK_S: f64 = 0.2;
+/// Fine blocks this long before and after a change of rod speed, and after fast motion.
+const MARGIN_BEFORE_S: f64 = 0.5;
+const MARGIN_AFTER_S: f64 = 3.0;
 
 /// One rate's worth of the signals.
 #[derive(Debug, Clone, Default)]
@@ -17,6 +22,8 @@ pub struct Series {
     /// load_N, fz_V, mx_V, my_V.
     pub y: [Vec<f64>; 4],
     pub temp_c: Option<Vec<f64>>,
+    /// Full-rate samples behind each sample (1 at full rate).
+    pub count: Vec<usize>,
 }
 
 impl Series {
@@ -34,14 +41,10 @@ impl Series {
 pub struct Data {
     pub full: Series,
     pub fit: Series,
-    /// Samples per block of the decimated copy.
-    pub block: usize,
     /// Peak-to-peak range of each recorded channel (the contract's RMSE normaliser).
     pub range: [f64; 4],
     /// White-noise standard deviation of each channel at full rate.
     pub noise_full: [f64; 4],
-    /// The same after block averaging.
-    pub noise_fit: [f64; 4],
 }
 
 /// Why a recording cannot be analysed although it parsed.
@@ -71,29 +74,82 @@ impl Data {
             rod_mm: c.rod_mm.clone(),
             y: [c.load_n.clone(), c.fz_v.clone(), c.mx_v.clone(), c.my_v.clone()],
             temp_c: rec.temp_c.clone().filter(|t| t.iter().all(|v| v.is_finite())),
+            count: vec![1; c.len()],
         };
         let span = full.t_s[full.len() - 1] - full.t_s[0];
         let rate = if span > 0.0 { (full.len() - 1) as f64 / span } else { rec.meta.sample_rate_hz };
-        let block = ((rate / FIT_RATE_HZ).round() as usize).max(1);
-        let fit = decimate(&full, block);
+        let fine = ((rate * FINE_BLOCK_S).round() as usize).max(1);
+        let coarse = ((rate * COARSE_BLOCK_S).round() as usize).max(1);
+        let fast = fast_samples(&full.t_s, &full.rod_mm);
+        let fit = decimate(&full, &fast, fine, coarse);
         let range = std::array::from_fn(|k| peak_to_peak(&full.y[k]));
         let noise_full: [f64; 4] = std::array::from_fn(|k| difference_noise(&full.y[k]).max(1e-6 * range[k]).max(1e-12));
-        let noise_fit = std::array::from_fn(|k| noise_full[k] / (block as f64).sqrt());
-        Ok(Self { full, fit, block, range, noise_full, noise_fit })
+        Ok(Self { full, fit, range, noise_full })
+    }
+
+    /// Weight of decimated sample `k` of channel `c`: one over its noise level.
+    pub fn weight(&self, c: usize, k: usize) -> f64 {
+        (self.fit.count[k] as f64).sqrt() / self.noise_full[c]
     }
 }
 
-fn block_mean(x: &[f64], block: usize) -> Vec<f64> {
-    x.chunks(block).map(|c| c.iter().sum::<f64>() / c.len() as f64).collect()
+/// Samples near fast rod motion or a change of rod speed (need fine blocks).
+fn fast_samples(t_s: &[f64], rod_mm: &[f64]) -> Vec<bool> {
+    let n = t_s.len();
+    let window = 10.min(n - 1).max(1);
+    let v: Vec<f64> = (0..n)
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(window), (k + window).min(n - 1));
+            if t_s[b] > t_s[a] { (rod_mm[b] - rod_mm[a]) / (t_s[b] - t_s[a]) } else { 0.0 }
+        })
+        .collect();
+    let mut pos: Vec<f64> = v.iter().copied().filter(|&x| x > 0.0).collect();
+    let typical = if pos.is_empty() {
+        f64::INFINITY
+    } else {
+        let mid = pos.len() / 2;
+        *pos.select_nth_unstable_by(mid, f64::total_cmp).1
+    };
+    // Speed class: still, loading speed, fast.
+    let class = |x: f64| if x.abs() > 1.5 * typical { 2 } else if x.abs() > 0.5 * typical { 1 } else { 0 };
+    let mut fast = vec![false; n];
+    let mark = |from: f64, to: f64, fast: &mut Vec<bool>| {
+        let a = t_s.partition_point(|&t| t < from);
+        let b = t_s.partition_point(|&t| t <= to);
+        fast[a..b].iter_mut().for_each(|f| *f = true);
+    };
+    for k in 1..n {
+        let (c0, c1) = (class(v[k - 1]), class(v[k]));
+        if c0 != c1 {
+            mark(t_s[k] - MARGIN_BEFORE_S, t_s[k] + MARGIN_BEFORE_S, &mut fast);
+        }
+        if c1 == 2 {
+            mark(t_s[k] - MARGIN_BEFORE_S, t_s[k] + MARGIN_AFTER_S, &mut fast);
+        }
+    }
+    fast
 }
 
-/// Block means (the last, shorter block included).
-pub fn decimate(s: &Series, block: usize) -> Series {
+/// Block means, fine blocks where `fast`, coarse elsewhere; a block never straddles a change.
+pub fn decimate(s: &Series, fast: &[bool], fine: usize, coarse: usize) -> Series {
+    let mut bounds = Vec::new();
+    let mut k = 0;
+    while k < s.len() {
+        let len = if fast[k] { fine } else { coarse };
+        let mut end = (k + len).min(s.len());
+        if let Some(j) = (k + 1..end).find(|&j| fast[j] != fast[k]) {
+            end = j;
+        }
+        bounds.push((k, end));
+        k = end;
+    }
+    let mean = |x: &[f64]| bounds.iter().map(|&(a, b)| x[a..b].iter().sum::<f64>() / (b - a) as f64).collect::<Vec<f64>>();
     Series {
-        t_s: block_mean(&s.t_s, block),
-        rod_mm: block_mean(&s.rod_mm, block),
-        y: std::array::from_fn(|k| block_mean(&s.y[k], block)),
-        temp_c: s.temp_c.as_ref().map(|t| block_mean(t, block)),
+        t_s: mean(&s.t_s),
+        rod_mm: mean(&s.rod_mm),
+        y: std::array::from_fn(|c| mean(&s.y[c])),
+        temp_c: s.temp_c.as_ref().map(|t| mean(t)),
+        count: bounds.iter().map(|&(a, b)| s.count[a..b].iter().sum()).collect(),
     }
 }
 

@@ -59,7 +59,7 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
         Hysteresis => vec![spec("width", 0.0, 0.5, 1e-4, &[0.03], false)],
         HighpassCoupling => vec![spec("tau_s", ln(0.5), ln(5000.0), 1e-4, &[ln(10.0), ln(100.0)], true)],
         ThermalDrift => vec![
-            spec("amplitude_V", -5.0, 5.0, 1e-5, &[0.0], false),
+            spec("amplitude_V", -5.0, 5.0, 1e-5, &[1e-3], false),
             spec("tau_s", ln(1.0), ln(2000.0), 1e-4, &[ln(10.0), ln(60.0)], true),
         ],
         Stiffening => vec![spec("exponent", 0.3, 3.0, 1e-4, &[1.2], false)],
@@ -165,10 +165,9 @@ impl<'s, 'a> Model<'s, 'a> {
             if !s.used[c] {
                 continue;
             }
-            let w = 1.0 / s.data.noise_fit[c];
             let y = &s.data.fit.y[c];
             let model = m.channel(c);
-            out.extend((0..y.len()).filter(|&k| mask[k]).map(|k| (y[k] - model[k]) * w));
+            out.extend((0..y.len()).filter(|&k| mask[k]).map(|k| (y[k] - model[k]) * s.data.weight(c, k)));
         }
     }
 

@@ -46,11 +46,18 @@ pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
         iterations = it + 1;
         jacobian(problem, &p, &r, opt, &mut jac);
         let (jtj, jtr) = normal_equations(&jac, &r);
+        // A parameter with no influence here (a zero column) gets a unit diagonal, so it stays
+        // put instead of making the system singular.
+        let floor = 1e-12 * (0..m).map(|i| jtj[i][i]).fold(0.0, f64::max);
         let mut improved = false;
         for _ in 0..12 {
             let mut a = jtj.clone();
             for i in 0..m {
-                a[i][i] += lambda * jtj[i][i].max(1e-12);
+                if jtj[i][i] <= floor {
+                    a[i][i] = 1.0;
+                } else {
+                    a[i][i] += lambda * jtj[i][i];
+                }
             }
             let Some(delta) = solve_linear(a, jtr.iter().map(|v| -v).collect()) else {
                 lambda *= 10.0;

@@ -194,7 +194,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     let channels = channel_localisation(&data, &base_dec, &residual);
     let chosen_dec = chosen.model.outputs(&chosen.fitted.full, &setup.drive);
     let white_after = (0..4).filter(|&c| used[c]).all(|c| {
-        let r = diff(&data.fit.y[c], chosen_dec.channel(c));
+        let r = weighted(&data, c, &diff(&data.fit.y[c], chosen_dec.channel(c)));
         localise::ljung_box(&r, LB_LAGS).1 > LB_P
     });
 
@@ -286,6 +286,11 @@ fn fit_pairs<'s, 'a>(setup: &'s Setup<'a>, singles: &[Candidate<'s, 'a>], bar: &
     out
 }
 
+/// Residual in noise units (uniform variance across fine and coarse blocks).
+fn weighted(data: &Data, c: usize, r: &[f64]) -> Vec<f64> {
+    r.iter().enumerate().map(|(k, v)| v * data.weight(c, k)).collect()
+}
+
 fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
 }
@@ -372,7 +377,7 @@ fn channel_localisation(data: &Data, base: &Outputs, residual: &[Vec<f64>; 4]) -
         .filter(|&c| data.range[c] > 10.0 * data.noise_full[c])
         .map(|c| {
             let r = &residual[c];
-            let (q, p) = localise::ljung_box(r, LB_LAGS);
+            let (q, p) = localise::ljung_box(&weighted(data, c, r), LB_LAGS);
             ChannelLocalisation {
                 channel: CHANNELS[c],
                 ljung_box_q: q,
