@@ -17,3 +17,4 @@ pub mod regimes;
 
 pub use pipeline::{diagnose, Diagnosis, Options};
 pub mod report;
+pub mod prove;
