@@ -10,13 +10,21 @@
 //! assert!(params.fingertip.radius_mm > 0.0);
 //! ```
 
+mod adc;
+mod board;
+mod chip;
 mod fingertip;
+mod frontend;
 pub mod reader;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+pub use adc::{Adc, Crc, NOISE_TABLE_GAINS, NOISE_TABLE_OSR};
+pub use board::{Board, ClockSource};
+pub use chip::{Bridge as ChipBridge, Chip, Resistor as ChipResistor, ARM_NAMES, BRIDGE_NAMES};
 pub use fingertip::{CompressionTest, Fingertip};
+pub use frontend::{AntiAlias, Bridge, Frontend, GainStage, InAmp, TempSensor, Trim, BRIDGES};
 pub use reader::Reader;
 
 /// Every parameter of the sensor, loaded from one `hardware/` folder.
@@ -25,6 +33,14 @@ pub use reader::Reader;
 pub struct Params {
     /// The gel hemisphere, its mount, the rod and the standard compression test.
     pub fingertip: Fingertip,
+    /// The silicon cross-beam chip, its piezoresistors and bridges.
+    pub chip: Chip,
+    /// Bridges' mismatch, trim DAC, amplifiers, anti-alias RC, temperature sensor.
+    pub frontend: Frontend,
+    /// The ADS131M04's configuration and datasheet figures.
+    pub adc: Adc,
+    /// The NUCLEO-F411RE pin map.
+    pub board: Board,
 }
 
 impl Params {
@@ -45,8 +61,16 @@ impl Params {
     pub fn load(dir: &Path) -> Result<Self, LoadError> {
         let mut errors = Vec::new();
         let fingertip = collect(Fingertip::load(&dir.join("fingertip.toml")), &mut errors);
-        match fingertip {
-            Some(fingertip) if errors.is_empty() => Ok(Self { fingertip }),
+        let chip = collect(Chip::load(&dir.join("chip.toml")), &mut errors);
+        let frontend = collect(Frontend::load(&dir.join("frontend.toml")), &mut errors);
+        let adc = collect(Adc::load(&dir.join("adc.toml")), &mut errors);
+        let board = collect(Board::load(&dir.join("board.toml")), &mut errors);
+        match (fingertip, chip, frontend, adc, board) {
+            (Some(fingertip), Some(chip), Some(frontend), Some(adc), Some(board))
+                if errors.is_empty() =>
+            {
+                Ok(Self { fingertip, chip, frontend, adc, board })
+            }
             _ => Err(LoadError(errors)),
         }
     }

@@ -103,3 +103,48 @@ fn cross_key_rule_is_enforced() {
     assert_eq!(e.key, "package.inclusion_radius_mm");
     assert!(matches!(e.kind, ParamErrorKind::Invalid(_)));
 }
+
+#[test]
+fn chip_beams_must_leave_a_frame_inside_the_footprint() {
+    let dir = folder_with("chip.toml", |t| {
+        t.replace("beam_length_um = 400.0", "beam_length_um = 950.0")
+    });
+    let err = Params::load(&dir).expect_err("beams wider than the die must be refused");
+    let e = err.0.iter().find(|e| e.key == "geometry.beam_length_um").expect("span rule");
+    assert!(matches!(e.kind, ParamErrorKind::Invalid(_)), "{e}");
+    assert!(e.to_string().contains("leaves no frame"), "{e}");
+}
+
+#[test]
+fn chip_resistor_must_fit_on_its_beam() {
+    let dir = folder_with("chip.toml", |t| {
+        t.replacen(
+            "r1 = { beam = \"A\", x_um = 375.0,",
+            "r1 = { beam = \"A\", x_um = 395.0,",
+            1,
+        )
+    });
+    let e = only_error(&dir);
+    assert_eq!(e.key, "bridge.fz.r1.x_um");
+    assert!(matches!(e.kind, ParamErrorKind::Invalid(_)), "{e}");
+}
+
+#[test]
+fn chip_bridge_must_be_balanced_at_zero_stress() {
+    let dir = folder_with("chip.toml", |t| {
+        t.replace("fixed_ohm = [0.0, 0.0, 10000.0, 10000.0]", "fixed_ohm = [0.0, 0.0, 10000.0, 12000.0]")
+    });
+    let e = only_error(&dir);
+    assert_eq!(e.key, "bridge.fz.fixed_ohm");
+    assert!(e.to_string().contains("not balanced"), "{e}");
+}
+
+#[test]
+fn chip_bridge_arm_must_not_be_empty() {
+    let dir = folder_with("chip.toml", |t| {
+        t.replace("fixed_ohm = [0.0, 0.0, 10000.0, 10000.0]", "fixed_ohm = [0.0, 0.0, 0.0, 0.0]")
+    });
+    let e = only_error(&dir);
+    assert_eq!(e.key, "bridge.fz");
+    assert!(e.to_string().contains("every arm"), "{e}");
+}

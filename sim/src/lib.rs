@@ -2,6 +2,11 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 
 #[cfg(feature = "std")]
+pub mod link;
+
+pub mod frontend;
+
+#[cfg(feature = "std")]
 pub mod effects;
 #[cfg(feature = "std")]
 pub mod compression;

@@ -41,5 +41,11 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     if cause.downcast_ref::<crate::diagnosis::data::DataError>().is_some() {
         return Some(crate::cli::exit::DATA);
     }
+    if cause.is::<::chip::from_hardware::FromHardwareError>() || cause.is::<hardware::LoadError>() {
+        return Some(crate::cli::exit::DATA);
+    }
+    if let Some(e) = cause.downcast_ref::<crate::calibration::CalibrationError>() {
+        return Some(crate::cli::ExitStatus::exit_code(e));
+    }
     None
 }
