@@ -6,13 +6,21 @@ use host::diagnosis::prove::{markdown, run, Plan, Summary};
 #[test]
 fn concealed_effects_are_found_blind() {
     let hw = hardware::Params::load_default().expect("hardware/ loads");
-    let plan = Plan { seed: 8, sample_rate_hz: 500.0, no_effect: 6, per_effect: 3, poisson: hw.fingertip.poisson, radius_mm: hw.fingertip.radius_mm };
+    let plan = Plan {
+        seed: 8,
+        sample_rate_hz: 500.0,
+        no_effect: 6,
+        per_effect: 3,
+        radius_mm: hw.fingertip.radius_mm,
+        options: host::diagnosis::Options::from_hardware(&hw, false).unwrap(),
+        front_end: host::diagnosis::baseline::FrontEnd::from_hardware(&hw).unwrap(),
+    };
     let cases = plan.generate();
     assert!(cases.len() >= 40);
     for kind in sim::effects::EffectKind::ALL {
         assert!(cases.iter().filter(|c| c.truth.iter().any(|e| e.kind() == kind)).count() >= 3, "{}", kind.name());
     }
-    let scores = run(&cases, plan.poisson);
+    let scores = run(&cases, &plan.options);
     let s = Summary::of(&scores);
     println!("{}", markdown(&scores, &s));
     assert!(s.correct_share >= 0.9, "effect set right in {:.0} %", 100.0 * s.correct_share);

@@ -25,7 +25,7 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let rec = crate::recording::read(&args.recording)?;
     let hw = hardware::Params::load_default().context("loading hardware/")?;
-    let opt = Options { poisson: hw.fingertip.poisson, progress: !args.quiet && std::io::stderr().is_terminal() };
+    let opt = Options::from_hardware(&hw, !args.quiet && std::io::stderr().is_terminal())?;
     let name = args.recording.display().to_string();
     let d = diagnose(&rec, &name, &opt).with_context(|| format!("{name}"))?;
     let json = serde_json::to_string_pretty(&d.report).context("encoding the diagnosis")?;

@@ -6,6 +6,8 @@ use std::time::Instant;
 
 use anyhow::Context;
 
+use crate::diagnosis::baseline::FrontEnd;
+use crate::diagnosis::Options;
 use crate::diagnosis::prove::{csv, markdown, run as score, summary_svg, Plan, Summary};
 
 #[derive(Debug, clap::Args)]
@@ -37,8 +39,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         sample_rate_hz: args.rate,
         no_effect: args.no_effect,
         per_effect: args.per_effect,
-        poisson: hw.fingertip.poisson,
         radius_mm: hw.fingertip.radius_mm,
+        options: Options::from_hardware(&hw, false)?,
+        front_end: FrontEnd::from_hardware(&hw)?,
     };
     let started = Instant::now();
     let cases = plan.generate();
@@ -51,7 +54,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             c.recording.write_to(file).with_context(|| format!("writing {}", path.display()))?;
         }
     }
-    let scores = score(&cases, plan.poisson);
+    let scores = score(&cases, &plan.options);
     let summary = Summary::of(&scores);
     let table = markdown(&scores, &summary);
     println!("{table}");

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use anyhow::Context;
 use sim::effects::Effect;
 
-use crate::diagnosis::standin::{self, HertzContact};
+use crate::diagnosis::baseline::FrontEnd;
+use crate::diagnosis::standin::HertzContact;
 use crate::diagnosis::synth::{simulate, Noise, SimSpec};
 use crate::recording::Recording;
 
@@ -46,10 +47,10 @@ pub struct Args {
     /// `viscoelastic_relaxation:tau_s=4,fraction=0.3`. Repeatable.
     #[arg(long = "effect")]
     pub effects: Vec<String>,
-    /// Amplifier gains Fz, Mx, My [default: the stand-in front end until hardware/frontend.toml].
+    /// Amplifier gains Fz,Mx,My [default: the amplifier chain of hardware/frontend.toml].
     #[arg(long, value_delimiter = ',', num_args = 3)]
     pub gain: Option<Vec<f64>>,
-    /// Bridge excitation, V [default: the stand-in front end].
+    /// Bridge excitation, V [default: hardware/chip.toml].
     #[arg(long)]
     pub excitation_v: Option<f64>,
 }
@@ -72,20 +73,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         recovery_s: tip.test.recovery_s,
         ..Default::default()
     };
+    let nominal = FrontEnd::from_hardware(&params)?;
     let gain = match args.gain.as_deref() {
         Some([a, b, c]) => [*a, *b, *c],
-        _ => standin::GAIN,
+        _ => nominal.gain,
     };
+    let front_end = FrontEnd::from_chip(&params, gain, args.excitation_v.unwrap_or(nominal.excitation_v))?;
     let fingertip = HertzContact {
         radius_mm: tip.radius_mm,
         poisson: tip.poisson,
         contact_angle_deg: args.contact_angle,
         azimuth_deg: args.azimuth,
+        lever_mm: params.chip.pillar_height_um * 1e-3,
     };
     let names: Vec<String> = effects.iter().map(|e| e.kind().name().to_string()).collect();
     let spec = SimSpec {
         fingertip: &fingertip,
-        front_end: standin::front_end(gain, args.excitation_v.unwrap_or(standin::EXCITATION_V)),
+        front_end,
         youngs_modulus_pa: args.modulus_pa.unwrap_or(tip.youngs_modulus_pa),
         contact_angle_deg: args.contact_angle,
         azimuth_deg: args.azimuth,

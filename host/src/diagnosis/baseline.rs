@@ -76,6 +76,24 @@ pub struct FrontEnd {
 }
 
 impl FrontEnd {
+    /// The chip's sensitivity matrix (the `chip` crate's beam and bridge model of
+    /// `hardware/chip.toml`) per volt of its excitation; gains and excitation as given (the
+    /// recording's metadata when diagnosing).
+    pub fn from_chip(hw: &hardware::Params, gain: [f64; 3], excitation_v: f64) -> Result<Self, chip::from_hardware::FromHardwareError> {
+        let params = chip::params::ChipParams::try_from(&hw.chip)?;
+        let s = chip::sensitivity_matrix(&params);
+        let per_v = s.map(|row| row.map(|v| v / hw.chip.excitation_v));
+        Ok(Self { sensitivity_per_v: per_v, gain, excitation_v })
+    }
+
+    /// Everything from `hardware/`: the chip's sensitivities, the amplifier chain's DC gains
+    /// (`sim::frontend`, from `frontend.toml`) and the bridge excitation of `chip.toml`.
+    pub fn from_hardware(hw: &hardware::Params) -> Result<Self, chip::from_hardware::FromHardwareError> {
+        let fe = sim::frontend::FrontEnd::from_params(hw);
+        let gain = std::array::from_fn(|i| fe.channels[i].gain());
+        Self::from_chip(hw, gain, hw.chip.excitation_v)
+    }
+
     pub fn volts(&self, chip: [f64; 3]) -> [f64; 3] {
         std::array::from_fn(|b| {
             let s = &self.sensitivity_per_v[b];

@@ -7,7 +7,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use sim::effects::EffectKind;
 
-use super::baseline::{Drive, Outputs};
+use super::baseline::{Drive, FrontEnd, Outputs};
 use super::data::{Data, DataError, CHANNELS};
 use super::fit::{initial_baseline, physical, stderr, Fitted, Model, Setup, N_BASE};
 use super::localise::{self, ChannelLocalisation};
@@ -17,13 +17,29 @@ use super::regimes::{self, Segment};
 use super::standin::{self, HertzContact};
 use crate::recording::Recording;
 
-/// Knobs of a run.
+/// Knobs of a run and the project's model parameters the recording does not carry.
 #[derive(Debug, Clone)]
 pub struct Options {
     /// Poisson's ratio of the gel (from `hardware/fingertip.toml`).
     pub poisson: f64,
+    /// Height of the tangential load's line of action above the chip (the pillar, chip.toml).
+    pub lever_mm: f64,
+    /// The chip's bridge output per volt of excitation per unit load (the `chip` crate).
+    pub sensitivity_per_v: [[f64; 3]; 3],
     /// Show a progress bar.
     pub progress: bool,
+}
+
+impl Options {
+    pub fn from_hardware(hw: &hardware::Params, progress: bool) -> Result<Self, chip::from_hardware::FromHardwareError> {
+        let fe = super::baseline::FrontEnd::from_chip(hw, [1.0; 3], hw.chip.excitation_v)?;
+        Ok(Self {
+            poisson: hw.fingertip.poisson,
+            lever_mm: hw.chip.pillar_height_um * 1e-3,
+            sensitivity_per_v: fe.sensitivity_per_v,
+            progress,
+        })
+    }
 }
 
 /// Minimum BIC decrease for an effect to count (strong evidence, Kass & Raftery 1995).
@@ -102,12 +118,13 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         poisson: opt.poisson,
         contact_angle_deg: meta.contact_angle_deg,
         azimuth_deg: meta.azimuth_deg,
+        lever_mm: opt.lever_mm,
     };
     let used: [bool; 4] = std::array::from_fn(|c| data.range[c] > 10.0 * data.noise_full[c]);
     let setup = Setup {
         data: &data,
         drive: Drive::new(&fingertip, fit_t.clone(), &data.fit.rod_mm),
-        front_end: standin::front_end([meta.gain_fz, meta.gain_mx, meta.gain_my], meta.excitation_v),
+        front_end: FrontEnd { sensitivity_per_v: opt.sensitivity_per_v, gain: [meta.gain_fz, meta.gain_mx, meta.gain_my], excitation_v: meta.excitation_v },
         contact_angle_deg: meta.contact_angle_deg,
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,

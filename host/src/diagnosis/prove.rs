@@ -9,7 +9,7 @@ use sim::effects::{Effect, EffectKind};
 
 use super::baseline::Drive;
 use super::pipeline::{diagnose, Options};
-use super::standin::{self, HertzContact};
+use super::standin::HertzContact;
 use super::synth::{simulate, Gaussian, Noise, SimSpec};
 use crate::recording::Recording;
 
@@ -42,8 +42,11 @@ pub struct Plan {
     pub sample_rate_hz: f64,
     pub no_effect: usize,
     pub per_effect: usize,
-    pub poisson: f64,
     pub radius_mm: f64,
+    /// The project's model parameters (the diagnosis gets them too; the recording carries the
+    /// gains and excitation in its metadata).
+    pub options: Options,
+    pub front_end: super::baseline::FrontEnd,
 }
 
 /// The two-effect cases: viscoelastic relaxation with AC coupling (the paper's observations)
@@ -83,8 +86,8 @@ impl Plan {
         let low_snr = id % 4 == 3;
         let volts_noise = if low_snr { u(8e-3, 12e-3) } else { u(1e-3, 3e-3) };
         let load_noise = if low_snr { 0.1 } else { 0.02 };
-        let fingertip = HertzContact { radius_mm: self.radius_mm, poisson: self.poisson, contact_angle_deg, azimuth_deg };
-        let front_end = standin::front_end(standin::GAIN, standin::EXCITATION_V);
+        let fingertip = HertzContact { radius_mm: self.radius_mm, poisson: self.options.poisson, contact_angle_deg, azimuth_deg, lever_mm: self.options.lever_mm };
+        let front_end = self.front_end;
         let test = CompressionTest { sample_rate_hz: self.sample_rate_hz, recovery_s: 45.0, ..Default::default() };
         let peak_output = peak_output_v(&fingertip, &front_end, modulus, peak, &test);
         let truth: Vec<Effect> = kinds.iter().map(|&k| k.with_params(&random_params(k, &mut u, peak_output))).collect();
@@ -138,13 +141,12 @@ fn random_params(kind: EffectKind, u: &mut impl FnMut(f64, f64) -> f64, peak_out
 }
 
 /// Diagnose every case blind and score it.
-pub fn run(cases: &[Case], poisson: f64) -> Vec<Score> {
-    let opt = Options { poisson, progress: false };
+pub fn run(cases: &[Case], opt: &Options) -> Vec<Score> {
     cases
         .par_iter()
         .map(|case| {
             let name = format!("prove-{:02}.csv", case.id);
-            let d = diagnose(&case.recording, &name, &opt).map(|d| d.report);
+            let d = diagnose(&case.recording, &name, opt).map(|d| d.report);
             score(case, d.ok())
         })
         .collect()
