@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use sim::effects::Effect;
 
-use crate::diagnosis::baseline::FrontEnd;
+use crate::diagnosis::baseline::{BaselineParams, FrontEnd};
 use crate::diagnosis::standin::HertzContact;
 use crate::diagnosis::synth::{simulate, Noise, SimSpec};
 use crate::recording::Recording;
@@ -90,7 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let spec = SimSpec {
         fingertip: &fingertip,
         front_end,
-        youngs_modulus_pa: args.modulus_pa.unwrap_or(tip.youngs_modulus_pa),
+        baseline: BaselineParams::nominal(args.modulus_pa.unwrap_or(tip.youngs_modulus_pa)),
         contact_angle_deg: args.contact_angle,
         azimuth_deg: args.azimuth,
         radius_mm: tip.radius_mm,

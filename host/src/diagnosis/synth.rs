@@ -21,7 +21,9 @@ pub struct Noise {
 pub struct SimSpec<'a> {
     pub fingertip: &'a dyn FingertipResponse,
     pub front_end: FrontEnd,
-    pub youngs_modulus_pa: f64,
+    /// The truth's baseline: modulus, and the deviations from the nominal model (exponent,
+    /// sensitivities, azimuth, offsets) that a real sensor has and the diagnosis must calibrate.
+    pub baseline: BaselineParams,
     pub contact_angle_deg: f64,
     pub azimuth_deg: f64,
     pub radius_mm: f64,
@@ -42,7 +44,7 @@ const MAX_ROD_MM: f64 = 60.0;
 
 /// Run the baseline (plus effects and noise) through the standard test.
 pub fn simulate(spec: &SimSpec) -> Recording {
-    let force_at = |d: f64| spec.fingertip.unit_response(d).force_n * spec.youngs_modulus_pa;
+    let force_at = |d: f64| spec.fingertip.unit_response(d).force_n * spec.baseline.youngs_modulus_pa;
     let turns: Vec<f64> = spec.peak_loads_n.iter().map(|&l| rod_at_load(force_at, l, MAX_ROD_MM)).collect();
     let history = spec.test.rod_history(&turns);
     let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm);
@@ -54,8 +56,7 @@ pub fn simulate(spec: &SimSpec) -> Recording {
             ch.iter_mut().for_each(|x| *x += noise.volts[b] * rng.next());
         }
     };
-    let params = BaselineParams::nominal(spec.youngs_modulus_pa);
-    let out = evaluate(&drive, &spec.front_end, &params, &chain, spec.contact_angle_deg, Some(&mut add_noise));
+    let out = evaluate(&drive, &spec.front_end, &spec.baseline, &chain, spec.contact_angle_deg, Some(&mut add_noise));
     let load_n = out.load_n.iter().map(|f| f + noise.load_n * rng.next()).collect();
     let warm_up = spec.effects.iter().find_map(|e| match e {
         Effect::ThermalDrift(d) => Some(*d),
