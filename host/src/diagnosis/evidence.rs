@@ -45,6 +45,10 @@ pub fn sentence(kind: EffectKind, params: &Numbers, bic_gain: f64, heldout_gain:
             "Coulomb friction (mu = {:.2}) at the inclined contact makes the moments stick at the reversal and lag the load while Fz stays smooth.",
             p("mu")),
     };
+    let what = match params.get("tau2_s") {
+        Some(tau2) => format!("{what} A second relaxation term of {:.0} % with tau = {:.2} s shows that the relaxation spans more than one time scale.", 100.0 * p("fraction2"), tau2),
+        None => what,
+    };
     if bic_gain.is_finite() && heldout_gain.is_finite() {
         format!("{what} (BIC lower by {:.0}; {:.0} % of the held-out misfit removed.)", bic_gain, 100.0 * heldout_gain)
     } else {

@@ -116,6 +116,12 @@ impl<'s, 'a> Model<'s, 'a> {
         }
     }
 
+    /// The starting values of parameter `j` of effect number `effect` (internal units).
+    pub fn starts_mut(&mut self, effect: usize, j: usize) -> &mut Vec<f64> {
+        let first = N_BASE + self.kinds[..effect].iter().map(|k| k.param_names().len()).sum::<usize>();
+        &mut self.specs[first + j].starts
+    }
+
     pub fn specs(&self) -> &[ParamSpec] {
         &self.specs
     }

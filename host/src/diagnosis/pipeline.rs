@@ -282,9 +282,13 @@ fn fit_pairs<'s, 'a>(setup: &'s Setup<'a>, singles: &[Candidate<'s, 'a>], bar: &
             pairs.push((top[i].min(top[j]), top[i].max(top[j])));
         }
     }
-    let ve_hp = (EffectKind::ViscoelasticRelaxation, EffectKind::HighpassCoupling);
-    if !pairs.contains(&ve_hp) {
-        pairs.push(ve_hp);
+    // Viscoelastic relaxation with AC coupling mimics the original observations; two Prony
+    // terms cover a gel whose relaxation spans decades.
+    let ve = EffectKind::ViscoelasticRelaxation;
+    for pair in [(ve, EffectKind::HighpassCoupling), (ve, ve)] {
+        if !pairs.contains(&pair) {
+            pairs.push(pair);
+        }
     }
     let out = pairs
         .par_iter()
@@ -294,7 +298,15 @@ fn fit_pairs<'s, 'a>(setup: &'s Setup<'a>, singles: &[Candidate<'s, 'a>], bar: &
             let better = if sa.bic < sb.bic { sa } else { sb };
             let mut model = Model::new(setup, &[a, b], &better.fitted.full[..N_BASE]);
             model.seed(0, &sa.fitted.full[N_BASE..]);
-            model.seed(1, &sb.fitted.full[N_BASE..]);
+            if a == b {
+                // Second Prony term: a decade apart on either side of the single term's tau.
+                let ln_tau = sa.fitted.full[N_BASE];
+                *model.starts_mut(0, 0) = vec![ln_tau];
+                *model.starts_mut(1, 0) = vec![ln_tau + 10f64.ln(), ln_tau - 10f64.ln()];
+                *model.starts_mut(1, 1) = vec![0.1];
+            } else {
+                model.seed(1, &sb.fitted.full[N_BASE..]);
+            }
             let c = Candidate::new(model, EFFECT_ITERATIONS);
             bar.inc(1);
             c
@@ -435,7 +447,7 @@ fn effect_reports(chosen: &Candidate, base: &Candidate, data: &Data) -> Vec<Effe
     model.weighted(full, &model.setup.fit_mask, &mut r);
     let rho = localise::lag1(&r);
     let mut i = N_BASE;
-    let mut out = Vec::new();
+    let mut out: Vec<EffectReport> = Vec::new();
     for &kind in &chosen.kinds {
         let mut params = Numbers::default();
         let mut errs = Numbers::default();
@@ -445,6 +457,22 @@ fn effect_reports(chosen: &Candidate, base: &Candidate, data: &Data) -> Vec<Effe
                 errs.push(name, se);
             }
             i += 1;
+        }
+        // A second Prony term joins the first as `tau2_s`, `fraction2`; the larger share leads.
+        if let Some(first) = out.iter_mut().find(|e| e.name == kind.name()) {
+            let (mut a, mut b) = ((first.params.clone(), first.param_stderr.clone()), (params, errs));
+            if b.0.get("fraction") > a.0.get("fraction") {
+                std::mem::swap(&mut a, &mut b);
+            }
+            for (src, dst) in [(&b.0, &mut a.0), (&b.1, &mut a.1)] {
+                for (k, v) in src.0.clone() {
+                    dst.push(&format!("{}2{}", k.trim_end_matches("_s"), if k.ends_with("_s") { "_s" } else { "" }), v);
+                }
+            }
+            first.params = a.0;
+            first.param_stderr = a.1;
+            first.evidence = super::evidence::sentence(kind, &first.params, base.bic - chosen.bic, 1.0 - chosen.heldout_chi2 / base.heldout_chi2.max(1e-300), data);
+            continue;
         }
         let gain = 1.0 - chosen.heldout_chi2 / base.heldout_chi2.max(1e-300);
         out.push(EffectReport {
