@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use sim::effects::Effect;
 
-use crate::diagnosis::baseline::{BaselineParams, FrontEnd};
+use crate::diagnosis::baseline::{smoother_tau_s, BaselineParams, FrontEnd, SMOOTHER_KEY};
 use crate::diagnosis::standin::HertzContact;
 use crate::diagnosis::synth::{simulate, Noise, SimSpec};
 use crate::recording::Recording;
@@ -50,6 +50,10 @@ pub struct Args {
     /// Amplifier gains Fz,Mx,My [default: the amplifier chain of hardware/frontend.toml].
     #[arg(long, value_delimiter = ',', num_args = 3)]
     pub gain: Option<Vec<f64>>,
+    /// The firmware's first-order smoother y += alpha (x - y) on the outputs (written to the
+    /// recording's metadata as `firmware_smoother_alpha`) [default: off].
+    #[arg(long)]
+    pub smoother_alpha: Option<f64>,
     /// Bridge excitation, V [default: hardware/chip.toml].
     #[arg(long)]
     pub excitation_v: Option<f64>,
@@ -78,7 +82,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some([a, b, c]) => [*a, *b, *c],
         _ => nominal.gain,
     };
-    let front_end = FrontEnd::from_chip(&params, gain, args.excitation_v.unwrap_or(nominal.excitation_v))?;
+    let mut front_end = FrontEnd::from_chip(&params, gain, args.excitation_v.unwrap_or(nominal.excitation_v))?;
+    if let Some(alpha) = args.smoother_alpha {
+        anyhow::ensure!(alpha > 0.0 && alpha < 1.0, "--smoother-alpha must lie in (0, 1)");
+        front_end.smoother_tau_s = smoother_tau_s(alpha, test.sample_rate_hz);
+    }
     let fingertip = HertzContact {
         radius_mm: tip.radius_mm,
         poisson: tip.poisson,
@@ -103,7 +111,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         warm_up_rise_c: 5.0,
         source: format!("tactile simulate (stand-in Hertz baseline); effects: [{}]", names.join(" ")),
     };
-    let rec: Recording = simulate(&spec);
+    let mut rec: Recording = simulate(&spec);
+    if let Some(alpha) = args.smoother_alpha {
+        rec.meta.other.push((SMOOTHER_KEY.to_string(), alpha.to_string()));
+    }
     let file = std::fs::File::create(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     rec.write_to(file).with_context(|| format!("writing {}", args.out.display()))?;
     Ok(())

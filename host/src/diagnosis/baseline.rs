@@ -73,6 +73,19 @@ pub struct FrontEnd {
     /// Amplifier voltage gains [Fz, Mx, My].
     pub gain: [f64; 3],
     pub excitation_v: f64,
+    /// Time constant of the firmware's first-order smoother y += alpha (x - y), if it is on:
+    /// tau = dt (1 - alpha) / alpha (see [`smoother_tau_s`]).
+    pub smoother_tau_s: Option<f64>,
+}
+
+/// The metadata key (this project's own; the contract keeps unknown keys) that records the
+/// firmware smoother's alpha.
+pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
+
+/// The smoother y[k] = y[k-1] + alpha (x[k] - y[k-1]) at `sample_rate_hz` as a first-order
+/// low-pass: its step response e^{-k ln(1/(1-alpha))} gives tau = dt / ln(1 / (1 - alpha)).
+pub fn smoother_tau_s(alpha: f64, sample_rate_hz: f64) -> Option<f64> {
+    (alpha > 0.0 && alpha < 1.0).then(|| 1.0 / sample_rate_hz / (1.0 / (1.0 - alpha)).ln())
 }
 
 impl FrontEnd {
@@ -83,7 +96,7 @@ impl FrontEnd {
         let params = chip::params::ChipParams::try_from(&hw.chip)?;
         let s = chip::sensitivity_matrix(&params);
         let per_v = s.map(|row| row.map(|v| v / hw.chip.excitation_v));
-        Ok(Self { sensitivity_per_v: per_v, gain, excitation_v })
+        Ok(Self { sensitivity_per_v: per_v, gain, excitation_v, smoother_tau_s: None })
     }
 
     /// Everything from `hardware/`: the chip's sensitivities, the amplifier chain's DC gains
@@ -214,6 +227,15 @@ pub fn evaluate(
         f(&mut volts);
     }
     chain.apply_saturation(&mut volts);
+    if let Some(tau_s) = front_end.smoother_tau_s {
+        // Low-pass = input minus its high-pass, integrated exactly on any time base.
+        let hp = sim::effects::HighpassCoupling { tau_s };
+        for v in volts.iter_mut() {
+            let mut h = v.clone();
+            hp.apply(&drive.t_s, &mut h);
+            v.iter_mut().zip(h).for_each(|(x, h)| *x -= h);
+        }
+    }
     Outputs { load_n: load, volts }
 }
 
@@ -229,6 +251,18 @@ mod tests {
         }
     }
 
+    /// The recursive smoother and its continuous equivalent agree on a step.
+    #[test]
+    fn smoother_time_constant() {
+        let (alpha, rate) = (0.2, 1000.0);
+        let tau = smoother_tau_s(alpha, rate).unwrap();
+        let mut y = 0.0;
+        for _ in 0..10 {
+            y += alpha * (1.0 - y);
+        }
+        assert!((y - (1.0 - (-10.0 / rate / tau).exp())).abs() < 1e-12);
+    }
+
     #[test]
     fn table_interpolates_and_is_zero_before_contact() {
         let t = ResponseTable::sample(&Linear, 10.0, 11);
@@ -239,7 +273,7 @@ mod tests {
 
     #[test]
     fn outputs_scale_linearly_with_modulus() {
-        let fe = FrontEnd { sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], gain: [2.0, 3.0, 3.0], excitation_v: 1.5 };
+        let fe = FrontEnd { sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], gain: [2.0, 3.0, 3.0], excitation_v: 1.5, smoother_tau_s: None };
         let drive = Drive::new(&Linear, vec![0.0, 1.0, 2.0], &[0.0, 1.0, 2.0]);
         let chain = Chain::default();
         let a = evaluate(&drive, &fe, &BaselineParams::nominal(1.0), &chain, 20.0, None);

@@ -45,6 +45,9 @@ pub struct Data {
     pub range: [f64; 4],
     /// White-noise standard deviation of each channel at full rate.
     pub noise_full: [f64; 4],
+    /// Lag-1 correlation of that noise (0 for white; the firmware smoother or an anti-alias
+    /// filter colour it), modelled as AR(1).
+    pub noise_rho: [f64; 4],
 }
 
 /// Why a recording cannot be analysed although it parsed.
@@ -83,13 +86,27 @@ impl Data {
         let fast = fast_samples(&full.t_s, &full.rod_mm);
         let fit = decimate(&full, &fast, fine, coarse);
         let range = std::array::from_fn(|k| peak_to_peak(&full.y[k]));
-        let noise_full: [f64; 4] = std::array::from_fn(|k| difference_noise(&full.y[k]).max(1e-6 * range[k]).max(1e-12));
-        Ok(Self { full, fit, range, noise_full })
+        let noise_rho: [f64; 4] = std::array::from_fn(|k| noise_correlation(&full.y[k]));
+        let noise_full: [f64; 4] = std::array::from_fn(|k| {
+            // Second differences of AR(1) noise have variance sigma^2 (6 - 8 rho + 2 rho^2).
+            let r = noise_rho[k];
+            let white = difference_noise(&full.y[k]) * (6.0 / (6.0 - 8.0 * r + 2.0 * r * r)).sqrt();
+            white.max(1e-6 * range[k]).max(1e-12)
+        });
+        Ok(Self { full, fit, range, noise_full, noise_rho })
     }
 
     /// Weight of decimated sample `k` of channel `c`: one over its noise level.
     pub fn weight(&self, c: usize, k: usize) -> f64 {
-        (self.fit.count[k] as f64).sqrt() / self.noise_full[c]
+        let n = self.fit.count[k] as f64;
+        let r = self.noise_rho[c];
+        // Variance of the mean of n AR(1) samples over sigma^2 / n.
+        let inflation = if r > 0.0 {
+            ((1.0 + r) / (1.0 - r) - 2.0 * r * (1.0 - r.powf(n)) / (n * (1.0 - r).powi(2))).max(1.0)
+        } else {
+            1.0
+        };
+        (n / inflation).sqrt() / self.noise_full[c]
     }
 }
 
@@ -158,6 +175,17 @@ pub fn peak_to_peak(x: &[f64]) -> f64 {
     if hi >= lo { hi - lo } else { 0.0 }
 }
 
+/// Lag-1 correlation rho of AR(1) noise from first differences, which remove slow signal: for
+/// AR(1) noise corr(d[k], d[k-1]) = -(1 - rho) / 2. Clamped to [0, 0.99].
+pub fn noise_correlation(x: &[f64]) -> f64 {
+    if x.len() < 4 {
+        return 0.0;
+    }
+    let d: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    let c = super::localise::lag1(&d);
+    (1.0 + 2.0 * c).clamp(0.0, 0.99)
+}
+
 /// White-noise level from second differences, which cancel any signal that is smooth on the
 /// sample scale: var(x[k+1] - 2x[k] + x[k-1]) = 6 sigma^2. The median absolute value (scaled
 /// for a normal law) keeps fast transients and clipping from inflating it.
@@ -181,5 +209,17 @@ mod tests {
         let x: Vec<f64> = (0..50_000).map(|k| (k as f64 * 1e-3).sin() * 5.0 + 0.01 * g.next()).collect();
         let s = difference_noise(&x);
         assert!((s / 0.01 - 1.0).abs() < 0.03, "{s}");
+        assert!(noise_correlation(&x) < 0.02);
+    }
+
+    #[test]
+    fn ar1_correlation_is_recovered() {
+        let mut g = super::super::synth::Gaussian::new(4);
+        let mut e = 0.0;
+        let x: Vec<f64> = (0..100_000).map(|_| {
+            e = 0.8 * e + g.next();
+            e
+        }).collect();
+        assert!((noise_correlation(&x) - 0.8).abs() < 0.02);
     }
 }

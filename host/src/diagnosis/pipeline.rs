@@ -124,7 +124,17 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     let setup = Setup {
         data: &data,
         drive: Drive::new(&fingertip, fit_t.clone(), &data.fit.rod_mm),
-        front_end: FrontEnd { sensitivity_per_v: opt.sensitivity_per_v, gain: [meta.gain_fz, meta.gain_mx, meta.gain_my], excitation_v: meta.excitation_v },
+        front_end: FrontEnd {
+            sensitivity_per_v: opt.sensitivity_per_v,
+            gain: [meta.gain_fz, meta.gain_mx, meta.gain_my],
+            excitation_v: meta.excitation_v,
+            smoother_tau_s: meta
+                .other
+                .iter()
+                .find(|(k, _)| k == super::baseline::SMOOTHER_KEY)
+                .and_then(|(_, v)| v.trim().parse::<f64>().ok())
+                .and_then(|alpha| super::baseline::smoother_tau_s(alpha, meta.sample_rate_hz)),
+        },
         contact_angle_deg: meta.contact_angle_deg,
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,
@@ -315,9 +325,23 @@ fn fit_pairs<'s, 'a>(setup: &'s Setup<'a>, singles: &[Candidate<'s, 'a>], bar: &
     out
 }
 
-/// Residual in noise units (uniform variance across fine and coarse blocks).
+/// Residual in noise units, re-binned to the coarse block length (fine blocks summed in
+/// groups): whiteness is judged on the time scales the models describe, and noise coloured
+/// on the scale of a few samples (smoother, anti-alias filter) does not count as structure.
 fn weighted(data: &Data, c: usize, r: &[f64]) -> Vec<f64> {
-    r.iter().enumerate().map(|(k, v)| v * data.weight(c, k)).collect()
+    let target = data.fit.count.iter().copied().max().unwrap_or(1);
+    let mut out = Vec::new();
+    let (mut sum, mut m, mut count) = (0.0, 0usize, 0usize);
+    for (k, v) in r.iter().enumerate() {
+        sum += v * data.weight(c, k);
+        m += 1;
+        count += data.fit.count[k];
+        if count >= target {
+            out.push(sum / (m as f64).sqrt());
+            (sum, m, count) = (0.0, 0, 0);
+        }
+    }
+    out
 }
 
 fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
