@@ -175,15 +175,34 @@ pub fn peak_to_peak(x: &[f64]) -> f64 {
     if hi >= lo { hi - lo } else { 0.0 }
 }
 
-/// Lag-1 correlation rho of AR(1) noise from first differences, which remove slow signal: for
-/// AR(1) noise corr(d[k], d[k-1]) = -(1 - rho) / 2. Clamped to [0, 0.99].
+/// Lag-1 correlation rho of AR(1) noise from second differences, which cancel any signal that
+/// is smooth on the sample scale. For AR(1) noise (autocovariance sigma^2 rho^h) the lag-1
+/// correlation of d[k] = e[k] - 2 e[k-1] + e[k-2] is
+/// (-4 + 7 rho - 4 rho^2 + rho^3) / (6 - 8 rho + 2 rho^2), -2/3 for white noise, rising with
+/// rho; inverted by bisection. Clamped to [0, 0.99].
 pub fn noise_correlation(x: &[f64]) -> f64 {
-    if x.len() < 4 {
+    if x.len() < 5 {
         return 0.0;
     }
-    let d: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    let d: Vec<f64> = x.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
     let c = super::localise::lag1(&d);
-    (1.0 + 2.0 * c).clamp(0.0, 0.99)
+    let model = |r: f64| (-4.0 + 7.0 * r - 4.0 * r * r + r * r * r) / (6.0 - 8.0 * r + 2.0 * r * r);
+    let (mut lo, mut hi) = (0.0, 0.99);
+    if c <= model(lo) {
+        return 0.0;
+    }
+    if c >= model(hi) {
+        return hi;
+    }
+    for _ in 0..50 {
+        let mid = 0.5 * (lo + hi);
+        if model(mid) < c {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// White-noise level from second differences, which cancel any signal that is smooth on the
