@@ -58,7 +58,7 @@ fn coloured_noise(rec: &mut Recording, rho: f64, sigma: f64) {
     for ch in [&mut rec.channels.fz_v, &mut rec.channels.mx_v, &mut rec.channels.my_v] {
         let mut e = 0.0;
         for v in ch.iter_mut() {
-            e = rho * e + (1.0 - rho * rho).sqrt() * sigma * g.next();
+            e = rho * e + (1.0 - rho * rho).sqrt() * sigma * g.normal();
             *v += e;
         }
     }

@@ -27,7 +27,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let hw = hardware::Params::load_default().context("loading hardware/")?;
     let opt = Options::from_hardware(&hw, !args.quiet && std::io::stderr().is_terminal())?;
     let name = args.recording.display().to_string();
-    let d = diagnose(&rec, &name, &opt).with_context(|| format!("{name}"))?;
+    let d = diagnose(&rec, &name, &opt).with_context(|| name.clone())?;
     let json = serde_json::to_string_pretty(&d.report).context("encoding the diagnosis")?;
     std::fs::write(&args.json, json + "\n").with_context(|| format!("writing {}", args.json.display()))?;
     if let Some(dir) = &args.report {

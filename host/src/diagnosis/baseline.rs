@@ -187,6 +187,9 @@ impl Outputs {
     }
 }
 
+/// A hook on the output volts just ahead of the amplifier rails.
+pub type RailHook<'h> = &'h mut dyn FnMut(&mut [Vec<f64>; 3]);
+
 /// Run the baseline with `chain` switched on. `before_rails` is called on the volts after the
 /// offsets and before saturation (the simulator adds its noise there).
 pub fn evaluate(
@@ -195,7 +198,7 @@ pub fn evaluate(
     p: &BaselineParams,
     chain: &Chain,
     contact_angle_deg: f64,
-    before_rails: Option<&mut dyn FnMut(&mut [Vec<f64>; 3])>,
+    before_rails: Option<RailHook>,
 ) -> Outputs {
     let n = drive.len();
     let mut load = Vec::with_capacity(n);
@@ -212,16 +215,17 @@ pub fn evaluate(
     chain.apply_mechanical(&drive.t_s, &mut load, &mut chip, contact_angle_deg);
     let scale = [p.scale_fz, p.scale_moment, p.scale_moment];
     let mut volts: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
-    for k in 0..n {
-        let v = front_end.volts([chip[0][k], chip[1][k], chip[2][k]]);
-        for b in 0..3 {
-            volts[b].push(v[b] * scale[b]);
+    let [fz, mx, my] = &chip;
+    for ((&a, &b), &c) in fz.iter().zip(mx).zip(my) {
+        let v = front_end.volts([a, b, c]);
+        for ((out, v), s) in volts.iter_mut().zip(v).zip(scale) {
+            out.push(v * s);
         }
     }
     chain.apply_electrical(&drive.t_s, &mut volts);
     load.iter_mut().for_each(|f| *f += p.offset[0]);
-    for b in 0..3 {
-        volts[b].iter_mut().for_each(|v| *v += p.offset[b + 1]);
+    for (out, offset) in volts.iter_mut().zip(&p.offset[1..]) {
+        out.iter_mut().for_each(|v| *v += offset);
     }
     if let Some(f) = before_rails {
         f(&mut volts);

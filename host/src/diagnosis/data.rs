@@ -225,7 +225,7 @@ mod tests {
     #[test]
     fn difference_noise_recovers_sigma_under_a_slow_signal() {
         let mut g = super::super::synth::Gaussian::new(3);
-        let x: Vec<f64> = (0..50_000).map(|k| (k as f64 * 1e-3).sin() * 5.0 + 0.01 * g.next()).collect();
+        let x: Vec<f64> = (0..50_000).map(|k| (k as f64 * 1e-3).sin() * 5.0 + 0.01 * g.normal()).collect();
         let s = difference_noise(&x);
         assert!((s / 0.01 - 1.0).abs() < 0.03, "{s}");
         assert!(noise_correlation(&x) < 0.02);
@@ -236,7 +236,7 @@ mod tests {
         let mut g = super::super::synth::Gaussian::new(4);
         let mut e = 0.0;
         let x: Vec<f64> = (0..100_000).map(|_| {
-            e = 0.8 * e + g.next();
+            e = 0.8 * e + g.normal();
             e
         }).collect();
         assert!((noise_correlation(&x) - 0.8).abs() < 0.02);

@@ -264,9 +264,9 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
     let drive = &setup.drive;
     let ls = |x: &dyn Fn(usize) -> f64, y: &[f64]| {
         let (mut sxy, mut sxx) = (0.0, 0.0);
-        for k in 0..y.len() {
+        for (k, yk) in y.iter().enumerate() {
             if setup.fit_mask[k] {
-                sxy += x(k) * y[k];
+                sxy += x(k) * yk;
                 sxx += x(k) * x(k);
             }
         }

@@ -169,9 +169,9 @@ mod tests {
     #[test]
     fn ljung_box_accepts_noise_and_rejects_a_ramp() {
         let mut g = super::super::synth::Gaussian::new(11);
-        let noise: Vec<f64> = (0..5000).map(|_| g.next()).collect();
+        let noise: Vec<f64> = (0..5000).map(|_| g.normal()).collect();
         assert!(ljung_box(&noise, 20).1 > 0.01);
-        let smooth: Vec<f64> = (0..5000).map(|k| (k as f64 * 0.01).sin() + 0.1 * g.next()).collect();
+        let smooth: Vec<f64> = (0..5000).map(|k| (k as f64 * 0.01).sin() + 0.1 * g.normal()).collect();
         assert!(ljung_box(&smooth, 20).1 < 1e-6);
     }
 

@@ -129,7 +129,7 @@ mod tests {
     fn finds_a_line_off_the_scan_grid() {
         let t: Vec<f64> = (0..60_000).map(|k| k as f64 * 1e-3).collect();
         let mut g = super::super::synth::Gaussian::new(5);
-        let r: Vec<f64> = t.iter().map(|t| 0.01 * (TAU * 50.03 * t + 0.4).sin() + 0.01 * g.next()).collect();
+        let r: Vec<f64> = t.iter().map(|t| 0.01 * (TAU * 50.03 * t + 0.4).sin() + 0.01 * g.normal()).collect();
         let line = find_line(&t, &[&r], &vec![true; t.len()], 1000.0).unwrap();
         assert!((line.freq_hz - 50.03).abs() < 3e-3, "{}", line.freq_hz);
         assert!((line.amplitude() - 0.01).abs() < 5e-4);

@@ -53,11 +53,11 @@ pub fn simulate(spec: &SimSpec) -> Recording {
     let noise = spec.noise;
     let mut add_noise = |v: &mut [Vec<f64>; 3]| {
         for (b, ch) in v.iter_mut().enumerate() {
-            ch.iter_mut().for_each(|x| *x += noise.volts[b] * rng.next());
+            ch.iter_mut().for_each(|x| *x += noise.volts[b] * rng.normal());
         }
     };
     let out = evaluate(&drive, &spec.front_end, &spec.baseline, &chain, spec.contact_angle_deg, Some(&mut add_noise));
-    let load_n = out.load_n.iter().map(|f| f + noise.load_n * rng.next()).collect();
+    let load_n = out.load_n.iter().map(|f| f + noise.load_n * rng.normal()).collect();
     let warm_up = spec.effects.iter().find_map(|e| match e {
         Effect::ThermalDrift(d) => Some(*d),
         _ => None,
@@ -65,7 +65,7 @@ pub fn simulate(spec: &SimSpec) -> Recording {
     let temp_c = history
         .t_s
         .iter()
-        .map(|&t| spec.ambient_c + warm_up.map_or(0.0, |d| spec.warm_up_rise_c * d.warm_up(t)) + noise.temp_c * rng.next())
+        .map(|&t| spec.ambient_c + warm_up.map_or(0.0, |d| spec.warm_up_rise_c * d.warm_up(t)) + noise.temp_c * rng.normal())
         .collect();
     let [fz_v, mx_v, my_v] = out.volts;
     let fe = &spec.front_end;
@@ -112,7 +112,8 @@ impl Gaussian {
         ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
     }
 
-    pub fn next(&mut self) -> f64 {
+    /// A standard normal deviate.
+    pub fn normal(&mut self) -> f64 {
         if let Some(s) = self.spare.take() {
             return s;
         }
@@ -131,7 +132,7 @@ mod tests {
     #[test]
     fn gaussian_has_unit_variance() {
         let mut g = Gaussian::new(7);
-        let x: Vec<f64> = (0..100_000).map(|_| g.next()).collect();
+        let x: Vec<f64> = (0..100_000).map(|_| g.normal()).collect();
         let mean = x.iter().sum::<f64>() / x.len() as f64;
         let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / x.len() as f64;
         assert!(mean.abs() < 0.01 && (var - 1.0).abs() < 0.02, "{mean} {var}");

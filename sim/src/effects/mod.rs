@@ -257,15 +257,13 @@ impl Chain {
     /// The electronics, on the output volts [fz, mx, my], ahead of offsets and noise.
     pub fn apply_electrical(&self, t_s: &[f64], volts: &mut [Vec<f64>; 3]) {
         for e in &self.effects {
-            match e {
-                Effect::BridgeNonlinearity(b) => volts.iter_mut().for_each(|v| b.apply(v)),
-                _ => {}
+            if let Effect::BridgeNonlinearity(b) = e {
+                volts.iter_mut().for_each(|v| b.apply(v));
             }
         }
         for e in &self.effects {
-            match e {
-                Effect::TimeOffset(d) => volts.iter_mut().for_each(|v| d.apply(t_s, v)),
-                _ => {}
+            if let Effect::TimeOffset(d) = e {
+                volts.iter_mut().for_each(|v| d.apply(t_s, v));
             }
         }
         for e in &self.effects {
