@@ -37,6 +37,23 @@ impl ResponseTable {
         Self { rod_mm, points }
     }
 
+    /// From a quasi-static curve computed at modulus `youngs_modulus_pa` (e.g. the `fingertip`
+    /// FE's `Curve::points`: rod_mm, force_n, fz_n, mx_nm, my_nm), divided by that modulus: the
+    /// neo-Hookean response scales linearly with E at fixed geometry. Points must have
+    /// increasing rod travel; repeated travels (a hold) keep the first.
+    pub fn from_curve(points: impl IntoIterator<Item = (f64, f64, [f64; 3])>, youngs_modulus_pa: f64) -> Self {
+        let mut rod = Vec::new();
+        let mut out = Vec::new();
+        for (rod_mm, force_n, chip) in points {
+            if rod.last().is_some_and(|&r: &f64| rod_mm <= r) {
+                continue;
+            }
+            rod.push(rod_mm);
+            out.push(UnitResponse { force_n: force_n / youngs_modulus_pa, chip: chip.map(|c| c / youngs_modulus_pa) });
+        }
+        Self::new(rod, out)
+    }
+
     /// Tabulate any response on `n` even steps of `0..=max_rod_mm`.
     pub fn sample(model: &dyn FingertipResponse, max_rod_mm: f64, n: usize) -> Self {
         let rod: Vec<f64> = (0..n).map(|i| max_rod_mm * i as f64 / (n - 1) as f64).collect();
@@ -273,6 +290,14 @@ mod tests {
         assert_eq!(t.unit_response(-1.0), UnitResponse::default());
         assert!((t.unit_response(3.5).force_n - 3.5).abs() < 1e-12);
         assert!((t.unit_response(12.0).chip[2] - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn table_from_a_curve_is_per_unit_modulus() {
+        let pts = [(0.0, 0.0, [0.0; 3]), (1.0, 2e4, [1e4, 0.0, 5e3]), (1.0, 2e4, [1e4, 0.0, 5e3]), (2.0, 6e4, [3e4, -1e3, 1e4])];
+        let t = ResponseTable::from_curve(pts, 1e4);
+        let u = t.unit_response(1.5);
+        assert!((u.force_n - 4.0).abs() < 1e-12 && (u.chip[0] - 2.0).abs() < 1e-12);
     }
 
     #[test]

@@ -5,8 +5,8 @@ use sim::effects::EffectKind;
 use super::data::Data;
 use super::output::Numbers;
 
-/// The sentence for `kind` with its fitted `params`; `bic_gain` and `heldout_gain` (share of
-/// the held-out misfit removed) quantify the evidence where known.
+/// The sentence for `kind` with its fitted `params`; `bic_gain` and `heldout_gain` (held-out
+/// chi-square without the effect over with it) quantify the evidence where known.
 pub fn sentence(kind: EffectKind, params: &Numbers, bic_gain: f64, heldout_gain: f64, _data: &Data) -> String {
     let p = |k: &str| params.get(k).unwrap_or(f64::NAN);
     use EffectKind::*;
@@ -50,7 +50,10 @@ pub fn sentence(kind: EffectKind, params: &Numbers, bic_gain: f64, heldout_gain:
         None => what,
     };
     if bic_gain.is_finite() && heldout_gain.is_finite() {
-        format!("{what} (BIC lower by {:.0}; {:.0} % of the held-out misfit removed.)", bic_gain, 100.0 * heldout_gain)
+        format!(
+            "{what} (Against the model without it: BIC lower by {:.0}, held-out misfit {:.1} times smaller.)",
+            bic_gain, heldout_gain
+        )
     } else {
         what
     }

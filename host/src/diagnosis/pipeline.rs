@@ -225,7 +225,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         localise::ljung_box(&r, LB_LAGS).1 > LB_P
     });
 
-    let mut effects = effect_reports(chosen, &base, &data);
+    let mut effects = effect_reports(chosen, &base, &singles, &data);
     if let Some(line) = &mains {
         effects.push(mains_report(line, &data));
     }
@@ -464,7 +464,13 @@ fn baseline_params(base: &Candidate) -> Numbers {
     n
 }
 
-fn effect_reports(chosen: &Candidate, base: &Candidate, data: &Data) -> Vec<EffectReport> {
+/// The model without effect number `i` of `chosen`: the baseline or the other single.
+fn without<'c, 's, 'a>(chosen: &'c Candidate<'s, 'a>, i: usize, base: &'c Candidate<'s, 'a>, singles: &'c [Candidate<'s, 'a>]) -> &'c Candidate<'s, 'a> {
+    let rest: Vec<EffectKind> = chosen.kinds.iter().enumerate().filter(|(j, _)| *j != i).map(|(_, k)| *k).collect();
+    singles.iter().find(|c| c.kinds == rest).unwrap_or(base)
+}
+
+fn effect_reports(chosen: &Candidate, base: &Candidate, singles: &[Candidate], data: &Data) -> Vec<EffectReport> {
     let model = &chosen.model;
     let full = &chosen.fitted.full;
     let mut r = Vec::new();
@@ -472,7 +478,10 @@ fn effect_reports(chosen: &Candidate, base: &Candidate, data: &Data) -> Vec<Effe
     let rho = localise::lag1(&r);
     let mut i = N_BASE;
     let mut out: Vec<EffectReport> = Vec::new();
-    for &kind in &chosen.kinds {
+    for (index, &kind) in chosen.kinds.iter().enumerate() {
+        let sub = without(chosen, index, base, singles);
+        let bic_gain = sub.bic - chosen.bic;
+        let heldout_gain = sub.heldout_chi2 / chosen.heldout_chi2.max(1e-300);
         let mut params = Numbers::default();
         let mut errs = Numbers::default();
         for name in kind.param_names() {
@@ -495,14 +504,14 @@ fn effect_reports(chosen: &Candidate, base: &Candidate, data: &Data) -> Vec<Effe
             }
             first.params = a.0;
             first.param_stderr = a.1;
-            first.evidence = super::evidence::sentence(kind, &first.params, base.bic - chosen.bic, 1.0 - chosen.heldout_chi2 / base.heldout_chi2.max(1e-300), data);
+            first.evidence = super::evidence::sentence(kind, &first.params, base.bic - chosen.bic, base.heldout_chi2 / chosen.heldout_chi2.max(1e-300), data);
+            let _ = (bic_gain, heldout_gain);
             continue;
         }
-        let gain = 1.0 - chosen.heldout_chi2 / base.heldout_chi2.max(1e-300);
         out.push(EffectReport {
             name: kind.name().to_string(),
             channels: kind.channels().iter().map(|c| c.to_string()).collect(),
-            evidence: super::evidence::sentence(kind, &params, base.bic - chosen.bic, gain, data),
+            evidence: super::evidence::sentence(kind, &params, bic_gain, heldout_gain, data),
             params,
             param_stderr: errs,
             catalogue: None,

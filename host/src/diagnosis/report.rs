@@ -116,11 +116,12 @@ fn timeline_svg(d: &Diagnosis) -> String {
         let (a, b) = (p.t_s[seg.start], p.t_s[(seg.end).min(p.t_s.len() - 1)]);
         let _ = write!(s, "<rect x='{:.1}' y='20' width='{:.1}' height='20' fill='{colour}'><title>{}</title></rect>", x(a), (x(b) - x(a)).max(0.5), seg.regime.name());
     }
-    let _ = write!(s, "<text x='{PAD}' y='15'>regimes (rest grey, loading red, hold orange, release green, recovery blue); bars: share of the baseline misfit per channel</text>");
+    let _ = write!(s, "<text x='{PAD}' y='15'>regimes (rest grey, loading red, hold orange, release green, recovery blue); bars: share of the baseline misfit per channel and window (tallest = largest share)</text>");
+    let max_share = d.report.mismatches.iter().map(|m| m.share).fold(1e-12, f64::max);
     for m in &d.report.mismatches {
         let row = CHANNELS.iter().position(|c| *c == m.channel).unwrap_or(0) as f64;
         let top = 60.0 + row * 38.0;
-        let h = 34.0 * m.share.min(1.0);
+        let h = 34.0 * (m.share / max_share).min(1.0);
         let _ = write!(s, "<rect x='{:.1}' y='{:.1}' width='{:.1}' height='{h:.1}' fill='#c33'><title>{} {} {:.0} %</title></rect>", x(m.t_start_s), top + 34.0 - h, (x(m.t_end_s) - x(m.t_start_s)).max(1.0), m.channel, m.regime, 100.0 * m.share);
     }
     for (i, c) in CHANNELS.iter().enumerate() {
