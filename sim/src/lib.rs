@@ -11,3 +11,7 @@ pub mod pillar;
 pub mod temperature;
 #[cfg(feature = "std")]
 pub mod chain;
+#[cfg(feature = "std")]
+pub mod effects;
+#[cfg(feature = "std")]
+pub mod compression;
