@@ -8,6 +8,13 @@
 //! register-level ADC emulation ([`crate::ads131m04`]) and follows the trim DAC the firmware
 //! writes, so the firmware's real drivers run against it.
 //!
+//! Effects of the catalogue (`crate::effects`, `shared/contracts/diagnosis-v1.md`) are off by
+//! default; [`Chain::with_effects`] switches a set on. Their operators need a run's whole history
+//! (peak-normalised, hysteretic), so the run is computed once on a time grid: the chip loads go
+//! through the mechanical effects, the resulting offset-cut signal volts through the electrical
+//! ones and the rails; what the effects add is stored per grid point and added to the live chain,
+//! which keeps following the trim DAC.
+//!
 //! Time: conversion `n` happens at `t0 + (n - n0) T`; when the firmware changes the data rate,
 //! the owner calls [`Chain::retime`] so the load history keeps running in seconds.
 //! Dynamics are quasi-static: the amplifiers' (3.5 kHz) and the RC's (16 kHz) bandwidths are far
@@ -95,6 +102,27 @@ pub struct Chain<H> {
     /// Trim-DAC codes of the three bridge channels (MCP4728 A..C).
     pub dac_codes: [u32; CHANNELS],
     noise: Option<Noise>,
+    effects: Option<EffectRun>,
+}
+
+/// A run with effects, on a grid `t = k dt`: the load cell's reading and the volts the effects
+/// add to each bridge channel.
+struct EffectRun {
+    dt_s: f64,
+    load_n: Vec<f64>,
+    added_v: [Vec<f64>; CHANNELS],
+}
+
+impl EffectRun {
+    fn at(&self, series: &[f64], t_s: f64) -> f64 {
+        let x = (t_s / self.dt_s).max(0.0);
+        let k = x.floor() as usize;
+        match (series.get(k), series.get(k + 1)) {
+            (Some(a), Some(b)) => a + (b - a) * (x - k as f64),
+            (Some(a), None) => *a,
+            _ => series.last().copied().unwrap_or(0.0),
+        }
+    }
 }
 
 impl<H: LoadHistory> Chain<H> {
@@ -112,6 +140,7 @@ impl<H: LoadHistory> Chain<H> {
             history,
             dac_codes: [mid; CHANNELS],
             noise: None,
+            effects: None,
         })
     }
 
@@ -119,6 +148,46 @@ impl<H: LoadHistory> Chain<H> {
     pub fn with_noise(mut self, seed: u64) -> Self {
         self.noise = Some(Noise { rng: ChaCha8Rng::seed_from_u64(seed), rms_v: self.noise_rms_v() });
         self
+    }
+
+    /// Switch the catalogue's `effects` on for a run of `duration_s` on a grid of `dt_s` (after
+    /// it, the last point holds). `contact_angle_deg` is the load's inclination (contact
+    /// friction depends on it). Computed at the current trim codes; the effects' share does not
+    /// depend on them (the front end is linear around its operating point).
+    pub fn with_effects(mut self, effects: &crate::effects::Chain, contact_angle_deg: f64, duration_s: f64, dt_s: f64) -> Self {
+        self.effects = None;
+        let n = (duration_s / dt_s).ceil() as usize + 1;
+        let t: Vec<f64> = (0..n).map(|k| k as f64 * dt_s).collect();
+        let mut load_n: Vec<f64> = t.iter().map(|&t| self.contact(t).load_n).collect();
+        let loads: Vec<Load> = t.iter().map(|&t| self.chip_load(t)).collect();
+        let mut chip: [Vec<f64>; 3] = core::array::from_fn(|i| loads.iter().map(|l| l.to_array()[i]).collect());
+        let clean: Vec<[f64; CHANNELS]> = loads.iter().map(|&l| self.signal_v(l)).collect();
+        effects.apply_mechanical(&t, &mut load_n, &mut chip, contact_angle_deg);
+        let mut volts: [Vec<f64>; CHANNELS] = core::array::from_fn(|_| Vec::with_capacity(n));
+        for k in 0..n {
+            let v = self.signal_v(Load::new(chip[0][k], chip[1][k], chip[2][k]));
+            (0..CHANNELS).for_each(|i| volts[i].push(v[i]));
+        }
+        effects.apply_electrical(&t, &mut volts);
+        effects.apply_saturation(&mut volts);
+        let added_v = core::array::from_fn(|i| (0..n).map(|k| volts[i][k] - clean[k][i]).collect());
+        self.effects = Some(EffectRun { dt_s, load_n, added_v });
+        self
+    }
+
+    /// The load cell's reading at `t_s`, with the gel's effects when switched on.
+    pub fn load_n(&self, t_s: f64) -> f64 {
+        match &self.effects {
+            Some(run) => run.at(&run.load_n, t_s),
+            None => self.contact(t_s).load_n,
+        }
+    }
+
+    /// Offset-cut volts at the ADC inputs for a chip load: loaded minus unloaded, same trim.
+    pub fn signal_v(&self, load: Load) -> [f64; CHANNELS] {
+        let loaded = self.adc_input_v(self.arms_ohm(load));
+        let rest = self.adc_input_v(self.arms_ohm(Load::default()));
+        core::array::from_fn(|i| loaded[i] - rest[i])
     }
 
     /// Noise at each ADC input, V rms, at the ADC's configured data rate.
@@ -161,9 +230,12 @@ impl<H: LoadHistory> Chain<H> {
         self.warmup.sensor_v(&self.front_end.temperature, t_s)
     }
 
-    /// Noise-free volts at the four ADC inputs at `t_s`.
+    /// Noise-free volts at the four ADC inputs at `t_s` (effects included when on).
     pub fn clean_v(&self, t_s: f64) -> [f64; 4] {
-        let bridges = self.adc_input_v(self.arms_ohm(self.chip_load(t_s)));
+        let mut bridges = self.adc_input_v(self.arms_ohm(self.chip_load(t_s)));
+        if let Some(run) = &self.effects {
+            (0..CHANNELS).for_each(|i| bridges[i] += run.at(&run.added_v[i], t_s));
+        }
         [bridges[0], bridges[1], bridges[2], self.temperature_v(t_s)]
     }
 
