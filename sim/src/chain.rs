@@ -59,7 +59,11 @@ pub struct Clock {
 
 impl Clock {
     pub fn new(period_s: f64) -> Self {
-        Self { index0: 0, t0_s: 0.0, period_s }
+        Self {
+            index0: 0,
+            t0_s: 0.0,
+            period_s,
+        }
     }
 
     /// Time of conversion `index`.
@@ -146,7 +150,10 @@ impl<H: LoadHistory> Chain<H> {
 
     /// Switch the noise on, drawn from a generator seeded with `seed` (reproducible runs).
     pub fn with_noise(mut self, seed: u64) -> Self {
-        self.noise = Some(Noise { rng: ChaCha8Rng::seed_from_u64(seed), rms_v: self.noise_rms_v() });
+        self.noise = Some(Noise {
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            rms_v: self.noise_rms_v(),
+        });
         self
     }
 
@@ -154,24 +161,39 @@ impl<H: LoadHistory> Chain<H> {
     /// it, the last point holds). `contact_angle_deg` is the load's inclination (contact
     /// friction depends on it). Computed at the current trim codes; the effects' share does not
     /// depend on them (the front end is linear around its operating point).
-    pub fn with_effects(mut self, effects: &crate::effects::Chain, contact_angle_deg: f64, duration_s: f64, dt_s: f64) -> Self {
+    pub fn with_effects(
+        mut self,
+        effects: &crate::effects::Chain,
+        contact_angle_deg: f64,
+        duration_s: f64,
+        dt_s: f64,
+    ) -> Self {
         self.effects = None;
         let n = (duration_s / dt_s).ceil() as usize + 1;
         let t: Vec<f64> = (0..n).map(|k| k as f64 * dt_s).collect();
         let mut load_n: Vec<f64> = t.iter().map(|&t| self.contact(t).load_n).collect();
         let loads: Vec<Load> = t.iter().map(|&t| self.chip_load(t)).collect();
-        let mut chip: [Vec<f64>; 3] = core::array::from_fn(|i| loads.iter().map(|l| l.to_array()[i]).collect());
+        let mut chip: [Vec<f64>; 3] =
+            core::array::from_fn(|i| loads.iter().map(|l| l.to_array()[i]).collect());
         let clean: Vec<[f64; CHANNELS]> = loads.iter().map(|&l| self.signal_v(l)).collect();
         effects.apply_mechanical(&t, &mut load_n, &mut chip, contact_angle_deg);
         let mut volts: [Vec<f64>; CHANNELS] = core::array::from_fn(|_| Vec::with_capacity(n));
-        for k in 0..n {
-            let v = self.signal_v(Load::new(chip[0][k], chip[1][k], chip[2][k]));
-            (0..CHANNELS).for_each(|i| volts[i].push(v[i]));
+        let [fz, mx, my] = &chip;
+        for ((&fz, &mx), &my) in fz.iter().zip(mx).zip(my) {
+            let v = self.signal_v(Load::new(fz, mx, my));
+            volts
+                .iter_mut()
+                .zip(v)
+                .for_each(|(series, x)| series.push(x));
         }
         effects.apply_electrical(&t, &mut volts);
         effects.apply_saturation(&mut volts);
         let added_v = core::array::from_fn(|i| (0..n).map(|k| volts[i][k] - clean[k][i]).collect());
-        self.effects = Some(EffectRun { dt_s, load_n, added_v });
+        self.effects = Some(EffectRun {
+            dt_s,
+            load_n,
+            added_v,
+        });
         self
     }
 
@@ -194,7 +216,10 @@ impl<H: LoadHistory> Chain<H> {
     pub fn noise_rms_v(&self) -> [f64; 4] {
         let adc = &self.front_end.adc;
         core::array::from_fn(|ch| match self.front_end.channels.get(ch) {
-            Some(c) => libm::hypot(c.noise_rms_v(adc.data_rate_hz) * c.gain(), adc.noise_rms_v[ch]),
+            Some(c) => libm::hypot(
+                c.noise_rms_v(adc.data_rate_hz) * c.gain(),
+                adc.noise_rms_v[ch],
+            ),
             None => adc.noise_rms_v[ch],
         })
     }
@@ -206,13 +231,15 @@ impl<H: LoadHistory> Chain<H> {
 
     /// Stage 2: the load on the chip at `t_s`, through the pillar.
     pub fn chip_load(&self, t_s: f64) -> Load {
-        self.pillar.chip_load(&self.chip, self.contact(t_s).traction)
+        self.pillar
+            .chip_load(&self.chip, self.contact(t_s).traction)
     }
 
     /// Stage 3: the chip's loaded bridge arms (Fz, Mx, My), in the front end's R1..R4 order.
     pub fn arms_ohm(&self, load: Load) -> [[f64; 4]; CHANNELS] {
         core::array::from_fn(|i| {
-            let [ul, ll, ur, lr] = chip::bridge::arm_resistances_ohm(&self.chip, &self.chip.bridges[i], load);
+            let [ul, ll, ur, lr] =
+                chip::bridge::arm_resistances_ohm(&self.chip, &self.chip.bridges[i], load);
             // frontend::CHIP_ARM_ORDER: upper_right, lower_right, upper_left, lower_left.
             [ur, lr, ul, ll]
         })
@@ -222,7 +249,9 @@ impl<H: LoadHistory> Chain<H> {
     /// (mismatch, trim at [`Self::dac_codes`], amplifiers, RC).
     pub fn adc_input_v(&self, arms: [[f64; 4]; CHANNELS]) -> [f64; CHANNELS] {
         let mid = self.front_end.mid_v();
-        core::array::from_fn(|i| self.front_end.channels[i].adc_input_v_for_arms(arms[i], self.dac_codes[i], mid))
+        core::array::from_fn(|i| {
+            self.front_end.channels[i].adc_input_v_for_arms(arms[i], self.dac_codes[i], mid)
+        })
     }
 
     /// Stage 4': the temperature channel's volts at `t_s`.

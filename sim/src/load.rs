@@ -52,8 +52,15 @@ impl ContactForce {
     /// in the plane at azimuth φ from the chip's x axis, pressing towards the centre.
     pub fn tilted(contact_angle_deg: f64, azimuth_deg: f64, depth_m: f64) -> Self {
         let (th, ph) = (contact_angle_deg.to_radians(), azimuth_deg.to_radians());
-        let outward = [libm::sin(th) * libm::cos(ph), libm::sin(th) * libm::sin(ph), libm::cos(th)];
-        Self { direction: outward.map(|c| -c), depth_m }
+        let outward = [
+            libm::sin(th) * libm::cos(ph),
+            libm::sin(th) * libm::sin(ph),
+            libm::cos(th),
+        ];
+        Self {
+            direction: outward.map(|c| -c),
+            depth_m,
+        }
     }
 
     /// Boussinesq traction on the package top for a force of `load_n` along the direction.
@@ -62,7 +69,11 @@ impl ContactForce {
         let u = self.direction;
         // t = -s (u·z) u; pressing traction is -t_z.
         let t = u.map(|c| -s * u[2] * c);
-        Traction { tx_pa: t[0], ty_pa: t[1], tz_pa: -t[2] }
+        Traction {
+            tx_pa: t[0],
+            ty_pa: t[1],
+            tz_pa: -t[2],
+        }
     }
 }
 
@@ -88,7 +99,8 @@ impl Hertz {
 
     /// Travel at force `P`: `(3P / (4 E* √R))^(2/3)`.
     pub fn travel_m(&self, load_n: f64) -> f64 {
-        let x = 3.0 * load_n.max(0.0) / (4.0 * self.effective_modulus_pa() * libm::sqrt(self.radius_m));
+        let x =
+            3.0 * load_n.max(0.0) / (4.0 * self.effective_modulus_pa() * libm::sqrt(self.radius_m));
         libm::cbrt(x * x)
     }
 }
@@ -141,7 +153,11 @@ impl LoadHistory for StandardTest {
     fn contact(&self, t_s: f64) -> Contact {
         let d = self.travel_m(t_s);
         let load_n = self.hertz.force_n(d).min(self.peak_load_n);
-        Contact { rod_mm: d * 1.0e3, load_n, traction: self.force.traction(load_n) }
+        Contact {
+            rod_mm: d * 1.0e3,
+            load_n,
+            traction: self.force.traction(load_n),
+        }
     }
 }
 
@@ -163,7 +179,10 @@ mod table {
     impl Table {
         /// Rows `(t_s, contact)` with non-decreasing times (a programmer's invariant).
         pub fn new(rows: Vec<(f64, Contact)>) -> Self {
-            assert!(rows.windows(2).all(|w| w[0].0 <= w[1].0), "table times must not decrease");
+            assert!(
+                rows.windows(2).all(|w| w[0].0 <= w[1].0),
+                "table times must not decrease"
+            );
             Self { rows }
         }
 
@@ -173,8 +192,16 @@ mod table {
             Self::new(
                 rows.iter()
                     .map(|&(t, rod_mm, load_n, [fx, fy, fz])| {
-                        let traction = Traction::from_package_resultant(fx, fy, fz, package_radius_m);
-                        (t, Contact { rod_mm, load_n, traction })
+                        let traction =
+                            Traction::from_package_resultant(fx, fy, fz, package_radius_m);
+                        (
+                            t,
+                            Contact {
+                                rod_mm,
+                                load_n,
+                                traction,
+                            },
+                        )
                     })
                     .collect(),
             )
@@ -187,13 +214,17 @@ mod table {
 
     impl LoadHistory for Table {
         fn contact(&self, t_s: f64) -> Contact {
-            let Some(first) = self.rows.first() else { return Contact::default() };
+            let Some(first) = self.rows.first() else {
+                return Contact::default();
+            };
             let after = self.rows.partition_point(|r| r.0 <= t_s);
             if after == 0 {
                 return first.1;
             }
             let (t0, a) = self.rows[after - 1];
-            let Some(&(t1, b)) = self.rows.get(after) else { return a };
+            let Some(&(t1, b)) = self.rows.get(after) else {
+                return a;
+            };
             let w = if t1 > t0 { (t_s - t0) / (t1 - t0) } else { 0.0 };
             Contact {
                 rod_mm: lerp(a.rod_mm, b.rod_mm, w),
@@ -204,6 +235,35 @@ mod table {
                     tz_pa: lerp(a.traction.tz_pa, b.traction.tz_pa, w),
                 },
             }
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl StandardTest {
+    /// The standard test of `hardware/fingertip.toml` (contact angle, azimuth, peak load, hold,
+    /// rod speeds; Hertz from the gel and radius; Boussinesq depth = radius - package height),
+    /// starting `start_s` after power-up, every speed multiplied by `speed_factor` (a HIL run
+    /// cannot wait the real test's minute).
+    pub fn from_params(p: &hardware::Params, start_s: f64, speed_factor: f64) -> Self {
+        let f = &p.fingertip;
+        let mm_per_min = 1.0e-3 / 60.0;
+        Self {
+            force: ContactForce::tilted(
+                f.test.contact_angle_deg,
+                f.test.azimuth_deg,
+                (f.radius_mm - f.inclusion_height_mm) * 1.0e-3,
+            ),
+            hertz: Hertz {
+                radius_m: f.radius_mm * 1.0e-3,
+                youngs_modulus_pa: f.youngs_modulus_pa,
+                poisson: f.poisson,
+            },
+            start_s,
+            peak_load_n: f.test.peak_load_n,
+            rod_speed_m_per_s: f.test.rod_speed_mm_per_min * mm_per_min * speed_factor,
+            hold_s: f.test.hold_s / speed_factor,
+            return_speed_m_per_s: f.test.return_speed_mm_per_min * mm_per_min * speed_factor,
         }
     }
 }
@@ -228,14 +288,25 @@ mod tests {
         let t = ContactForce::tilted(20.0, 60.0, 0.018).traction(60.0);
         assert!((t.tz_pa - s * c * c).abs() < 0.1, "{t:?}");
         assert!((t.tx_pa + s * c * n * 0.5).abs() < 0.1, "{t:?}");
-        assert!((t.ty_pa + s * c * n * 3f64.sqrt() / 2.0).abs() < 0.1, "{t:?}");
+        assert!(
+            (t.ty_pa + s * c * n * 3f64.sqrt() / 2.0).abs() < 0.1,
+            "{t:?}"
+        );
     }
 
     #[test]
     fn hertz_inverts_and_follows_the_three_halves_power() {
-        let h = Hertz { radius_m: 0.02, youngs_modulus_pa: 1.0e5, poisson: 0.49 };
+        let h = Hertz {
+            radius_m: 0.02,
+            youngs_modulus_pa: 1.0e5,
+            poisson: 0.49,
+        };
         // By hand at d = 1 mm: 4/3 * 1e5/(1 - 0.2401) * sqrt(0.02) * 1e-3^1.5 = 0.78478 N.
-        assert!((h.force_n(1.0e-3) - 0.784_68).abs() < 1e-5, "{}", h.force_n(1.0e-3));
+        assert!(
+            (h.force_n(1.0e-3) - 0.784_68).abs() < 1e-5,
+            "{}",
+            h.force_n(1.0e-3)
+        );
         assert!((h.travel_m(h.force_n(2.0e-3)) - 2.0e-3).abs() < 1e-12);
         assert!((h.force_n(4.0e-3) / h.force_n(1.0e-3) - 8.0).abs() < 1e-12);
     }
@@ -243,37 +314,15 @@ mod tests {
     #[cfg(feature = "std")]
     #[test]
     fn table_interpolates_and_holds() {
-        let rows = [(0.0, 0.0, 0.0, [0.0, 0.0, 0.0]), (1.0, 2.0, 10.0, [0.0, 0.0, -1.0])];
+        let rows = [
+            (0.0, 0.0, 0.0, [0.0, 0.0, 0.0]),
+            (1.0, 2.0, 10.0, [0.0, 0.0, -1.0]),
+        ];
         let table = Table::from_resultants(&rows, 3.0e-3);
         let mid = table.contact(0.5);
         assert_eq!((mid.rod_mm, mid.load_n), (1.0, 5.0));
         assert!((mid.traction.tz_pa - 0.5 / (core::f64::consts::PI * 9.0e-6)).abs() < 1e-6);
         assert_eq!(table.contact(7.0).load_n, 10.0);
         assert_eq!(table.contact(-1.0).load_n, 0.0);
-    }
-}
-
-#[cfg(feature = "std")]
-impl StandardTest {
-    /// The standard test of `hardware/fingertip.toml` (contact angle, azimuth, peak load, hold,
-    /// rod speeds; Hertz from the gel and radius; Boussinesq depth = radius - package height),
-    /// starting `start_s` after power-up, every speed multiplied by `speed_factor` (a HIL run
-    /// cannot wait the real test's minute).
-    pub fn from_params(p: &hardware::Params, start_s: f64, speed_factor: f64) -> Self {
-        let f = &p.fingertip;
-        let mm_per_min = 1.0e-3 / 60.0;
-        Self {
-            force: ContactForce::tilted(
-                f.test.contact_angle_deg,
-                f.test.azimuth_deg,
-                (f.radius_mm - f.inclusion_height_mm) * 1.0e-3,
-            ),
-            hertz: Hertz { radius_m: f.radius_mm * 1.0e-3, youngs_modulus_pa: f.youngs_modulus_pa, poisson: f.poisson },
-            start_s,
-            peak_load_n: f.test.peak_load_n,
-            rod_speed_m_per_s: f.test.rod_speed_mm_per_min * mm_per_min * speed_factor,
-            hold_s: f.test.hold_s / speed_factor,
-            return_speed_m_per_s: f.test.return_speed_mm_per_min * mm_per_min * speed_factor,
-        }
     }
 }

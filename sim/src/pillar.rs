@@ -27,7 +27,11 @@ impl Traction {
     /// +z, out of the base, negative when pressed), so `t_z = -F_z / (π r²)`.
     pub fn from_package_resultant(fx_n: f64, fy_n: f64, fz_n: f64, package_radius_m: f64) -> Self {
         let area = core::f64::consts::PI * package_radius_m * package_radius_m;
-        Self { tx_pa: fx_n / area, ty_pa: fy_n / area, tz_pa: -fz_n / area }
+        Self {
+            tx_pa: fx_n / area,
+            ty_pa: fy_n / area,
+            tz_pa: -fz_n / area,
+        }
     }
 }
 
@@ -47,7 +51,12 @@ impl Pillar {
     /// The load on the chip from the gel's traction `t` (pillar height from `chip`).
     pub fn chip_load(&self, chip: &ChipParams, t: Traction) -> Load {
         let a = self.area_m2();
-        chip::tolerance::load_at_chip(chip, Load::new(t.tz_pa * a, 0.0, 0.0), t.tx_pa * a, t.ty_pa * a)
+        chip::tolerance::load_at_chip(
+            chip,
+            Load::new(t.tz_pa * a, 0.0, 0.0),
+            t.tx_pa * a,
+            t.ty_pa * a,
+        )
     }
 }
 
@@ -55,7 +64,9 @@ impl Pillar {
 impl Pillar {
     /// From `hardware/sim.toml`.
     pub fn from_params(p: &hardware::Params) -> Self {
-        Self { diameter_m: p.sim.pillar_diameter_um * 1.0e-6 }
+        Self {
+            diameter_m: p.sim.pillar_diameter_um * 1.0e-6,
+        }
     }
 }
 
@@ -70,8 +81,17 @@ mod tests {
         // along y -> Mx = -3.534292e-7 N m.
         let chip = ChipParams::load_default().unwrap();
         assert_eq!(chip.geometry.pillar_height_m, 1.0e-3);
-        let pillar = Pillar { diameter_m: 150.0e-6 };
-        let load = pillar.chip_load(&chip, Traction { tx_pa: 1.0e4, ty_pa: 2.0e4, tz_pa: 1.0e5 });
+        let pillar = Pillar {
+            diameter_m: 150.0e-6,
+        };
+        let load = pillar.chip_load(
+            &chip,
+            Traction {
+                tx_pa: 1.0e4,
+                ty_pa: 2.0e4,
+                tz_pa: 1.0e5,
+            },
+        );
         assert!((load.fz_n - 1.767_146e-3).abs() < 1e-9, "{load:?}");
         assert!((load.my_nm - 1.767_146e-7).abs() < 1e-13, "{load:?}");
         assert!((load.mx_nm + 3.534_292e-7).abs() < 1e-13, "{load:?}");

@@ -34,7 +34,11 @@ impl WarmUp {
 impl WarmUp {
     /// From `hardware/sim.toml`.
     pub fn from_params(p: &hardware::Params) -> Self {
-        Self { ambient_c: p.sim.ambient_c, rise_c: p.sim.warmup_rise_c, tau_s: p.sim.warmup_tau_s }
+        Self {
+            ambient_c: p.sim.ambient_c,
+            rise_c: p.sim.warmup_rise_c,
+            tau_s: p.sim.warmup_tau_s,
+        }
     }
 }
 
@@ -42,7 +46,11 @@ impl WarmUp {
 mod tests {
     use super::*;
 
-    const W: WarmUp = WarmUp { ambient_c: 23.0, rise_c: 2.0, tau_s: 600.0 };
+    const W: WarmUp = WarmUp {
+        ambient_c: 23.0,
+        rise_c: 2.0,
+        tau_s: 600.0,
+    };
 
     #[test]
     fn reaches_63_percent_of_the_rise_after_one_time_constant() {
@@ -55,8 +63,15 @@ mod tests {
     #[test]
     fn tmp235_reads_750_mv_at_25_degc() {
         // TMP235 datasheet: 500 mV at 0 degC, 10 mV/degC.
-        let s = TempSensor { offset_v: 0.5, slope_v_per_c: 0.01 };
-        let settled = WarmUp { ambient_c: 25.0, rise_c: 0.0, tau_s: 1.0 };
+        let s = TempSensor {
+            offset_v: 0.5,
+            slope_v_per_c: 0.01,
+        };
+        let settled = WarmUp {
+            ambient_c: 25.0,
+            rise_c: 0.0,
+            tau_s: 1.0,
+        };
         assert!((settled.sensor_v(&s, 10.0) - 0.75).abs() < 1e-12);
     }
 }

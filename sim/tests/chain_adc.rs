@@ -42,7 +42,8 @@ fn trim_dac_writes_move_the_offset_cut() {
     let emu = RefCell::new(Ads131m04::new(chain()));
     let mut dac = TrimDac(&emu);
     // Fast write: Fz at 3000, Mx at 1000, My at 2048, VMID channel D left alone.
-    dac.write(ADDRESS, &[0x0B, 0xB8, 0x03, 0xE8, 0x08, 0x00, 0x08, 0x00]).unwrap();
+    dac.write(ADDRESS, &[0x0B, 0xB8, 0x03, 0xE8, 0x08, 0x00, 0x08, 0x00])
+        .unwrap();
     let mut e = emu.borrow_mut();
     let c = e.input_mut();
     assert_eq!(c.dac_codes, [3000, 1000, 2048]);
@@ -50,7 +51,8 @@ fn trim_dac_writes_move_the_offset_cut() {
     // (frontend.toml: 5 kOhm Thevenin node, 3 MOhm injection), times the Fz gain at the ADC.
     let g = c.front_end.channels[0].gain();
     let rest = |code: u32| {
-        let mut k = Chain::from_params(&hardware::Params::load_default().unwrap(), c.history).unwrap();
+        let mut k =
+            Chain::from_params(&hardware::Params::load_default().unwrap(), c.history).unwrap();
         k.dac_codes[0] = code;
         k.clean_v(0.0)[0]
     };
@@ -80,6 +82,10 @@ fn noise_has_the_budgeted_rms() {
     for ch in 0..4 {
         let rms = (sum2[ch] / n as f64).sqrt();
         // 20 000 draws: the rms estimate's relative sd is 1/sqrt(2n) = 0.5 %.
-        assert!((rms / budget[ch] - 1.0).abs() < 0.025, "ch {ch}: {rms} vs {}", budget[ch]);
+        assert!(
+            (rms / budget[ch] - 1.0).abs() < 0.025,
+            "ch {ch}: {rms} vs {}",
+            budget[ch]
+        );
     }
 }

@@ -37,10 +37,15 @@ fn no_effect_leaves_the_chain_unchanged() {
 fn thermal_drift_raises_every_channel_at_rest() {
     // Before contact the plain chain reads 0; with a +20 mV warm-up drift of tau 0.5 s it reads
     // 20 mV (1 - e^-1) at t = 0.5 s (before the rod touches), on every channel.
-    let c = with(Effect::ThermalDrift(ThermalDrift { amplitude_v: 0.02, tau_s: 0.5 }));
-    let v = c.truth_v(0.5);
-    for ch in 0..3 {
-        assert!((v[ch] - 0.02 * (1.0 - (-1.0f64).exp())).abs() < 1e-6, "ch {ch}: {}", v[ch]);
+    let c = with(Effect::ThermalDrift(ThermalDrift {
+        amplitude_v: 0.02,
+        tau_s: 0.5,
+    }));
+    for (ch, v) in c.truth_v(0.5).into_iter().enumerate() {
+        assert!(
+            (v - 0.02 * (1.0 - (-1.0f64).exp())).abs() < 1e-6,
+            "ch {ch}: {v}"
+        );
     }
 }
 
@@ -53,9 +58,15 @@ fn stiffening_lowers_the_output_below_the_peak_only() {
     let (mid, peak) = (h.start_s + up * 0.6, h.start_s + up + h.hold_s / 2.0);
     for ch in 0..3 {
         let (p, s) = (plain.truth_v(mid)[ch], stiff.truth_v(mid)[ch]);
-        assert!(s.abs() < 0.9 * p.abs() && s * p > 0.0, "ch {ch}: {s} vs {p} mid-ramp");
+        assert!(
+            s.abs() < 0.9 * p.abs() && s * p > 0.0,
+            "ch {ch}: {s} vs {p} mid-ramp"
+        );
         let (p, s) = (plain.truth_v(peak)[ch], stiff.truth_v(peak)[ch]);
-        assert!((s - p).abs() < 1e-3 * p.abs(), "ch {ch}: {s} vs {p} at the peak");
+        assert!(
+            (s - p).abs() < 1e-3 * p.abs(),
+            "ch {ch}: {s} vs {p} at the peak"
+        );
     }
 }
 
@@ -64,7 +75,10 @@ fn viscoelastic_relaxation_leaves_a_slow_tail_after_the_return() {
     // After the fast return the plain chain is back at 0 at once; with relaxation a residual is
     // left that recovers over tau (sensor-facts, observation 3).
     let plain = chain();
-    let visco = with(Effect::ViscoelasticRelaxation(ViscoelasticRelaxation { tau_s: 0.5, fraction: 0.3 }));
+    let visco = with(Effect::ViscoelasticRelaxation(ViscoelasticRelaxation {
+        tau_s: 0.5,
+        fraction: 0.3,
+    }));
     let after = plain.history.end_s() + 0.1;
     assert!(plain.truth_v(after)[0].abs() < 1e-9);
     let v = visco.truth_v(after)[0];

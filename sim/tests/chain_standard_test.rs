@@ -37,7 +37,10 @@ fn sixty_newtons_reach_the_chip_as_millinewtons() {
     assert!((load.fz_n - 1.3797e-3).abs() < 1e-6, "{load:?}");
     assert!((m - 0.5022e-6).abs() < 1e-9, "{load:?}");
     // Mx > My at azimuth 60 deg (sensor-facts, observation 4): tan 60 = 1.732.
-    assert!((load.mx_nm / load.my_nm + 3f64.sqrt()).abs() < 1e-9, "{load:?}");
+    assert!(
+        (load.mx_nm / load.my_nm + 3f64.sqrt()).abs() < 1e-9,
+        "{load:?}"
+    );
 }
 
 #[test]

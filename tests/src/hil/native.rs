@@ -64,7 +64,8 @@ impl NativeConfig {
 /// calibration (ADC-input volts to N, N·m), as a board would hand them to the core.
 pub fn device_config(chain: &SensorChain) -> DeviceConfig {
     let gains = chain.front_end.channels.map(|c| c.gain());
-    let c = chip::sensitivity::calibration_matrix_after_gains(&chain.chip, gains).unwrap_or([[0.0; 3]; 3]);
+    let c = chip::sensitivity::calibration_matrix_after_gains(&chain.chip, gains)
+        .unwrap_or([[0.0; 3]; 3]);
     DeviceConfig {
         chip_serial: 0x5EED_0001,
         clkin_hz: chain.front_end.adc.modulator_hz as u32 * 2,
@@ -77,8 +78,15 @@ pub fn device_config(chain: &SensorChain) -> DeviceConfig {
         batch: protocol::MAX_BATCH as u8,
         filter: protocol::FilterConfig::NONE,
         // 20 samples per measurement, 14 measurements: 0.28 s at 1 kSPS.
-        null_timing: NullTiming { settle: 4, average: 16 },
-        drift: DriftSettings { window: 2000, rate: 1.0e-4, limit: 20_000 },
+        null_timing: NullTiming {
+            settle: 4,
+            average: 16,
+        },
+        drift: DriftSettings {
+            window: 2000,
+            rate: 1.0e-4,
+            limit: 20_000,
+        },
         dac_initial: [2048; 4],
         null_at_power_up: true,
     }
@@ -114,18 +122,26 @@ impl NativeSensor {
         let thread = std::thread::Builder::new()
             .name("hil-native-device".into())
             .spawn(move || run(cfg, pty, &flag))?;
-        Ok(Self { path, stop, thread: Some(thread) })
+        Ok(Self {
+            path,
+            stop,
+            thread: Some(thread),
+        })
     }
 
     /// Stop the device and return its counters.
     pub fn stop(mut self) -> io::Result<NativeStats> {
-        self.halt().unwrap_or_else(|| Err(io::Error::other("device thread already stopped")))
+        self.halt()
+            .unwrap_or_else(|| Err(io::Error::other("device thread already stopped")))
     }
 
     fn halt(&mut self) -> Option<io::Result<NativeStats>> {
         self.stop.store(true, Ordering::Relaxed);
         let t = self.thread.take()?;
-        Some(t.join().unwrap_or_else(|_| Err(io::Error::other("device thread panicked"))))
+        Some(
+            t.join()
+                .unwrap_or_else(|_| Err(io::Error::other("device thread panicked"))),
+        )
     }
 }
 
@@ -159,15 +175,25 @@ fn run(cfg: NativeConfig, pty: Pty, stop: &AtomicBool) -> io::Result<NativeStats
     let emu: Shared = RefCell::new(Emu::new(chain));
     let (spi, drdy) = handles(&emu);
     let mut adc = Driver::new(spi, drdy);
-    let adc_cfg = Config { word_length: WordLength::Bits24, osr: dev_cfg.osr, gains: dev_cfg.pga, input_crc: true };
-    adc.init(&adc_cfg).map_err(|e| io::Error::other(format!("ADC init: {e:?}")))?;
-    let mut bench = Bench { adc, dac: Mcp4728::new(TrimDac(&emu), DEFAULT_ADDRESS) };
+    let adc_cfg = Config {
+        word_length: WordLength::Bits24,
+        osr: dev_cfg.osr,
+        gains: dev_cfg.pga,
+        input_crc: true,
+    };
+    adc.init(&adc_cfg)
+        .map_err(|e| io::Error::other(format!("ADC init: {e:?}")))?;
+    let mut bench = Bench {
+        adc,
+        dac: Mcp4728::new(TrimDac(&emu), DEFAULT_ADDRESS),
+    };
     let mut queue = SampleQueue::new();
     let overruns = Overruns::new();
     let (producer, mut consumer) = queue.split();
     let mut acq = Acquirer::new(producer, &overruns);
     let mut dev = Device::new(dev_cfg);
-    dev.power_up(&mut bench).map_err(|e| io::Error::other(format!("power-up: {e:?}")))?;
+    dev.power_up(&mut bench)
+        .map_err(|e| io::Error::other(format!("power-up: {e:?}")))?;
 
     let start = Instant::now();
     let mut rate_hz = emu.borrow().data_rate_hz();
@@ -228,10 +254,22 @@ fn run(cfg: NativeConfig, pty: Pty, stop: &AtomicBool) -> io::Result<NativeStats
 fn interrupt(emu: &Shared, bench: &mut Bench<'_>) -> RawSample {
     emu.borrow_mut().convert();
     let index = (emu.borrow().conversions() - 1) as u32;
-    match bench.adc.data_ready().map(|ready| ready.then(|| bench.adc.read())) {
-        Ok(Some(Ok(conv))) => RawSample { index, codes: conv.codes, read_error: false },
+    match bench
+        .adc
+        .data_ready()
+        .map(|ready| ready.then(|| bench.adc.read()))
+    {
+        Ok(Some(Ok(conv))) => RawSample {
+            index,
+            codes: conv.codes,
+            read_error: false,
+        },
         // DRDY high after a conversion, or a failed read: flagged in the next frame's status.
-        _ => RawSample { index, codes: [0; 4], read_error: true },
+        _ => RawSample {
+            index,
+            codes: [0; 4],
+            read_error: true,
+        },
     }
 }
 

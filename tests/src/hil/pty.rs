@@ -21,7 +21,15 @@ impl Pty {
     pub fn open() -> io::Result<Self> {
         let (mut m, mut s) = (0, 0);
         // SAFETY: openpty writes two fds; null name, termios and winsize are allowed.
-        let r = unsafe { libc::openpty(&mut m, &mut s, std::ptr::null_mut(), std::ptr::null(), std::ptr::null()) };
+        let r = unsafe {
+            libc::openpty(
+                &mut m,
+                &mut s,
+                std::ptr::null_mut(),
+                std::ptr::null(),
+                std::ptr::null(),
+            )
+        };
         if r != 0 {
             return Err(io::Error::last_os_error());
         }
@@ -49,8 +57,14 @@ impl Pty {
             return Err(io::Error::from_raw_os_error(r));
         }
         // SAFETY: ttyname_r wrote a NUL-terminated string into the buffer.
-        let path = unsafe { std::ffi::CStr::from_ptr(name.as_ptr()) }.to_string_lossy().into_owned();
-        Ok(Self { master, slave, path: PathBuf::from(path) })
+        let path = unsafe { std::ffi::CStr::from_ptr(name.as_ptr()) }
+            .to_string_lossy()
+            .into_owned();
+        Ok(Self {
+            master,
+            slave,
+            path: PathBuf::from(path),
+        })
     }
 }
 

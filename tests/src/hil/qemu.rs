@@ -37,7 +37,9 @@ pub fn build_elf() -> io::Result<PathBuf> {
         .env_remove("CARGO_BUILD_TARGET")
         .status()?;
     if !status.success() {
-        return Err(io::Error::other(format!("building the QEMU firmware failed: {status}")));
+        return Err(io::Error::other(format!(
+            "building the QEMU firmware failed: {status}"
+        )));
     }
     Ok(dir.join("target/thumbv7em-none-eabihf/release/qemu-mps2-an386"))
 }
@@ -73,12 +75,18 @@ impl QemuBoard {
     /// Start QEMU halted with `elf` and UART0 on a new pty; returns once QEMU has named the pty.
     pub fn spawn(elf: &Path, clock: Clock) -> io::Result<Self> {
         let mut cmd = Command::new("qemu-system-arm");
-        cmd.args(["-machine", "mps2-an386", "-cpu", "cortex-m4", "-nographic", "-S"]);
+        cmd.args([
+            "-machine",
+            "mps2-an386",
+            "-cpu",
+            "cortex-m4",
+            "-nographic",
+            "-S",
+        ]);
         if clock == Clock::Virtual {
             cmd.args(["-icount", "shift=0,sleep=off"]);
         }
-        cmd
-            .args(["-serial", "pty", "-monitor", "stdio"])
+        cmd.args(["-serial", "pty", "-monitor", "stdio"])
             .arg("-kernel")
             .arg(elf)
             .stdin(Stdio::piped())
@@ -92,13 +100,22 @@ impl QemuBoard {
             });
         }
         let mut child = cmd.spawn()?;
-        let monitor = child.stdin.take().ok_or_else(|| io::Error::other("no stdin"))?;
+        let monitor = child
+            .stdin
+            .take()
+            .ok_or_else(|| io::Error::other("no stdin"))?;
         let (tx, rx) = mpsc::channel::<PathBuf>();
         // QEMU names the pty on stderr ("char device redirected to /dev/pts/N (label serial0)");
         // the monitor talks on stdout. Both are drained for the life of the process.
         for stream in [
-            child.stdout.take().map(|s| Box::new(s) as Box<dyn io::Read + Send>),
-            child.stderr.take().map(|s| Box::new(s) as Box<dyn io::Read + Send>),
+            child
+                .stdout
+                .take()
+                .map(|s| Box::new(s) as Box<dyn io::Read + Send>),
+            child
+                .stderr
+                .take()
+                .map(|s| Box::new(s) as Box<dyn io::Read + Send>),
         ]
         .into_iter()
         .flatten()
@@ -107,13 +124,20 @@ impl QemuBoard {
             std::thread::spawn(move || {
                 for line in BufReader::new(stream).lines().map_while(Result::ok) {
                     if let Some(at) = line.find("/dev/pts/") {
-                        let path: String = line[at..].chars().take_while(|c| !c.is_whitespace()).collect();
+                        let path: String = line[at..]
+                            .chars()
+                            .take_while(|c| !c.is_whitespace())
+                            .collect();
                         let _ = tx.send(PathBuf::from(path));
                     }
                 }
             });
         }
-        let mut board = Self { child, monitor, pty: PathBuf::new() };
+        let mut board = Self {
+            child,
+            monitor,
+            pty: PathBuf::new(),
+        };
         board.pty = rx
             .recv_timeout(Duration::from_secs(20))
             .map_err(|_| io::Error::other("QEMU did not name its pty"))?;

@@ -7,7 +7,9 @@ use protocol::{FilterConfig, Info};
 
 /// Volts at the ADC input of bridge channel `ch` for `code` (SPEC: `code · vref / (pga · 2²³)`).
 pub fn code_to_v(info: &Info, ch: usize, code: i32) -> f64 {
-    f64::from(code) * f64::from(info.vref_mv) / 1000.0 / (f64::from(info.pga_gain[ch]) * 8_388_608.0)
+    f64::from(code) * f64::from(info.vref_mv)
+        / 1000.0
+        / (f64::from(info.pga_gain[ch]) * 8_388_608.0)
 }
 
 /// One second-order low-pass section in f64, transposed direct form II.
@@ -23,7 +25,11 @@ impl Section {
     fn low_pass(k: f64, q: f64) -> Self {
         let d = 1.0 + k / q + k * k;
         let b0 = k * k / d;
-        Self { b: [b0, 2.0 * b0, b0], a: [2.0 * (k * k - 1.0) / d, (1.0 - k / q + k * k) / d], s: [0.0; 2] }
+        Self {
+            b: [b0, 2.0 * b0, b0],
+            a: [2.0 * (k * k - 1.0) / d, (1.0 - k / q + k * k) / d],
+            s: [0.0; 2],
+        }
     }
 
     /// Steady state for a constant input `x` (unity DC gain).
@@ -60,7 +66,12 @@ impl ReferenceFilter {
                 Section::low_pass(k, 1.0 / (2.0 * theta.cos()))
             })
             .collect();
-        Self { alpha: f64::from(config.smoother_alpha), smoothed: 0.0, sections, primed: false }
+        Self {
+            alpha: f64::from(config.smoother_alpha),
+            smoothed: 0.0,
+            sections,
+            primed: false,
+        }
     }
 
     pub fn step(&mut self, x: f64) -> f64 {
@@ -70,7 +81,9 @@ impl ReferenceFilter {
             self.primed = true;
         }
         self.smoothed += self.alpha * (x - self.smoothed);
-        self.sections.iter_mut().fold(self.smoothed, |y, s| s.step(y))
+        self.sections
+            .iter_mut()
+            .fold(self.smoothed, |y, s| s.step(y))
     }
 
     /// Noise gain sqrt(Σ h[n]²): white noise of rms σ leaves the filter with rms σ times this.
@@ -120,7 +133,11 @@ mod tests {
     fn butterworth_reference_is_3_db_down_at_the_cutoff_and_unity_at_dc() {
         // A sine at f_c after the transient: amplitude 1/sqrt(2) (prewarped bilinear design).
         for order in [2u8, 4] {
-            let cfg = FilterConfig { smoother_alpha: 1.0, butterworth_order: order, cutoff_hz: 50.0 };
+            let cfg = FilterConfig {
+                smoother_alpha: 1.0,
+                butterworth_order: order,
+                cutoff_hz: 50.0,
+            };
             let mut f = ReferenceFilter::new(&cfg, 1000.0);
             let mut peak: f64 = 0.0;
             for n in 0..4000 {
@@ -129,7 +146,10 @@ mod tests {
                     peak = peak.max(y.abs());
                 }
             }
-            assert!((peak - std::f64::consts::FRAC_1_SQRT_2).abs() < 2e-3, "order {order}: {peak}");
+            assert!(
+                (peak - std::f64::consts::FRAC_1_SQRT_2).abs() < 2e-3,
+                "order {order}: {peak}"
+            );
             let mut f = ReferenceFilter::new(&cfg, 1000.0);
             f.step(0.0);
             let dc = (0..2000).map(|_| f.step(1.0)).last().unwrap();
@@ -140,7 +160,11 @@ mod tests {
     #[test]
     fn smoother_noise_gain_is_sqrt_alpha_over_two_minus_alpha() {
         // y = a x + (1-a) y: h[n] = a (1-a)^n, sum h^2 = a^2 / (1 - (1-a)^2) = a / (2 - a).
-        let cfg = FilterConfig { smoother_alpha: 0.1, butterworth_order: 0, cutoff_hz: 0.0 };
+        let cfg = FilterConfig {
+            smoother_alpha: 0.1,
+            butterworth_order: 0,
+            cutoff_hz: 0.0,
+        };
         let g = ReferenceFilter::noise_gain(&cfg, 1000.0);
         assert!((g - (0.1f64 / 1.9).sqrt()).abs() < 1e-9, "{g}");
     }
