@@ -1,0 +1,199 @@
+//! Haptic mode: a condensed contact compliance for 1 kHz updates.
+//!
+//! Around a converged state with the rod at travel d0, the gel's tangent K (without the
+//! contact penalty) relates small load increments to displacements. Condensing it onto the
+//! normal dofs of the candidate contact nodes (the Schur complement of everything else) gives
+//! the dense Delassus compliance W = N^T K^{-1} N (n_c x n_c, N the rod-normal directions), and
+//! the chip loads respond to contact forces through G = T K_Ic K^{-1} N (3 x n_c), computed
+//! with three adjoint solves. Each update then solves the small complementarity problem
+//!
+//!   g = g0 - (d - d0) 1 + W (f - f0) + f / k,   f >= 0,  g >= 0,  f g = 0
+//!
+//! (penalty compliance 1/k as in the full model) by projected Gauss–Seidel, warm-started from
+//! the previous tick, and returns the rod force and chip loads. It is exact to first order in
+//! (d - d0) for the frictionless rod, and treats contact nodes lifting off or touching down.
+
+use crate::contact::Rod;
+use crate::model::NONE;
+use crate::{Error, Fingertip};
+
+/// Gauss–Seidel sweeps per update at most.
+const MAX_SWEEPS: usize = 50;
+
+/// Precomputed condensed model.
+#[derive(Debug, Clone)]
+pub struct Haptic {
+    /// Compliance along the rod normal, row-major n_c x n_c, m/N.
+    w: Vec<f64>,
+    /// Chip-load sensitivity to contact forces (Fz, Mx, My) per unit normal force.
+    g: [Vec<f64>; 3],
+    /// Penalty compliance of each node, m/N.
+    inv_k: Vec<f64>,
+    /// Gap of each candidate at the base state, m (negative: penetration).
+    gap0: Vec<f64>,
+    /// Normal force of each node at the base state, N.
+    f0: Vec<f64>,
+    /// Current normal forces, N (warm start).
+    f: Vec<f64>,
+    travel0_m: f64,
+    loads0: [f64; 3],
+    force0_n: f64,
+}
+
+/// Outputs of one update.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HapticSample {
+    pub force_n: f64,
+    pub fz_n: f64,
+    pub mx_nm: f64,
+    pub my_nm: f64,
+}
+
+impl Haptic {
+    /// Condense around the current converged state of `ft`, with candidate nodes within
+    /// `margin_mm` of the rod face.
+    pub fn new(ft: &mut Fingertip, margin_mm: f64) -> Result<Haptic, Error> {
+        let rod = ft.rod_at(ft.travel_mm() * 1e-3);
+        let e = rod.axis;
+        let s = &mut ft.solver;
+        let radius = rod.radius_m;
+        let mut cand = Vec::new();
+        for &a in &s.surface_nodes {
+            let x = s.state.x[a];
+            let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
+            let rho2 = (0..3).map(|d| (x[d] - along * e[d]).powi(2)).sum::<f64>();
+            if along > rod.face_m - margin_mm * 1e-3 && rho2 < radius * radius {
+                cand.push(a);
+            }
+        }
+        // Gel tangent without contact at the converged state.
+        let rod_away = Rod { face_m: f64::INFINITY, ..rod };
+        s.evaluate(&rod_away, 0.0);
+        s.ldlt.factorize(&s.asm.values)?;
+        let model = &s.model;
+        let n = model.n_dofs;
+        let nc = cand.len();
+        let mut rhs = vec![0.0; n * nc];
+        for (j, &a) in cand.iter().enumerate() {
+            for d in 0..3 {
+                // Force -e (the rod pushes the gel) per unit normal force.
+                rhs[j * n + model.dof_x[a][d] as usize] = -e[d];
+            }
+        }
+        s.ldlt.solve_in_place(&mut rhs, nc);
+        let mut w = vec![0.0; nc * nc];
+        for i in 0..nc {
+            for (j, &a) in cand.iter().enumerate() {
+                // Displacement of node a along -e (closing the gap) due to unit force at i.
+                w[j * nc + i] = -(0..3).map(|d| rhs[i * n + model.dof_x[a][d] as usize] * e[d]).sum::<f64>();
+            }
+        }
+        let g = chip_sensitivity(ft, &cand, &rhs)?;
+        let s = &mut ft.solver;
+        let mut gap0 = Vec::with_capacity(nc);
+        let mut f0 = Vec::with_capacity(nc);
+        for &a in &cand {
+            let x = s.state.x[a];
+            let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
+            let pen = along - rod.face_m;
+            gap0.push(-pen);
+            f0.push(s.contact_k[a] * pen.max(0.0));
+        }
+        // Restore the assembled contact state of the full model.
+        s.evaluate(&rod, 0.0);
+        let inv_k = cand.iter().map(|&a| 1.0 / s.contact_k[a]).collect();
+        let p = ft.point();
+        Ok(Haptic { w, g, inv_k, gap0, f: f0.clone(), f0, travel0_m: ft.travel_mm() * 1e-3, loads0: [p.fz_n, p.mx_nm, p.my_nm], force0_n: p.force_n })
+    }
+
+    /// Number of condensed contact dofs.
+    pub fn len(&self) -> usize {
+        self.f.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.f.is_empty()
+    }
+
+    /// Rod force and chip loads with the rod at `travel_mm`.
+    ///
+    /// With the penetration pen_i = -gap0_i + (d - d0) - sum_j W_ij (f_j - f0_j), the penalty
+    /// law f_i = k_i max(0, pen_i) is the complementarity h_i = f_i / k_i - pen_i >= 0,
+    /// f_i >= 0, f_i h_i = 0, solved coordinate-wise (projected Gauss–Seidel).
+    pub fn update(&mut self, travel_mm: f64) -> HapticSample {
+        let nc = self.f.len();
+        let dd = travel_mm * 1e-3 - self.travel0_m;
+        let tol = 1e-9 * (1.0 + self.force0_n);
+        for _ in 0..MAX_SWEEPS {
+            let mut change: f64 = 0.0;
+            for i in 0..nc {
+                let row = &self.w[i * nc..(i + 1) * nc];
+                let coupling: f64 = row.iter().zip(self.f.iter().zip(&self.f0)).map(|(w, (f, f0))| w * (f - f0)).sum();
+                let h = self.f[i] * self.inv_k[i] + self.gap0[i] - dd + coupling;
+                let new = (self.f[i] - h / (row[i] + self.inv_k[i])).max(0.0);
+                change = change.max((new - self.f[i]).abs());
+                self.f[i] = new;
+            }
+            if change < tol {
+                break;
+            }
+        }
+        let df: f64 = self.f.iter().zip(&self.f0).map(|(f, f0)| f - f0).sum();
+        let mut loads = self.loads0;
+        for (k, l) in loads.iter_mut().enumerate() {
+            *l += self.g[k].iter().zip(self.f.iter().zip(&self.f0)).map(|(g, (f, f0))| g * (f - f0)).sum::<f64>();
+        }
+        HapticSample { force_n: self.force0_n + df, fz_n: loads[0], mx_nm: loads[1], my_nm: loads[2] }
+    }
+}
+
+/// G = T K_Ic K^{-1} N: chip loads per unit normal contact force at each candidate, from the
+/// displacement fields already solved (one per candidate).
+fn chip_sensitivity(ft: &Fingertip, cand: &[usize], fields: &[f64]) -> Result<[Vec<f64>; 3], Error> {
+    let s = &ft.solver;
+    let model = &s.model;
+    let n = model.n_dofs;
+    let touching: Vec<(usize, Vec<f64>)> = (0..model.gel.len())
+        .filter(|&k| model.mesh.tets[model.gel[k]].iter().any(|&a| model.mesh.in_inclusion[a]))
+        .map(|k| (k, crate::assembly::element_tangent(model, &s.state, k)))
+        .collect();
+    let mut g = [vec![0.0; cand.len()], vec![0.0; cand.len()], vec![0.0; cand.len()]];
+    for j in 0..cand.len() {
+        let du = &fields[j * n..(j + 1) * n];
+        let mut load = [0.0; 3];
+        for (k, kmat) in &touching {
+            element_reaction(model, *k, kmat, du, &mut load);
+        }
+        for c in 0..3 {
+            g[c][j] = load[c];
+        }
+    }
+    Ok(g)
+}
+
+/// Add the (Fz, Mx, My) on the inclusion produced by displacement increment `du` through
+/// element `k`'s tangent.
+fn element_reaction(model: &crate::model::Model, k: usize, kmat: &[f64], du: &[f64], load: &mut [f64; 3]) {
+    let nodes = model.mesh.tets[model.gel[k]];
+    let dofs = model.element_dofs(k);
+    for (a, &node) in nodes.iter().enumerate() {
+        if !model.mesh.in_inclusion[node] {
+            continue;
+        }
+        let x = model.mesh.nodes[node];
+        let mut r = [0.0; 3];
+        for (i, ri) in r.iter_mut().enumerate() {
+            let row = 4 * a + i;
+            for (l, &d) in dofs.iter().enumerate() {
+                if d != NONE {
+                    *ri += kmat[row * 16 + l] * du[d as usize];
+                }
+            }
+        }
+        // Gel load on the chip is minus the reaction increment.
+        let f = r.map(|v| -v);
+        load[0] += f[2];
+        load[1] += x[1] * f[2] - x[2] * f[1];
+        load[2] += x[2] * f[0] - x[0] * f[2];
+    }
+}
