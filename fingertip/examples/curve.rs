@@ -1,5 +1,5 @@
 //! Print the mesh quality and one force–travel curve.
-//! `cargo run --release -p fingertip --example curve -- [mesh_mm] [theta_deg] [phi_deg] [linear|neo] [peak_n] [nu]`
+//! `cargo run --release -p fingertip --example curve -- [mesh_mm] [theta_deg] [phi_deg] [linear|neo] [peak_n] [nu] [rod_radius_mm]`
 
 use fingertip::{compress, Config, Material};
 
@@ -13,7 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         poisson: num(5, 0.49),
         material,
         mesh_size_mm: num(0, 4.0),
-        rod_radius_mm: 10.0,
+        rod_radius_mm: num(6, 20.0),
         contact_angle_deg: num(1, 0.0),
         azimuth_deg: num(2, 60.0),
         friction_mu: 0.0,
@@ -24,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let curve = compress(&config, num(4, 60.0))?;
     println!("{:?}", curve.quality);
-    println!("dofs {} setup {:.3} s solve {:.3} s {:?}", curve.dofs, curve.setup_s, curve.solve_s, curve.stats);
+    println!("factor nnz {} dofs {} setup {:.3} s solve {:.3} s {:?}", curve.factor_nnz, curve.dofs, curve.setup_s, curve.solve_s, curve.stats);
     println!("rod_mm,force_n,fz_n,mx_nm,my_nm,contact_nodes");
     for p in &curve.points {
         println!("{:.4},{:.5},{:.5},{:.6e},{:.6e},{}", p.rod_mm, p.force_n, p.fz_n, p.mx_nm, p.my_nm, p.contact_nodes);

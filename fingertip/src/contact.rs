@@ -17,6 +17,8 @@
 
 /// Penalty pressure per unit penetration, in units of E / l.
 pub const PENALTY: f64 = 200.0;
+/// Onset length of the smoothed penalty as a fraction of l.
+pub const RAMP_FRACTION: f64 = 0.05;
 /// Rim fillet radius as a fraction of the rod radius.
 const FILLET_FRACTION: f64 = 0.1;
 /// Regularisation slip length of Coulomb friction as a fraction of the rod radius.
@@ -81,16 +83,29 @@ impl Rod {
     }
 }
 
+/// Normal force and its derivative for penetration `g`: the penalty law k g made C1 by a
+/// quadratic onset over `ramp` (k g^2 / 2 ramp below it, k (g - ramp/2) above). Without the
+/// ramp a node entering contact switches its stiffness from 0 to k at once, and Newton
+/// chatters between "in" and "out".
+fn normal_law(g: f64, k: f64, ramp: f64) -> (f64, f64) {
+    if g < ramp {
+        (0.5 * k * g * g / ramp, k * g / ramp)
+    } else {
+        (k * (g - 0.5 * ramp), k)
+    }
+}
+
 /// Contact force on one node and its tangent (-d force / d x), for a node of penalty
-/// stiffness `k` (N/m) that has moved `slip` (m) relative to the rod during the step.
-pub fn node_response(c: &NodeContact, k: f64, slip: [f64; 3], rod: &Rod) -> ([f64; 3], [[f64; 3]; 3]) {
+/// stiffness `k` (N/m) and onset length `ramp` (m) that has moved `slip` (m) relative to the
+/// rod during the step.
+pub fn node_response(c: &NodeContact, k: f64, ramp: f64, slip: [f64; 3], rod: &Rod) -> ([f64; 3], [[f64; 3]; 3]) {
     let n = c.normal;
-    let fn_ = k * c.penetration_m;
+    let (fn_, kn) = normal_law(c.penetration_m, k, ramp);
     let mut f = n.map(|v| fn_ * v);
     let mut kt = [[0.0; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            kt[i][j] = k * n[i] * n[j];
+            kt[i][j] = kn * n[i] * n[j];
         }
     }
     if rod.mu > 0.0 {

@@ -51,6 +51,8 @@ pub struct Curve {
     pub solve_s: f64,
     /// Unknowns of the linear systems.
     pub dofs: usize,
+    /// Stored entries of the LDL^T factor.
+    pub factor_nnz: usize,
 }
 
 /// A fingertip model and the state of its rod.
@@ -62,6 +64,8 @@ pub struct Fingertip {
     travel_m: f64,
     t_s: f64,
     pub setup_s: f64,
+    /// Positions, pressures and rod travel of the previous converged step (the predictor).
+    previous: Option<(Vec<[f64; 3]>, Vec<f64>, f64)>,
 }
 
 /// Build the model and compress it to `peak_load_n` along the rod.
@@ -88,7 +92,7 @@ impl Fingertip {
         };
         let model = Model::new(mesh, MaterialData { kinematics, mu_pa: mu, kappa_pa: kappa, prony });
         let solver = Solver::new(model, config.youngs_modulus_pa)?;
-        let mut ft = Fingertip { config, solver, travel_m: 0.0, t_s: 0.0, setup_s: 0.0 };
+        let mut ft = Fingertip { config, solver, travel_m: 0.0, t_s: 0.0, setup_s: 0.0, previous: None };
         let rod = ft.rod_at(0.0);
         ft.solver.evaluate(&rod, 0.0);
         ft.setup_s = t0.elapsed().as_secs_f64();
@@ -119,15 +123,18 @@ impl Fingertip {
         let saved: State = self.solver.state.clone();
         let rod = self.rod_at(target_m);
         self.solver.begin_step(self.rod_at(self.travel_m).face_m);
+        self.predict(target_m);
         match self.solver.equilibrate(&rod, dt_s) {
             Ok(_) => {
                 advance_history(&self.solver.model, &mut self.solver.state, dt_s);
+                self.previous = Some((saved.x, saved.p, self.travel_m));
                 self.travel_m = target_m;
                 self.t_s += dt_s;
                 Ok(())
             }
             Err(_) if depth < MAX_CUTBACK_DEPTH => {
                 self.solver.state = saved;
+                self.previous = None;
                 self.solver.stats.cutbacks += 1;
                 let mid = 0.5 * (self.travel_m + target_m);
                 self.advance(mid, 0.5 * dt_s, depth + 1)?;
@@ -137,6 +144,29 @@ impl Fingertip {
                 self.solver.state = saved;
                 Err(err)
             }
+        }
+    }
+
+    /// Linear extrapolation of the last converged increment to the new rod position: most of
+    /// the step's displacement is then known before Newton starts.
+    fn predict(&mut self, target_m: f64) {
+        let Some((x_prev, p_prev, travel_prev)) = &self.previous else { return };
+        let span = self.travel_m - travel_prev;
+        if span.abs() < 1e-15 {
+            return;
+        }
+        let ratio = (target_m - self.travel_m) / span;
+        if !(0.0..=4.0).contains(&ratio) {
+            return;
+        }
+        let st = &mut self.solver.state;
+        for (x, xp) in st.x.iter_mut().zip(x_prev) {
+            for d in 0..3 {
+                x[d] += ratio * (x[d] - xp[d]);
+            }
+        }
+        for (p, pp) in st.p.iter_mut().zip(p_prev) {
+            *p += ratio * (*p - pp);
         }
     }
 
@@ -210,6 +240,7 @@ impl Fingertip {
                 let expo = (f1 / f0).ln() / (x1 / x0).ln();
                 let x_peak = x0 * (peak_load_n / f0).powf(1.0 / expo);
                 (self.solver.state, self.travel_m, self.t_s) = saved;
+                self.previous = None;
                 self.advance(x_peak.clamp(x0, x1), (x_peak - x0).max(0.0) / speed, 0)?;
                 let q = self.point();
                 points.push(q);
@@ -240,6 +271,7 @@ impl Fingertip {
             setup_s: self.setup_s,
             solve_s: t0.elapsed().as_secs_f64(),
             dofs: self.solver.model.n_dofs,
+            factor_nnz: self.solver.ldlt.factor_nnz(),
         })
     }
 

@@ -5,6 +5,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::perm::PermRef;
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::Error;
@@ -27,12 +28,26 @@ impl std::fmt::Debug for Ldlt {
 }
 
 impl Ldlt {
-    /// Analyse the pattern (upper triangle, CSC).
-    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Result<Ldlt, Error> {
+    /// Analyse the pattern (upper triangle, CSC), with a fill-reducing ordering `perm`
+    /// (new position -> old index) or AMD when `None`.
+    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize], perm: Option<&[usize]>) -> Result<Ldlt, Error> {
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr.to_vec(), None, row_idx.to_vec());
-        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Amd, CholeskySymbolicParams::default())
-            .map_err(|e| Error::LinearSolver(format!("symbolic analysis: {e:?}")))?;
-        let par = Par::rayon(0);
+        let symbolic = match perm {
+            Some(fwd) => {
+                if fwd.len() != n {
+                    return Err(Error::LinearSolver(format!("ordering has {} entries for {n} unknowns", fwd.len())));
+                }
+                let mut inv = vec![0usize; n];
+                for (new, &old) in fwd.iter().enumerate() {
+                    inv[old] = new;
+                }
+                let p = PermRef::new_checked(fwd, &inv, n);
+                factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Custom(p), CholeskySymbolicParams::default())
+            }
+            None => factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Amd, CholeskySymbolicParams::default()),
+        }
+        .map_err(|e| Error::LinearSolver(format!("symbolic analysis: {e:?}")))?;
+        let par = if std::env::var_os("FINGERTIP_SEQ").is_some() { Par::Seq } else { Par::rayon(0) };
         let factor_mem = MemBuffer::try_new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
             .map_err(|e| Error::LinearSolver(format!("workspace: {e:?}")))?;
         let solve_mem = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(64, par))
@@ -71,6 +86,11 @@ impl Ldlt {
         }
     }
 
+    /// Whether a numeric factorisation is available.
+    pub fn is_factored(&self) -> bool {
+        self.factored
+    }
+
     /// Number of stored entries of the factor.
     pub fn factor_nnz(&self) -> usize {
         self.l_values.len()
@@ -88,7 +108,7 @@ mod tests {
         let col_ptr = [0, 1, 3, 6];
         let row_idx = [0, 0, 1, 0, 1, 2];
         let vals = [4.0, 1.0, 3.0, 1.0, 1.0, -0.5];
-        let mut s = Ldlt::new(3, &col_ptr, &row_idx).unwrap();
+        let mut s = Ldlt::new(3, &col_ptr, &row_idx, None).unwrap();
         s.factorize(&vals).unwrap();
         let x = [1.0, -2.0, 0.5];
         let a = [[4.0, 1.0, 1.0], [1.0, 3.0, 1.0], [1.0, 1.0, -0.5]];
