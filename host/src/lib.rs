@@ -1,4 +1,5 @@
 #![doc = include_str!("../../README.md")]
 
+pub mod calibration;
 pub mod cli;
 pub mod cmd;

@@ -34,6 +34,12 @@ pub fn run(command: Command) -> anyhow::Result<()> {
 
 /// The exit code a library error asks for, if `cause` is one of ours. Each module that owns an
 /// error type adds its downcast here.
-pub fn exit_code_of(_cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+    if cause.is::<::chip::from_hardware::FromHardwareError>() || cause.is::<hardware::LoadError>() {
+        return Some(crate::cli::exit::DATA);
+    }
+    if let Some(e) = cause.downcast_ref::<crate::calibration::CalibrationError>() {
+        return Some(crate::cli::ExitStatus::exit_code(e));
+    }
     None
 }

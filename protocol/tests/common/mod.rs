@@ -1,0 +1,2 @@
+pub mod golden_messages;
+pub mod random;
