@@ -87,7 +87,7 @@ impl Rod {
 /// quadratic onset over `ramp` (k g^2 / 2 ramp below it, k (g - ramp/2) above). Without the
 /// ramp a node entering contact switches its stiffness from 0 to k at once, and Newton
 /// chatters between "in" and "out".
-fn normal_law(g: f64, k: f64, ramp: f64) -> (f64, f64) {
+pub fn normal_law(g: f64, k: f64, ramp: f64) -> (f64, f64) {
     if g < ramp {
         (0.5 * k * g * g / ramp, k * g / ramp)
     } else {

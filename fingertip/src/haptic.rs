@@ -33,6 +33,8 @@ pub struct Haptic {
     gap0: Vec<f64>,
     /// Normal force of each node at the base state, N.
     f0: Vec<f64>,
+    /// Offset of the linearised penalty law, m: f0 / k - pen0 for nodes in contact, else 0.
+    shift: Vec<f64>,
     /// Current normal forces, N (warm start).
     f: Vec<f64>,
     travel0_m: f64,
@@ -92,18 +94,22 @@ impl Haptic {
         let s = &mut ft.solver;
         let mut gap0 = Vec::with_capacity(nc);
         let mut f0 = Vec::with_capacity(nc);
+        let mut shift = Vec::with_capacity(nc);
         for &a in &cand {
             let x = s.state.x[a];
             let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
             let pen = along - rod.face_m;
+            let f = if pen > 0.0 { crate::contact::normal_law(pen, s.contact_k[a], s.contact_ramp[a]).0 } else { 0.0 };
             gap0.push(-pen);
-            f0.push(s.contact_k[a] * pen.max(0.0));
+            f0.push(f);
+            // Nodes in contact follow the penalty line through their base state.
+            shift.push(if f > 0.0 { f / s.contact_k[a] - pen } else { 0.0 });
         }
         // Restore the assembled contact state of the full model.
         s.evaluate(&rod, 0.0);
         let inv_k = cand.iter().map(|&a| 1.0 / s.contact_k[a]).collect();
         let p = ft.point();
-        Ok(Haptic { w, g, inv_k, gap0, f: f0.clone(), f0, travel0_m: ft.travel_mm() * 1e-3, loads0: [p.fz_n, p.mx_nm, p.my_nm], force0_n: p.force_n })
+        Ok(Haptic { w, g, inv_k, gap0, shift, f: f0.clone(), f0, travel0_m: ft.travel_mm() * 1e-3, loads0: [p.fz_n, p.mx_nm, p.my_nm], force0_n: p.force_n })
     }
 
     /// Number of condensed contact dofs.
@@ -118,8 +124,9 @@ impl Haptic {
     /// Rod force and chip loads with the rod at `travel_mm`.
     ///
     /// With the penetration pen_i = -gap0_i + (d - d0) - sum_j W_ij (f_j - f0_j), the penalty
-    /// law f_i = k_i max(0, pen_i) is the complementarity h_i = f_i / k_i - pen_i >= 0,
-    /// f_i >= 0, f_i h_i = 0, solved coordinate-wise (projected Gauss–Seidel).
+    /// law (linearised through the base state, shift s_i) is the complementarity
+    /// h_i = f_i / k_i - pen_i - s_i >= 0, f_i >= 0, f_i h_i = 0, solved coordinate-wise
+    /// (projected Gauss–Seidel).
     pub fn update(&mut self, travel_mm: f64) -> HapticSample {
         let nc = self.f.len();
         let dd = travel_mm * 1e-3 - self.travel0_m;
@@ -129,7 +136,7 @@ impl Haptic {
             for i in 0..nc {
                 let row = &self.w[i * nc..(i + 1) * nc];
                 let coupling: f64 = row.iter().zip(self.f.iter().zip(&self.f0)).map(|(w, (f, f0))| w * (f - f0)).sum();
-                let h = self.f[i] * self.inv_k[i] + self.gap0[i] - dd + coupling;
+                let h = self.f[i] * self.inv_k[i] + self.gap0[i] - dd + coupling - self.shift[i];
                 let new = (self.f[i] - h / (row[i] + self.inv_k[i])).max(0.0);
                 change = change.max((new - self.f[i]).abs());
                 self.f[i] = new;

@@ -20,7 +20,7 @@ use std::collections::HashMap;
 const INNER_CUBE_FRACTION: f64 = 0.45;
 /// Element size at the chip relative to the nominal size.
 const CHIP_REFINEMENT: f64 = 0.3;
-/// Radial element size at the sphere relative to the nominal size.
+/// Largest radial element size at the sphere relative to the nominal size.
 const SURFACE_REFINEMENT: f64 = 0.5;
 
 /// What the mesh generator needs.
@@ -166,7 +166,10 @@ pub fn generate(params: &MeshParams) -> Mesh {
     let lat: Vec<f64> = half.iter().rev().map(|v| -v / r).chain(half.iter().skip(1).map(|v| v / r)).collect();
     let ver: Vec<f64> = half_lattice(hi, c * r, h_fine, h).iter().map(|v| v / r).collect();
     let shell = (1.0 - c) * r;
-    let rad: Vec<f64> = graded(shell, h, SURFACE_REFINEMENT * h).iter().map(|v| v / shell).collect();
+    // Radially, grade towards the surface down to the cap's lateral spacing (h_fine / c at the
+    // pole), so the elements under the contact are about isotropic.
+    let h_surface = (SURFACE_REFINEMENT * h).min(h_fine / c);
+    let rad: Vec<f64> = graded(shell, h, h_surface).iter().map(|v| v / shell).collect();
 
     let r_m = r * 1e-3;
     let mut table = NodeTable { index: HashMap::new(), nodes: Vec::new(), param: Vec::new() };
