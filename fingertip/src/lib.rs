@@ -19,6 +19,21 @@
 //! # Ok::<(), fingertip::Error>(())
 //! ```
 //!
+//! Modelling choices, each justified where it is implemented:
+//! - mesh ([`mesh`]): block-structured inner cube + 5 shells, Kuhn-split, mirrored on the
+//!   negative half-axes so the mesh has the square's symmetry exactly;
+//! - locking ([`material`]): average-nodal-pressure tetrahedra as a mixed u–p field
+//!   (nodal pressure unknowns), quasi-definite, solved by sparse LDL^T ([`linsolve`], faer);
+//! - contact ([`contact`]): node-to-rigid-rod penalty with a C1 onset and regularised Coulomb
+//!   friction;
+//! - chip ([`loads`]): the package + pillar is rigid (silicon/epoxy vs a 0.1 MPa gel, ratio
+//!   ~1e4) and clamped to the mount, so its loads are the reactions on its nodes;
+//! - haptic ([`haptic`]): Schur complement of the tangent onto the contact normals.
+//!
+//! Data note: with the nominal gel (E = 0.1 MPa) a 5 mm-radius flat rod cannot carry 60 N
+//! without the gel wrapping round its rim (a flat punch needs d ≈ F (1 - nu^2) / (2 a E) ≈ 45 mm
+//! on a half-space). The benches and figures therefore use a platen (rod radius = R).
+//!
 //! Scaling: with nu and the geometry fixed, every stress in the model (deviatoric, nodal
 //! pressure, contact penalty) is proportional to E, so the force–travel curve scales exactly
 //! linearly with E (`tests/scaling.rs`). A curve at one modulus therefore calibrates E by a

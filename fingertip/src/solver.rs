@@ -17,9 +17,9 @@ const MIN_ALPHA: f64 = 1.0 / 64.0;
 /// A kept factorisation must reduce the residual norm at least this much per iteration.
 const STALE_RATE: f64 = 0.1;
 /// Force tolerance, in units of E R^2 (60 N at 0.15 MPa is 1 E R^2).
-const FORCE_TOL: f64 = 1e-7;
+const FORCE_TOL: f64 = 1e-6;
 /// Relative volume tolerance of the nodal constraint.
-const VOLUME_TOL: f64 = 1e-7;
+const VOLUME_TOL: f64 = 1e-6;
 
 /// Counters and wall times.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]

@@ -231,11 +231,26 @@ fn haptic_update_tracks_the_full_model() {
 /// The mesh is valid and reasonably shaped, and its volume converges to the hemisphere's.
 #[test]
 fn mesh_quality_is_reasonable() {
-    let ft = Fingertip::new(coarse(Material::Linear)).unwrap();
-    let q = ft.quality();
-    assert!(q.min_volume_m3 > 0.0);
-    assert!(q.min_dihedral_deg > 5.0 && q.max_dihedral_deg < 170.0, "{q:?}");
-    assert!(q.volume_ratio > 0.95 && q.volume_ratio < 1.0, "{q:?}");
+    let quality = |h: f64| {
+        let c = coarse(Material::Linear);
+        let mesh = fingertip::mesh::generate(&fingertip::mesh::MeshParams {
+            radius_mm: c.radius_mm,
+            size_mm: h,
+            inclusion_half_width_mm: c.inclusion_half_width_mm,
+            inclusion_height_mm: c.inclusion_height_mm,
+        });
+        fingertip::quality::report(&mesh)
+    };
+    let (q8, q4, q2) = (quality(8.0), quality(4.0), quality(2.0));
+    for q in [q8, q4, q2] {
+        assert!(q.min_volume_m3 > 0.0);
+        assert!(q.min_dihedral_deg > 5.0 && q.max_dihedral_deg < 170.0, "{q:?}");
+        assert!(q.max_aspect_ratio < 10.0, "{q:?}");
+    }
+    // Chords of the sphere cut volume off; the deficit falls like h^2.
+    let (e8, e4, e2) = (1.0 - q8.volume_ratio, 1.0 - q4.volume_ratio, 1.0 - q2.volume_ratio);
+    assert!(e8 > e4 && e4 > e2 && e2 > 0.0 && e2 < 0.01, "{e8} {e4} {e2}");
+    assert!(q2.tets > q4.tets && q4.tets > q8.tets);
 }
 
 /// Deformed-mesh export writes a complete legacy VTK file.
