@@ -65,8 +65,10 @@ fn curve_bench(hw: &hardware::Fingertip) {
     let h = mesh_size_for_min_tets(hw);
     let config = nominal(hw, Material::NeoHookean, h);
     let t0 = Instant::now();
+    let c0 = cpu_s();
     let curve = fingertip::compress(&config, hw.test.peak_load_n).expect("nominal curve");
     let wall = t0.elapsed().as_secs_f64();
+    let cpu = cpu_s() - c0;
     let q = &curve.quality;
     let s = &curve.stats;
     println!("== full {} N neo-Hookean curve ==", hw.test.peak_load_n);
@@ -86,6 +88,7 @@ fn curve_bench(hw: &hardware::Fingertip) {
     let last = curve.points.last().expect("points");
     println!("peak: travel {:.3} mm (d/R {:.3}), force {:.3} N, Fz {:.4} N", last.rod_mm, last.rod_mm / hw.radius_mm, last.force_n, last.fz_n);
     println!("ratio wall / {CURVE_LIMIT_S} s limit = {:.2} (goal <= 1)", wall / CURVE_LIMIT_S);
+    println!("cpu {cpu:.2} s over all threads (the machine is shared: wall > cpu / threads means we were starved)");
 }
 
 fn haptic_bench(hw: &hardware::Fingertip) {

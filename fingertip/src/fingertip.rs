@@ -142,7 +142,11 @@ impl Fingertip {
             }
             Err(err) => {
                 self.solver.state = saved;
-                Err(err)
+                self.solver.evaluate(&self.rod_at(self.travel_m), 0.0);
+                Err(match err {
+                    Error::NotConverged { iterations, .. } => Error::NotConverged { iterations, travel_mm: target_m * 1e3, force_n: self.point().force_n },
+                    other => other,
+                })
             }
         }
     }

@@ -4,21 +4,27 @@
 //! contact penalty) relates small load increments to displacements. Condensing it onto the
 //! normal dofs of the candidate contact nodes (the Schur complement of everything else) gives
 //! the dense Delassus compliance W = N^T K^{-1} N (n_c x n_c, N the rod-normal directions), and
-//! the chip loads respond to contact forces through G = T K_Ic K^{-1} N (3 x n_c), computed
-//! with three adjoint solves. Each update then solves the small complementarity problem
+//! the chip loads respond to contact forces through G = T K_Ic K^{-1} N (3 x n_c), read off
+//! the same n_c solves (K_Ic: the element couplings into the inclusion's nodes). Each update then solves the small complementarity problem
 //!
 //!   g = g0 - (d - d0) 1 + W (f - f0) + f / k,   f >= 0,  g >= 0,  f g = 0
 //!
-//! (penalty compliance 1/k as in the full model) by projected Gauss–Seidel, warm-started from
-//! the previous tick, and returns the rod force and chip loads. It is exact to first order in
-//! (d - d0) for the frictionless rod, and treats contact nodes lifting off or touching down.
+//! (penalty compliance 1/k as in the full model) by active-set steps on its affine solutions
+//! (see [`Haptic::update`]), and returns the rod force and chip loads. It is exact to first
+//! order in (d - d0) for the frictionless rod, and treats contact nodes lifting off or
+//! touching down.
+
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
 
 use crate::contact::Rod;
 use crate::model::NONE;
 use crate::{Error, Fingertip};
 
-/// Gauss–Seidel sweeps per update at most.
-const MAX_SWEEPS: usize = 50;
+/// Gauss–Seidel sweeps per update at most (fallback only).
+const MAX_SWEEPS: usize = 200;
+/// Active-set changes per update before falling back to Gauss–Seidel.
+const MAX_ACTIVE_SET_CHANGES: usize = 8;
 
 /// Precomputed condensed model.
 #[derive(Debug, Clone)]
@@ -40,6 +46,25 @@ pub struct Haptic {
     travel0_m: f64,
     loads0: [f64; 3],
     force0_n: f64,
+    /// The solution for the current active set, affine in the travel.
+    affine: Option<Affine>,
+}
+
+/// For a fixed active set A the contact problem is linear in dd = d - d0:
+/// f_A = alpha + dd beta (from (W_AA + diag 1/k) f_A = b0 + dd 1), the complementarity
+/// function of the inactive nodes is gamma + dd delta, and the outputs are a + dd b. An update
+/// is then O(n_c) (a feasibility check); only a change of the active set costs a small dense
+/// Cholesky (faer).
+#[derive(Debug, Clone)]
+struct Affine {
+    active: Vec<bool>,
+    alpha: Vec<f64>,
+    beta: Vec<f64>,
+    gamma: Vec<f64>,
+    delta: Vec<f64>,
+    /// (force, Fz, Mx, My) at dd = 0 and their slopes.
+    out_a: [f64; 4],
+    out_b: [f64; 4],
 }
 
 /// Outputs of one update.
@@ -109,7 +134,22 @@ impl Haptic {
         s.evaluate(&rod, 0.0);
         let inv_k = cand.iter().map(|&a| 1.0 / s.contact_k[a]).collect();
         let p = ft.point();
-        Ok(Haptic { w, g, inv_k, gap0, shift, f: f0.clone(), f0, travel0_m: ft.travel_mm() * 1e-3, loads0: [p.fz_n, p.mx_nm, p.my_nm], force0_n: p.force_n })
+        let mut h = Haptic {
+            w,
+            g,
+            inv_k,
+            gap0,
+            shift,
+            f: f0.clone(),
+            f0,
+            travel0_m: ft.travel_mm() * 1e-3,
+            loads0: [p.fz_n, p.mx_nm, p.my_nm],
+            force0_n: p.force_n,
+            affine: None,
+        };
+        let active: Vec<bool> = h.f0.iter().map(|&f| f > 0.0).collect();
+        h.affine = h.affine_solution(active);
+        Ok(h)
     }
 
     /// Number of condensed contact dofs.
@@ -125,11 +165,81 @@ impl Haptic {
     ///
     /// With the penetration pen_i = -gap0_i + (d - d0) - sum_j W_ij (f_j - f0_j), the penalty
     /// law (linearised through the base state, shift s_i) is the complementarity
-    /// h_i = f_i / k_i - pen_i - s_i >= 0, f_i >= 0, f_i h_i = 0, solved coordinate-wise
-    /// (projected Gauss–Seidel).
+    /// h_i = f_i / k_i - pen_i - s_i >= 0, f_i >= 0, f_i h_i = 0. It is solved by active-set
+    /// steps on the affine solutions; projected Gauss–Seidel is the fallback if they cycle.
     pub fn update(&mut self, travel_mm: f64) -> HapticSample {
-        let nc = self.f.len();
         let dd = travel_mm * 1e-3 - self.travel0_m;
+        for _ in 0..MAX_ACTIVE_SET_CHANGES {
+            let Some(aff) = &self.affine else { break };
+            let mut next = aff.active.clone();
+            let mut feasible = true;
+            for i in 0..next.len() {
+                if aff.active[i] && aff.alpha[i] + dd * aff.beta[i] < 0.0 {
+                    next[i] = false;
+                    feasible = false;
+                } else if !aff.active[i] && aff.gamma[i] + dd * aff.delta[i] < 0.0 {
+                    next[i] = true;
+                    feasible = false;
+                }
+            }
+            if feasible {
+                let o: Vec<f64> = (0..4).map(|k| aff.out_a[k] + dd * aff.out_b[k]).collect();
+                return HapticSample { force_n: o[0], fz_n: o[1], mx_nm: o[2], my_nm: o[3] };
+            }
+            self.affine = self.affine_solution(next);
+        }
+        self.projected_gauss_seidel(dd)
+    }
+
+    /// The affine solution for active set `active` (None if the set is empty-degenerate).
+    fn affine_solution(&self, active: Vec<bool>) -> Option<Affine> {
+        let nc = self.f0.len();
+        let idx: Vec<usize> = (0..nc).filter(|&i| active[i]).collect();
+        let na = idx.len();
+        let mut alpha = vec![0.0; nc];
+        let mut beta = vec![0.0; nc];
+        if na > 0 {
+            let m = Mat::from_fn(na, na, |r, c| self.w[idx[r] * nc + idx[c]] + if r == c { self.inv_k[idx[r]] } else { 0.0 });
+            let llt = m.llt(Side::Lower).ok()?;
+            let rhs = Mat::from_fn(na, 2, |r, c| {
+                let i = idx[r];
+                if c == 1 {
+                    1.0
+                } else {
+                    let wf0: f64 = (0..nc).map(|j| self.w[i * nc + j] * self.f0[j]).sum();
+                    -self.gap0[i] + self.shift[i] + wf0
+                }
+            });
+            let x = llt.solve(&rhs);
+            for (r, &i) in idx.iter().enumerate() {
+                alpha[i] = x[(r, 0)];
+                beta[i] = x[(r, 1)];
+            }
+        }
+        let mut gamma = vec![0.0; nc];
+        let mut delta = vec![0.0; nc];
+        for i in (0..nc).filter(|&i| !active[i]) {
+            let row = &self.w[i * nc..(i + 1) * nc];
+            let wa: f64 = idx.iter().map(|&j| row[j] * alpha[j]).sum();
+            let wb: f64 = idx.iter().map(|&j| row[j] * beta[j]).sum();
+            let wf0: f64 = row.iter().zip(&self.f0).map(|(w, f)| w * f).sum();
+            gamma[i] = self.gap0[i] + wa - wf0 - self.shift[i];
+            delta[i] = -1.0 + wb;
+        }
+        let sum0: f64 = self.f0.iter().sum();
+        let mut out_a = [self.force0_n + alpha.iter().sum::<f64>() - sum0, 0.0, 0.0, 0.0];
+        let mut out_b = [beta.iter().sum::<f64>(), 0.0, 0.0, 0.0];
+        for k in 0..3 {
+            let g = &self.g[k];
+            out_a[k + 1] = self.loads0[k] + (0..nc).map(|j| g[j] * (alpha[j] - self.f0[j])).sum::<f64>();
+            out_b[k + 1] = (0..nc).map(|j| g[j] * beta[j]).sum();
+        }
+        Some(Affine { active, alpha, beta, gamma, delta, out_a, out_b })
+    }
+
+    /// Coordinate-wise solution of the complementarity problem (robust fallback).
+    fn projected_gauss_seidel(&mut self, dd: f64) -> HapticSample {
+        let nc = self.f.len();
         let tol = 1e-9 * (1.0 + self.force0_n);
         for _ in 0..MAX_SWEEPS {
             let mut change: f64 = 0.0;

@@ -111,9 +111,10 @@ pub enum Error {
     /// The sparse factorisation failed (singular or non-quasi-definite tangent).
     #[error("linear solver: {0}")]
     LinearSolver(String),
-    /// Newton did not converge even after the step cutbacks.
-    #[error("Newton did not converge after {iterations} iterations and all step cutbacks")]
-    NotConverged { iterations: usize },
+    /// Newton did not converge even after the step cutbacks (`travel_mm` is the rod travel
+    /// it was heading for, 0 when unknown; `force_n` the last converged rod force).
+    #[error("Newton did not converge after {iterations} iterations and all step cutbacks, going to rod travel {travel_mm:.3} mm (last converged force {force_n:.3} N)")]
+    NotConverged { iterations: usize, travel_mm: f64, force_n: f64 },
     /// The rod travelled close to the base without reaching the requested load.
     #[error("peak load {peak_n} N not reached: {reached_n:.3} N at rod travel {travel_mm:.2} mm")]
     PeakNotReached { peak_n: f64, reached_n: f64, travel_mm: f64 },

@@ -206,14 +206,14 @@ impl Solver {
                     self.apply(&delta, MIN_ALPHA);
                     totals = self.evaluate(rod, dt_s);
                     if self.asm.min_j <= 0.0 {
-                        return Err(Error::NotConverged { iterations: it + 1 });
+                        return Err(Error::NotConverged { iterations: it + 1, travel_mm: 0.0, force_n: 0.0 });
                     }
                     need_factor = true;
                     fresh = false;
                 }
             }
         }
-        Err(Error::NotConverged { iterations: MAX_NEWTON })
+        Err(Error::NotConverged { iterations: MAX_NEWTON, travel_mm: 0.0, force_n: 0.0 })
     }
 
     /// Backtracking (halving) on the scaled residual norm with an inversion guard. Returns the

@@ -275,3 +275,37 @@ fn invalid_config_names_the_field() {
     let err = Fingertip::new(c).unwrap_err().to_string();
     assert!(err.contains("poisson"), "{err}");
 }
+
+/// Prony-series viscoelasticity: pressed quickly, the gel is stiffer than the relaxed elastic
+/// model; held at constant travel the force relaxes towards the relaxed model's force, and
+/// the relaxed force is reached after many relaxation times.
+#[test]
+fn viscoelastic_gel_relaxes_towards_the_elastic_response() {
+    let terms = vec![fingertip::PronyTerm { g: 0.4, tau_s: 1.0 }];
+    let mut elastic = Fingertip::new(coarse(Material::NeoHookean)).unwrap();
+    let relaxed = elastic.step_to(2.0, 1.0).unwrap().force_n;
+    let mut visco = Fingertip::new(coarse(Material::ViscoNeoHookean(terms))).unwrap();
+    let history: Vec<(f64, f64)> = [(0.05, 1.0), (0.1, 2.0), (0.6, 2.0), (1.6, 2.0), (4.0, 2.0), (30.0, 2.0)].to_vec();
+    let pts = visco.follow(&history).unwrap();
+    let fast = pts[1].force_n;
+    assert!(fast > 1.3 * relaxed, "fast {fast} relaxed {relaxed}");
+    assert!(pts.windows(2).skip(1).all(|w| w[1].force_n < w[0].force_n), "{pts:?}");
+    let last = pts.last().unwrap().force_n;
+    assert!((last - relaxed).abs() < 0.01 * relaxed, "{last} vs {relaxed}");
+}
+
+/// Coulomb friction under an axial platen holds the contact patch from spreading outwards,
+/// which stiffens the response; it keeps the axial symmetry (no moment).
+#[test]
+fn friction_stiffens_axial_indentation_and_keeps_symmetry() {
+    let run = |mu: f64| {
+        let mut c = coarse(Material::NeoHookean);
+        c.friction_mu = mu;
+        let mut ft = Fingertip::new(c).unwrap();
+        ft.step_to(1.0, 1.0).unwrap();
+        ft.step_to(2.0, 1.0).unwrap()
+    };
+    let (a, b) = (run(0.0), run(0.5));
+    assert!(b.force_n > a.force_n, "{a:?} {b:?}");
+    assert!(b.mx_nm.abs() < 1e-6 * b.fz_n.abs() * 0.02 && b.my_nm.abs() < 1e-6 * b.fz_n.abs() * 0.02, "{b:?}");
+}

@@ -125,7 +125,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let (config, peak) = config(&args, &hw.fingertip)?;
     let t0 = Instant::now();
     let mut ft = Fingertip::new(config.clone()).context("building the fingertip model")?;
-    let curve = ft.compress_to_peak(peak).context("compressing the fingertip")?;
+    let curve = ft.compress_to_peak(peak).with_context(|| {
+        if config.rod_radius_mm < 0.5 * config.radius_mm {
+            format!(
+                "compressing the fingertip (a {} mm rod narrower than the contact patch lets the gel wrap round its rim; a platen, e.g. --rod-radius {}, reaches the peak)",
+                config.rod_radius_mm, config.radius_mm
+            )
+        } else {
+            "compressing the fingertip".to_string()
+        }
+    })?;
     let total_s = t0.elapsed().as_secs_f64();
     if let Some(path) = &args.vtk {
         ft.write_vtk(path).with_context(|| format!("writing {}", path.display()))?;
