@@ -155,7 +155,7 @@ fn peer_bench(hw: &hardware::Fingertip) {
         return;
     }
     let peer_h = std::env::var("PEER_MESH_MM").ok().and_then(|s| s.parse().ok()).unwrap_or(2.5);
-    let travels = [0.25, 0.5, 1.0, 1.5, 2.0];
+    let travels = [0.5, 1.0, 1.5, 2.0];
     let config = nominal(hw, Material::Linear, std::env::var("OUR_MESH_MM").ok().and_then(|s| s.parse().ok()).unwrap_or(3.0));
     let t0 = Instant::now();
     let c0 = cpu_s();

@@ -43,6 +43,7 @@ pub mod assembly;
 pub mod contact;
 mod fingertip;
 pub mod haptic;
+pub mod krylov;
 pub mod linsolve;
 pub mod loads;
 pub mod material;

@@ -14,8 +14,13 @@ use crate::Error;
 const MAX_NEWTON: usize = 40;
 /// Smallest line-search step (six halvings).
 const MIN_ALPHA: f64 = 1.0 / 64.0;
-/// A kept factorisation must reduce the residual norm at least this much per iteration.
-const STALE_RATE: f64 = 0.1;
+/// Relative residual of the preconditioned GMRES solves (inexact Newton: keeps the rate).
+const GMRES_RTOL: f64 = 1e-8;
+/// GMRES iterations before giving up on the kept factor for this system.
+const GMRES_MAX: usize = 12;
+/// A kept factor that needed more GMRES iterations than this is refreshed for the next
+/// system (one factorisation costs about as much as 14 triangular solves here).
+const GMRES_REFRESH: usize = 4;
 /// Force tolerance, in units of E R^2 (60 N at 0.15 MPa is 1 E R^2).
 const FORCE_TOL: f64 = 1e-6;
 /// Relative volume tolerance of the nodal constraint.
@@ -26,6 +31,8 @@ const VOLUME_TOL: f64 = 1e-6;
 pub struct Stats {
     pub newton_iterations: usize,
     pub factorizations: usize,
+    /// GMRES iterations (each one triangular solve with a kept factor).
+    pub krylov_iterations: usize,
     pub cutbacks: usize,
     pub assembly_s: f64,
     pub factor_s: f64,
@@ -51,6 +58,8 @@ pub struct Solver {
     step_face_m: f64,
     pub stats: Stats,
     youngs_modulus_pa: f64,
+    /// Factor every Newton system (no Krylov reuse), for comparisons (`FINGERTIP_DIRECT=1`).
+    pub direct_only: bool,
 }
 
 /// Totals of the contact forces at one state.
@@ -73,7 +82,7 @@ impl Solver {
         let state = State::reference(&model);
         let step_start = state.x.clone();
         let asm = Assembled { residual: Vec::new(), node_force: Vec::new(), values: Vec::new(), min_j: 1.0 };
-        Ok(Solver { model, state, contact_k, contact_ramp, surface_nodes, ldlt, asm, scratch: Vec::new(), step_start, step_face_m: 0.0, stats: Stats::default(), youngs_modulus_pa })
+        Ok(Solver { model, state, contact_k, contact_ramp, surface_nodes, ldlt, asm, scratch: Vec::new(), step_start, step_face_m: 0.0, stats: Stats::default(), youngs_modulus_pa, direct_only: std::env::var_os("FINGERTIP_DIRECT").is_some() })
     }
 
     /// Mark the current state as the start of a load step with the rod face at `face_m`.
@@ -156,50 +165,35 @@ impl Solver {
     /// Newton to equilibrium with the rod at `rod`. On failure the state is left wherever it
     /// got to; the caller restores its copy.
     ///
-    /// The factorisation is the expensive part (≈ 10x an assembly), so a factor is kept while
-    /// it still contracts the residual by at least `STALE_RATE` per iteration (modified
-    /// Newton, also across load steps); otherwise, or when its direction fails the line
-    /// search, the tangent is refactored (full Newton, quadratic rate).
+    /// The factorisation is the expensive part (≈ 10x an assembly, ≈ 20x a triangular solve),
+    /// so the Newton systems are solved by GMRES preconditioned with the last factor, kept
+    /// across iterations and load steps ([`crate::krylov`]); the tangent is refactored only
+    /// when GMRES stalls or its direction fails the line search.
     pub fn equilibrate(&mut self, rod: &Rod, dt_s: f64) -> Result<ContactTotals, Error> {
         let mut totals = self.evaluate(rod, dt_s);
         let mut delta = vec![0.0; self.model.n_dofs];
-        let mut fresh = false;
-        let mut need_factor = !self.ldlt.is_factored();
+        let mut rhs = vec![0.0; self.model.n_dofs];
+        let mut force_factor = !self.ldlt.is_factored();
         let trace = std::env::var_os("FINGERTIP_TRACE").is_some();
         for it in 0..MAX_NEWTON {
             let (merit, converged) = self.merit();
             if trace {
-                eprintln!("newton it {it} face {:.6e} merit {merit:.3e} minJ {:.4} contact {} fresh {fresh}", rod.face_m, self.asm.min_j, totals.nodes);
+                eprintln!("newton it {it} face {:.6e} merit {merit:.3e} minJ {:.4} contact {}", rod.face_m, self.asm.min_j, totals.nodes);
             }
             if converged && it > 0 {
                 return Ok(totals);
             }
-            if need_factor {
-                let t0 = Instant::now();
-                self.ldlt.factorize(&self.asm.values)?;
-                self.stats.factor_s += t0.elapsed().as_secs_f64();
-                self.stats.factorizations += 1;
-                fresh = true;
-                need_factor = false;
-            }
-            let t1 = Instant::now();
-            for (d, r) in delta.iter_mut().zip(&self.asm.residual) {
+            for (d, r) in rhs.iter_mut().zip(&self.asm.residual) {
                 *d = -r;
             }
-            self.ldlt.solve_in_place(&mut delta, 1);
-            self.stats.solve_s += t1.elapsed().as_secs_f64();
+            let (fresh, krylov) = self.newton_direction(&rhs, &mut delta, force_factor)?;
             self.stats.newton_iterations += 1;
             match self.line_search(&delta, merit, rod, dt_s) {
-                Some((t, trial)) => {
+                Some((t, _)) => {
                     totals = t;
-                    if !fresh || trial > STALE_RATE * merit {
-                        // A stale factor that contracts slowly, or a fresh one far from the
-                        // quadratic regime: refactor next time unless it is doing well.
-                        need_factor = trial > STALE_RATE * merit;
-                    }
-                    fresh = false;
+                    force_factor = krylov > GMRES_REFRESH;
                 }
-                None if !fresh => need_factor = true,
+                None if !fresh => force_factor = true,
                 None => {
                     // Fresh Newton direction failed: accept the smallest step if elements stay
                     // valid, Newton may need to climb out of a non-monotone merit region.
@@ -208,12 +202,35 @@ impl Solver {
                     if self.asm.min_j <= 0.0 {
                         return Err(Error::NotConverged { iterations: it + 1, travel_mm: 0.0, force_n: 0.0 });
                     }
-                    need_factor = true;
-                    fresh = false;
+                    force_factor = true;
                 }
             }
         }
         Err(Error::NotConverged { iterations: MAX_NEWTON, travel_mm: 0.0, force_n: 0.0 })
+    }
+
+    /// Solve K delta = rhs: GMRES on the kept factor, or a new factorisation. Returns whether
+    /// the direction is "fresh" (exact, new factor) and the GMRES iterations used.
+    fn newton_direction(&mut self, rhs: &[f64], delta: &mut [f64], force_factor: bool) -> Result<(bool, usize), Error> {
+        let t1 = Instant::now();
+        if !force_factor && !self.direct_only {
+            let m = &self.model;
+            let its = crate::krylov::gmres(&m.col_ptr, &m.row_idx, &self.asm.values, &mut self.ldlt, rhs, delta, GMRES_RTOL, GMRES_MAX);
+            self.stats.solve_s += t1.elapsed().as_secs_f64();
+            if let Some(k) = its {
+                self.stats.krylov_iterations += k;
+                return Ok((false, k));
+            }
+        }
+        let t0 = Instant::now();
+        self.ldlt.factorize(&self.asm.values)?;
+        self.stats.factor_s += t0.elapsed().as_secs_f64();
+        self.stats.factorizations += 1;
+        let t2 = Instant::now();
+        delta.copy_from_slice(rhs);
+        self.ldlt.solve_in_place(delta, 1);
+        self.stats.solve_s += t2.elapsed().as_secs_f64();
+        Ok((true, 0))
     }
 
     /// Backtracking (halving) on the scaled residual norm with an inversion guard. Returns the
