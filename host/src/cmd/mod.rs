@@ -54,5 +54,15 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     if let Some(e) = cause.downcast_ref::<crate::logger::FileError>() {
         return Some(e.exit_code());
     }
+    if let Some(e) = cause.downcast_ref::<fe::FeError>() {
+        return Some(crate::cli::ExitStatus::exit_code(e));
+    }
+    if let Some(e) = cause.downcast_ref::<fingertip::Error>() {
+        return Some(match e {
+            fingertip::Error::InvalidConfig { .. } | fingertip::Error::PeakNotReached { .. } => crate::cli::exit::DATA,
+            fingertip::Error::Io(_) => crate::cli::exit::IO,
+            _ => crate::cli::exit::SOFTWARE,
+        });
+    }
     None
 }
