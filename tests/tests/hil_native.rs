@@ -16,7 +16,7 @@ use tests::hil::reference::{code_to_v, ErrorStats, ReferenceFilter};
 
 const CFG: NativeConfig = NativeConfig {
     peak_load_n: 45.0,
-    load_start_s: 2.0,
+    load_start_s: 3.0,
     speed_factor: 40.0,
     noise_seed: Some(11),
 };
