@@ -16,6 +16,7 @@ mod chip;
 mod fingertip;
 mod frontend;
 pub mod reader;
+mod sim;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -26,6 +27,7 @@ pub use chip::{Bridge as ChipBridge, Chip, Resistor as ChipResistor, ARM_NAMES, 
 pub use fingertip::{CompressionTest, Fingertip};
 pub use frontend::{AntiAlias, Bridge, Frontend, GainStage, InAmp, TempSensor, Trim, BRIDGES};
 pub use reader::Reader;
+pub use sim::Sim;
 
 /// Every parameter of the sensor, loaded from one `hardware/` folder.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,6 +43,8 @@ pub struct Params {
     pub adc: Adc,
     /// The NUCLEO-F411RE pin map.
     pub board: Board,
+    /// The emulated sensor's own parameters (pillar, temperature warm-up).
+    pub sim: Sim,
 }
 
 impl Params {
@@ -65,11 +69,12 @@ impl Params {
         let frontend = collect(Frontend::load(&dir.join("frontend.toml")), &mut errors);
         let adc = collect(Adc::load(&dir.join("adc.toml")), &mut errors);
         let board = collect(Board::load(&dir.join("board.toml")), &mut errors);
-        match (fingertip, chip, frontend, adc, board) {
-            (Some(fingertip), Some(chip), Some(frontend), Some(adc), Some(board))
+        let sim = collect(Sim::load(&dir.join("sim.toml")), &mut errors);
+        match (fingertip, chip, frontend, adc, board, sim) {
+            (Some(fingertip), Some(chip), Some(frontend), Some(adc), Some(board), Some(sim))
                 if errors.is_empty() =>
             {
-                Ok(Self { fingertip, chip, frontend, adc, board })
+                Ok(Self { fingertip, chip, frontend, adc, board, sim })
             }
             _ => Err(LoadError(errors)),
         }

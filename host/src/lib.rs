@@ -8,3 +8,5 @@ pub mod device;
 pub mod live;
 pub mod logger;
 pub mod plot;
+pub mod diagnosis;
+pub mod recording;

@@ -36,6 +36,12 @@ pub fn run(command: Command) -> anyhow::Result<()> {
 /// The exit code a library error asks for, if `cause` is one of ours. Each module that owns an
 /// error type adds its downcast here.
 pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
+    if let Some(e) = cause.downcast_ref::<crate::recording::RecordingError>() {
+        return Some(e.exit_code());
+    }
+    if cause.downcast_ref::<crate::diagnosis::data::DataError>().is_some() {
+        return Some(crate::cli::exit::DATA);
+    }
     if cause.is::<::chip::from_hardware::FromHardwareError>() || cause.is::<hardware::LoadError>() {
         return Some(crate::cli::exit::DATA);
     }
@@ -47,6 +53,16 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     }
     if let Some(e) = cause.downcast_ref::<crate::logger::FileError>() {
         return Some(e.exit_code());
+    }
+    if let Some(e) = cause.downcast_ref::<fe::FeError>() {
+        return Some(crate::cli::ExitStatus::exit_code(e));
+    }
+    if let Some(e) = cause.downcast_ref::<fingertip::Error>() {
+        return Some(match e {
+            fingertip::Error::InvalidConfig { .. } | fingertip::Error::PeakNotReached { .. } => crate::cli::exit::DATA,
+            fingertip::Error::Io(_) => crate::cli::exit::IO,
+            _ => crate::cli::exit::SOFTWARE,
+        });
     }
     None
 }

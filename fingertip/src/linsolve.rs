@@ -1,0 +1,121 @@
+//! Sparse symmetric LDL^T from faer: the symbolic analysis (AMD ordering, elimination tree,
+//! supernodes) is done once per pattern and reused for every Newton iteration.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::perm::PermRef;
+use faer::{Conj, MatMut, Par, Side};
+
+use crate::Error;
+
+/// A symmetric (upper-stored) sparse matrix factoriser with a fixed pattern.
+pub struct Ldlt {
+    pattern: SymbolicSparseColMat<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    factor_mem: MemBuffer,
+    solve_mem: MemBuffer,
+    par: Par,
+    factored: bool,
+}
+
+impl std::fmt::Debug for Ldlt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Ldlt").field("n", &self.symbolic.nrows()).field("factor_nnz", &self.l_values.len()).finish()
+    }
+}
+
+impl Ldlt {
+    /// Analyse the pattern (upper triangle, CSC), with a fill-reducing ordering `perm`
+    /// (new position -> old index) or AMD when `None`.
+    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize], perm: Option<&[usize]>) -> Result<Ldlt, Error> {
+        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr.to_vec(), None, row_idx.to_vec());
+        let symbolic = match perm {
+            Some(fwd) => {
+                if fwd.len() != n {
+                    return Err(Error::LinearSolver(format!("ordering has {} entries for {n} unknowns", fwd.len())));
+                }
+                let mut inv = vec![0usize; n];
+                for (new, &old) in fwd.iter().enumerate() {
+                    inv[old] = new;
+                }
+                let p = PermRef::new_checked(fwd, &inv, n);
+                factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Custom(p), CholeskySymbolicParams::default())
+            }
+            None => factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Amd, CholeskySymbolicParams::default()),
+        }
+        .map_err(|e| Error::LinearSolver(format!("symbolic analysis: {e:?}")))?;
+        let par = if std::env::var_os("FINGERTIP_SEQ").is_some() { Par::Seq } else { Par::rayon(0) };
+        let factor_mem = MemBuffer::try_new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
+            .map_err(|e| Error::LinearSolver(format!("workspace: {e:?}")))?;
+        let solve_mem = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(64, par))
+            .map_err(|e| Error::LinearSolver(format!("workspace: {e:?}")))?;
+        let l_values = vec![0.0; symbolic.len_val()];
+        Ok(Ldlt { pattern, symbolic, l_values, factor_mem, solve_mem, par, factored: false })
+    }
+
+    /// Numeric factorisation of the matrix with these values in the analysed pattern.
+    pub fn factorize(&mut self, values: &[f64]) -> Result<(), Error> {
+        let a = SparseColMatRef::new(self.pattern.as_ref(), values);
+        self.symbolic
+            .factorize_numeric_ldlt(
+                &mut self.l_values,
+                a,
+                Side::Upper,
+                LdltRegularization::default(),
+                self.par,
+                MemStack::new(&mut self.factor_mem),
+                Default::default(),
+            )
+            .map_err(|e| Error::LinearSolver(format!("LDLT: {e:?}")))?;
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Solve A X = B in place for the columns of `rhs` (column-major, `n x k`, k <= 64).
+    pub fn solve_in_place(&mut self, rhs: &mut [f64], k: usize) {
+        assert!(self.factored, "solve before factorize");
+        let n = self.symbolic.nrows();
+        let ldlt = LdltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
+        for chunk in rhs.chunks_mut(n * 64).take(k.div_ceil(64)) {
+            let cols = chunk.len() / n;
+            let m = MatMut::from_column_major_slice_mut(chunk, n, cols);
+            ldlt.solve_in_place_with_conj(Conj::No, m, self.par, MemStack::new(&mut self.solve_mem));
+        }
+    }
+
+    /// Whether a numeric factorisation is available.
+    pub fn is_factored(&self) -> bool {
+        self.factored
+    }
+
+    /// Number of stored entries of the factor.
+    pub fn factor_nnz(&self) -> usize {
+        self.l_values.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A quasi-definite 3x3 (SPD block, negative pressure-like diagonal) is solved exactly.
+    #[test]
+    fn solves_a_quasi_definite_system() {
+        // [[4, 1, 1], [1, 3, 1], [1, 1, -0.5]] upper CSC
+        let col_ptr = [0, 1, 3, 6];
+        let row_idx = [0, 0, 1, 0, 1, 2];
+        let vals = [4.0, 1.0, 3.0, 1.0, 1.0, -0.5];
+        let mut s = Ldlt::new(3, &col_ptr, &row_idx, None).unwrap();
+        s.factorize(&vals).unwrap();
+        let x = [1.0, -2.0, 0.5];
+        let a = [[4.0, 1.0, 1.0], [1.0, 3.0, 1.0], [1.0, 1.0, -0.5]];
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i][j] * x[j]).sum()).collect();
+        s.solve_in_place(&mut b, 1);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < 1e-12);
+        }
+    }
+}

@@ -1,0 +1,314 @@
+//! The baseline model of a compression test: what the project predicts with no catalogue effect.
+//!
+//! rod travel -> [`FingertipResponse`] (probe force and chip loads per unit gel modulus; the
+//! neo-Hookean response scales linearly with E at fixed geometry) -> x E -> chip sensitivity,
+//! excitation and amplifier gains ([`FrontEnd`]) -> output volts. The catalogue effects of
+//! `sim::effects` slot in between (mechanical on loads, electrical on volts); see [`evaluate`].
+
+use sim::effects::Chain;
+
+/// Probe force and chip loads per pascal of gel modulus at one rod travel.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct UnitResponse {
+    /// Force along the rod axis, N/Pa.
+    pub force_n: f64,
+    /// Chip loads [Fz (N), Mx (N·m), My (N·m)] per Pa.
+    pub chip: [f64; 3],
+}
+
+/// A fingertip model: the quasi-static response to rod travel at unit modulus.
+pub trait FingertipResponse: Sync {
+    fn unit_response(&self, rod_mm: f64) -> UnitResponse;
+}
+
+/// A tabulated response (from the FE model or any other source), linear between points and
+/// zero before the first (no contact).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResponseTable {
+    rod_mm: Vec<f64>,
+    points: Vec<UnitResponse>,
+}
+
+impl ResponseTable {
+    /// `rod_mm` increasing, one point each.
+    pub fn new(rod_mm: Vec<f64>, points: Vec<UnitResponse>) -> Self {
+        assert_eq!(rod_mm.len(), points.len(), "one response per rod travel");
+        assert!(rod_mm.windows(2).all(|w| w[1] > w[0]), "rod travel must increase");
+        Self { rod_mm, points }
+    }
+
+    /// From a quasi-static curve computed at modulus `youngs_modulus_pa` (e.g. the `fingertip`
+    /// FE's `Curve::points`: rod_mm, force_n, fz_n, mx_nm, my_nm), divided by that modulus: the
+    /// neo-Hookean response scales linearly with E at fixed geometry. Points must have
+    /// increasing rod travel; repeated travels (a hold) keep the first.
+    pub fn from_curve(points: impl IntoIterator<Item = (f64, f64, [f64; 3])>, youngs_modulus_pa: f64) -> Self {
+        let mut rod = Vec::new();
+        let mut out = Vec::new();
+        for (rod_mm, force_n, chip) in points {
+            if rod.last().is_some_and(|&r: &f64| rod_mm <= r) {
+                continue;
+            }
+            rod.push(rod_mm);
+            out.push(UnitResponse { force_n: force_n / youngs_modulus_pa, chip: chip.map(|c| c / youngs_modulus_pa) });
+        }
+        Self::new(rod, out)
+    }
+
+    /// Tabulate any response on `n` even steps of `0..=max_rod_mm`.
+    pub fn sample(model: &dyn FingertipResponse, max_rod_mm: f64, n: usize) -> Self {
+        let rod: Vec<f64> = (0..n).map(|i| max_rod_mm * i as f64 / (n - 1) as f64).collect();
+        let points = rod.iter().map(|&d| model.unit_response(d)).collect();
+        Self::new(rod, points)
+    }
+}
+
+impl FingertipResponse for ResponseTable {
+    fn unit_response(&self, rod_mm: f64) -> UnitResponse {
+        let n = self.rod_mm.len();
+        if n == 0 || rod_mm <= self.rod_mm[0] {
+            return UnitResponse::default();
+        }
+        let i = self.rod_mm.partition_point(|&r| r <= rod_mm).min(n - 1).max(1);
+        let (r0, r1) = (self.rod_mm[i - 1], self.rod_mm[i]);
+        let u = ((rod_mm - r0) / (r1 - r0)).min(1.0);
+        let (a, b) = (self.points[i - 1], self.points[i]);
+        // Past the table's end, extrapolate along the last interval.
+        let u = if rod_mm > self.rod_mm[n - 1] { (rod_mm - r0) / (r1 - r0) } else { u };
+        UnitResponse {
+            force_n: a.force_n + u * (b.force_n - a.force_n),
+            chip: std::array::from_fn(|k| a.chip[k] + u * (b.chip[k] - a.chip[k])),
+        }
+    }
+}
+
+/// From chip loads to the volts at the ADC input.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrontEnd {
+    /// Bridge output per volt of excitation, per N (row Fz) or per N·m (rows Mx, My):
+    /// rows = bridges [Fz, Mx, My], columns = loads [Fz, Mx, My].
+    pub sensitivity_per_v: [[f64; 3]; 3],
+    /// Amplifier voltage gains [Fz, Mx, My].
+    pub gain: [f64; 3],
+    pub excitation_v: f64,
+    /// Time constant of the firmware's first-order smoother y += alpha (x - y), if it is on:
+    /// tau = dt (1 - alpha) / alpha (see [`smoother_tau_s`]).
+    pub smoother_tau_s: Option<f64>,
+}
+
+/// The metadata key (this project's own; the contract keeps unknown keys) that records the
+/// firmware smoother's alpha.
+pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
+
+/// The smoother y[k] = y[k-1] + alpha (x[k] - y[k-1]) at `sample_rate_hz` as a first-order
+/// low-pass: its step response e^{-k ln(1/(1-alpha))} gives tau = dt / ln(1 / (1 - alpha)).
+pub fn smoother_tau_s(alpha: f64, sample_rate_hz: f64) -> Option<f64> {
+    (alpha > 0.0 && alpha < 1.0).then(|| 1.0 / sample_rate_hz / (1.0 / (1.0 - alpha)).ln())
+}
+
+impl FrontEnd {
+    /// The chip's sensitivity matrix (the `chip` crate's beam and bridge model of
+    /// `hardware/chip.toml`) per volt of its excitation; gains and excitation as given (the
+    /// recording's metadata when diagnosing).
+    pub fn from_chip(hw: &hardware::Params, gain: [f64; 3], excitation_v: f64) -> Result<Self, chip::from_hardware::FromHardwareError> {
+        let params = chip::params::ChipParams::try_from(&hw.chip)?;
+        let s = chip::sensitivity_matrix(&params);
+        let per_v = s.map(|row| row.map(|v| v / hw.chip.excitation_v));
+        Ok(Self { sensitivity_per_v: per_v, gain, excitation_v, smoother_tau_s: None })
+    }
+
+    /// Everything from `hardware/`: the chip's sensitivities, the amplifier chain's DC gains
+    /// (`sim::frontend`, from `frontend.toml`) and the bridge excitation of `chip.toml`.
+    pub fn from_hardware(hw: &hardware::Params) -> Result<Self, chip::from_hardware::FromHardwareError> {
+        let fe = sim::frontend::FrontEnd::from_params(hw);
+        let gain = std::array::from_fn(|i| fe.channels[i].gain());
+        Self::from_chip(hw, gain, hw.chip.excitation_v)
+    }
+
+    pub fn volts(&self, chip: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|b| {
+            let s = &self.sensitivity_per_v[b];
+            self.gain[b] * self.excitation_v * (s[0] * chip[0] + s[1] * chip[1] + s[2] * chip[2])
+        })
+    }
+}
+
+/// The baseline's free parameters, calibrated by the diagnosis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaselineParams {
+    pub youngs_modulus_pa: f64,
+    /// Change of the force–indentation exponent against the fingertip model's own.
+    pub exponent_shift: f64,
+    /// Sensitivity scale of the Fz channel against the nominal front end.
+    pub scale_fz: f64,
+    /// Sensitivity scale of both moment channels (identical bridges).
+    pub scale_moment: f64,
+    /// Azimuth correction: rotation of the moment vector, deg.
+    pub azimuth_shift_deg: f64,
+    /// Offsets of load_N, fz_V, mx_V, my_V.
+    pub offset: [f64; 4],
+}
+
+impl BaselineParams {
+    pub fn nominal(youngs_modulus_pa: f64) -> Self {
+        Self {
+            youngs_modulus_pa,
+            exponent_shift: 0.0,
+            scale_fz: 1.0,
+            scale_moment: 1.0,
+            azimuth_shift_deg: 0.0,
+            offset: [0.0; 4],
+        }
+    }
+}
+
+/// The drive of one evaluation: a time base and the unit response at each time.
+#[derive(Debug, Clone)]
+pub struct Drive {
+    pub t_s: Vec<f64>,
+    pub unit: Vec<UnitResponse>,
+    /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
+    ln_rel_rod: Vec<f64>,
+}
+
+impl Drive {
+    pub fn new(model: &dyn FingertipResponse, t_s: Vec<f64>, rod_mm: &[f64]) -> Self {
+        let rod_max = rod_mm.iter().cloned().fold(0.0, f64::max);
+        let unit = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
+        let ln_rel_rod = rod_mm
+            .iter()
+            .map(|&d| if d > 0.0 && rod_max > 0.0 { (d / rod_max).ln() } else { 0.0 })
+            .collect();
+        Self { t_s, unit, ln_rel_rod }
+    }
+
+    pub fn len(&self) -> usize {
+        self.t_s.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.t_s.is_empty()
+    }
+}
+
+/// Model output: load and the three output voltages on the drive's time base.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outputs {
+    pub load_n: Vec<f64>,
+    pub volts: [Vec<f64>; 3],
+}
+
+impl Outputs {
+    /// Channel `c` in contract order load_N, fz_V, mx_V, my_V.
+    pub fn channel(&self, c: usize) -> &[f64] {
+        if c == 0 { &self.load_n } else { &self.volts[c - 1] }
+    }
+}
+
+/// A hook on the output volts just ahead of the amplifier rails.
+pub type RailHook<'h> = &'h mut dyn FnMut(&mut [Vec<f64>; 3]);
+
+/// Run the baseline with `chain` switched on. `before_rails` is called on the volts after the
+/// offsets and before saturation (the simulator adds its noise there).
+pub fn evaluate(
+    drive: &Drive,
+    front_end: &FrontEnd,
+    p: &BaselineParams,
+    chain: &Chain,
+    contact_angle_deg: f64,
+    before_rails: Option<RailHook>,
+) -> Outputs {
+    let n = drive.len();
+    let mut load = Vec::with_capacity(n);
+    let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
+    for (u, &l) in drive.unit.iter().zip(&drive.ln_rel_rod) {
+        let w = p.youngs_modulus_pa * if p.exponent_shift != 0.0 { (p.exponent_shift * l).exp() } else { 1.0 };
+        load.push(u.force_n * w);
+        let (mx, my) = (u.chip[1] * w, u.chip[2] * w);
+        chip[0].push(u.chip[0] * w);
+        chip[1].push(mx * c - my * s);
+        chip[2].push(mx * s + my * c);
+    }
+    chain.apply_mechanical(&drive.t_s, &mut load, &mut chip, contact_angle_deg);
+    let scale = [p.scale_fz, p.scale_moment, p.scale_moment];
+    let mut volts: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let [fz, mx, my] = &chip;
+    for ((&a, &b), &c) in fz.iter().zip(mx).zip(my) {
+        let v = front_end.volts([a, b, c]);
+        for ((out, v), s) in volts.iter_mut().zip(v).zip(scale) {
+            out.push(v * s);
+        }
+    }
+    chain.apply_electrical(&drive.t_s, &mut volts);
+    load.iter_mut().for_each(|f| *f += p.offset[0]);
+    for (out, offset) in volts.iter_mut().zip(&p.offset[1..]) {
+        out.iter_mut().for_each(|v| *v += offset);
+    }
+    if let Some(f) = before_rails {
+        f(&mut volts);
+    }
+    chain.apply_saturation(&mut volts);
+    if let Some(tau_s) = front_end.smoother_tau_s {
+        // Low-pass = input minus its high-pass, integrated exactly on any time base.
+        let hp = sim::effects::HighpassCoupling { tau_s };
+        for v in volts.iter_mut() {
+            let mut h = v.clone();
+            hp.apply(&drive.t_s, &mut h);
+            v.iter_mut().zip(h).for_each(|(x, h)| *x -= h);
+        }
+    }
+    Outputs { load_n: load, volts }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Linear;
+    impl FingertipResponse for Linear {
+        fn unit_response(&self, rod_mm: f64) -> UnitResponse {
+            let d = rod_mm.max(0.0);
+            UnitResponse { force_n: d, chip: [d, -d, 0.5 * d] }
+        }
+    }
+
+    /// The recursive smoother and its continuous equivalent agree on a step.
+    #[test]
+    fn smoother_time_constant() {
+        let (alpha, rate) = (0.2, 1000.0);
+        let tau = smoother_tau_s(alpha, rate).unwrap();
+        let mut y = 0.0;
+        for _ in 0..10 {
+            y += alpha * (1.0 - y);
+        }
+        assert!((y - (1.0 - (-10.0 / rate / tau).exp())).abs() < 1e-12);
+    }
+
+    #[test]
+    fn table_interpolates_and_is_zero_before_contact() {
+        let t = ResponseTable::sample(&Linear, 10.0, 11);
+        assert_eq!(t.unit_response(-1.0), UnitResponse::default());
+        assert!((t.unit_response(3.5).force_n - 3.5).abs() < 1e-12);
+        assert!((t.unit_response(12.0).chip[2] - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn table_from_a_curve_is_per_unit_modulus() {
+        let pts = [(0.0, 0.0, [0.0; 3]), (1.0, 2e4, [1e4, 0.0, 5e3]), (1.0, 2e4, [1e4, 0.0, 5e3]), (2.0, 6e4, [3e4, -1e3, 1e4])];
+        let t = ResponseTable::from_curve(pts, 1e4);
+        let u = t.unit_response(1.5);
+        assert!((u.force_n - 4.0).abs() < 1e-12 && (u.chip[0] - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn outputs_scale_linearly_with_modulus() {
+        let fe = FrontEnd { sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], gain: [2.0, 3.0, 3.0], excitation_v: 1.5, smoother_tau_s: None };
+        let drive = Drive::new(&Linear, vec![0.0, 1.0, 2.0], &[0.0, 1.0, 2.0]);
+        let chain = Chain::default();
+        let a = evaluate(&drive, &fe, &BaselineParams::nominal(1.0), &chain, 20.0, None);
+        let b = evaluate(&drive, &fe, &BaselineParams::nominal(2.0), &chain, 20.0, None);
+        assert_eq!(a.volts[0], vec![0.0, 3.0, 6.0]);
+        assert_eq!(b.volts[1], vec![0.0, -9.0, -18.0]);
+        assert_eq!(b.load_n[2], 4.0);
+    }
+}

@@ -1,0 +1,244 @@
+//! The recording as the diagnosis sees it: gaps dropped, the four compared channels, a noise
+//! estimate per channel, and a block-averaged copy for fitting: 20 ms blocks (50 Hz) where the
+//! rod moves fast or changes speed, 200 ms blocks (5 Hz) where everything is slow. Blocks of
+//! whole mains periods also cancel 50 Hz pickup and its harmonics.
+
+use crate::recording::Recording;
+
+/// Compared channels, in contract order.
+pub const CHANNELS: [&str; 4] = ["load_N", "fz_V", "mx_V", "my_V"];
+/// Block length where the rod is fast or changes speed, and elsewhere.
+pub const FINE_BLOCK_S: f64 = 0.02;
+pub const COARSE_BLOCK_S: f64 = 0.2;
+/// Fine blocks this long before and after a change of rod speed, and after fast motion.
+const MARGIN_BEFORE_S: f64 = 0.5;
+const MARGIN_AFTER_S: f64 = 3.0;
+
+/// One rate's worth of the signals.
+#[derive(Debug, Clone, Default)]
+pub struct Series {
+    pub t_s: Vec<f64>,
+    pub rod_mm: Vec<f64>,
+    /// load_N, fz_V, mx_V, my_V.
+    pub y: [Vec<f64>; 4],
+    pub temp_c: Option<Vec<f64>>,
+    /// Full-rate samples behind each sample (1 at full rate).
+    pub count: Vec<usize>,
+}
+
+impl Series {
+    pub fn len(&self) -> usize {
+        self.t_s.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.t_s.is_empty()
+    }
+}
+
+/// Both rates plus per-channel scales.
+#[derive(Debug, Clone)]
+pub struct Data {
+    pub full: Series,
+    pub fit: Series,
+    /// Peak-to-peak range of each recorded channel (the contract's RMSE normaliser).
+    pub range: [f64; 4],
+    /// White-noise standard deviation of each channel at full rate.
+    pub noise_full: [f64; 4],
+    /// Lag-1 correlation of that noise (0 for white; the firmware smoother or an anti-alias
+    /// filter colour it), modelled as AR(1).
+    pub noise_rho: [f64; 4],
+}
+
+/// Why a recording cannot be analysed although it parsed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DataError {
+    /// Fewer usable rows than a fit needs.
+    #[error("only {0} rows without gaps; the diagnosis needs at least 200")]
+    TooShort(usize),
+    /// The rod never presses into the fingertip.
+    #[error("column `rod_mm` never rises above 0: no compression in this recording")]
+    NoContact,
+}
+
+impl Data {
+    pub fn new(rec: &Recording) -> Result<Self, DataError> {
+        let rec = rec.without_gaps();
+        let c = &rec.channels;
+        if c.len() < 200 {
+            return Err(DataError::TooShort(c.len()));
+        }
+        if !c.rod_mm.iter().any(|&r| r > 0.0) {
+            return Err(DataError::NoContact);
+        }
+        let full = Series {
+            t_s: c.t_s.clone(),
+            rod_mm: c.rod_mm.clone(),
+            y: [c.load_n.clone(), c.fz_v.clone(), c.mx_v.clone(), c.my_v.clone()],
+            temp_c: rec.temp_c.clone().filter(|t| t.iter().all(|v| v.is_finite())),
+            count: vec![1; c.len()],
+        };
+        let span = full.t_s[full.len() - 1] - full.t_s[0];
+        let rate = if span > 0.0 { (full.len() - 1) as f64 / span } else { rec.meta.sample_rate_hz };
+        let fine = ((rate * FINE_BLOCK_S).round() as usize).max(1);
+        let coarse = ((rate * COARSE_BLOCK_S).round() as usize).max(1);
+        let fast = fast_samples(&full.t_s, &full.rod_mm);
+        let fit = decimate(&full, &fast, fine, coarse);
+        let range = std::array::from_fn(|k| peak_to_peak(&full.y[k]));
+        let noise_rho: [f64; 4] = std::array::from_fn(|k| noise_correlation(&full.y[k]));
+        let noise_full: [f64; 4] = std::array::from_fn(|k| {
+            // Second differences of AR(1) noise have variance sigma^2 (6 - 8 rho + 2 rho^2).
+            let r = noise_rho[k];
+            let white = difference_noise(&full.y[k]) * (6.0 / (6.0 - 8.0 * r + 2.0 * r * r)).sqrt();
+            white.max(1e-6 * range[k]).max(1e-12)
+        });
+        Ok(Self { full, fit, range, noise_full, noise_rho })
+    }
+
+    /// Weight of decimated sample `k` of channel `c`: one over its noise level.
+    pub fn weight(&self, c: usize, k: usize) -> f64 {
+        let n = self.fit.count[k] as f64;
+        let r = self.noise_rho[c];
+        // Variance of the mean of n AR(1) samples over sigma^2 / n.
+        let inflation = if r > 0.0 {
+            ((1.0 + r) / (1.0 - r) - 2.0 * r * (1.0 - r.powf(n)) / (n * (1.0 - r).powi(2))).max(1.0)
+        } else {
+            1.0
+        };
+        (n / inflation).sqrt() / self.noise_full[c]
+    }
+}
+
+/// Samples near fast rod motion or a change of rod speed (need fine blocks).
+fn fast_samples(t_s: &[f64], rod_mm: &[f64]) -> Vec<bool> {
+    let n = t_s.len();
+    let window = 10.min(n - 1).max(1);
+    let v: Vec<f64> = (0..n)
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(window), (k + window).min(n - 1));
+            if t_s[b] > t_s[a] { (rod_mm[b] - rod_mm[a]) / (t_s[b] - t_s[a]) } else { 0.0 }
+        })
+        .collect();
+    let mut pos: Vec<f64> = v.iter().copied().filter(|&x| x > 0.0).collect();
+    let typical = if pos.is_empty() {
+        f64::INFINITY
+    } else {
+        let mid = pos.len() / 2;
+        *pos.select_nth_unstable_by(mid, f64::total_cmp).1
+    };
+    // Speed class: still, loading speed, fast.
+    let class = |x: f64| if x.abs() > 1.5 * typical { 2 } else if x.abs() > 0.5 * typical { 1 } else { 0 };
+    let mut fast = vec![false; n];
+    let mark = |from: f64, to: f64, fast: &mut Vec<bool>| {
+        let a = t_s.partition_point(|&t| t < from);
+        let b = t_s.partition_point(|&t| t <= to);
+        fast[a..b].iter_mut().for_each(|f| *f = true);
+    };
+    for k in 1..n {
+        let (c0, c1) = (class(v[k - 1]), class(v[k]));
+        if c0 != c1 {
+            mark(t_s[k] - MARGIN_BEFORE_S, t_s[k] + MARGIN_BEFORE_S, &mut fast);
+        }
+        if c1 == 2 {
+            mark(t_s[k] - MARGIN_BEFORE_S, t_s[k] + MARGIN_AFTER_S, &mut fast);
+        }
+    }
+    fast
+}
+
+/// Block means, fine blocks where `fast`, coarse elsewhere; a block never straddles a change.
+pub fn decimate(s: &Series, fast: &[bool], fine: usize, coarse: usize) -> Series {
+    let mut bounds = Vec::new();
+    let mut k = 0;
+    while k < s.len() {
+        let len = if fast[k] { fine } else { coarse };
+        let mut end = (k + len).min(s.len());
+        if let Some(j) = (k + 1..end).find(|&j| fast[j] != fast[k]) {
+            end = j;
+        }
+        bounds.push((k, end));
+        k = end;
+    }
+    let mean = |x: &[f64]| bounds.iter().map(|&(a, b)| x[a..b].iter().sum::<f64>() / (b - a) as f64).collect::<Vec<f64>>();
+    Series {
+        t_s: mean(&s.t_s),
+        rod_mm: mean(&s.rod_mm),
+        y: std::array::from_fn(|c| mean(&s.y[c])),
+        temp_c: s.temp_c.as_ref().map(|t| mean(t)),
+        count: bounds.iter().map(|&(a, b)| s.count[a..b].iter().sum()).collect(),
+    }
+}
+
+pub fn peak_to_peak(x: &[f64]) -> f64 {
+    let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+    if hi >= lo { hi - lo } else { 0.0 }
+}
+
+/// Lag-1 correlation rho of AR(1) noise from second differences, which cancel any signal that
+/// is smooth on the sample scale. For AR(1) noise (autocovariance sigma^2 rho^h) the lag-1
+/// correlation of d[k] = e[k] - 2 e[k-1] + e[k-2] is
+/// (-4 + 7 rho - 4 rho^2 + rho^3) / (6 - 8 rho + 2 rho^2), -2/3 for white noise, rising with
+/// rho; inverted by bisection. Clamped to [0, 0.99].
+pub fn noise_correlation(x: &[f64]) -> f64 {
+    if x.len() < 5 {
+        return 0.0;
+    }
+    let d: Vec<f64> = x.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
+    let c = super::localise::lag1(&d);
+    let model = |r: f64| (-4.0 + 7.0 * r - 4.0 * r * r + r * r * r) / (6.0 - 8.0 * r + 2.0 * r * r);
+    let (mut lo, mut hi) = (0.0, 0.99);
+    if c <= model(lo) {
+        return 0.0;
+    }
+    if c >= model(hi) {
+        return hi;
+    }
+    for _ in 0..50 {
+        let mid = 0.5 * (lo + hi);
+        if model(mid) < c {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// White-noise level from second differences, which cancel any signal that is smooth on the
+/// sample scale: var(x[k+1] - 2x[k] + x[k-1]) = 6 sigma^2. The median absolute value (scaled
+/// for a normal law) keeps fast transients and clipping from inflating it.
+pub fn difference_noise(x: &[f64]) -> f64 {
+    if x.len() < 3 {
+        return 0.0;
+    }
+    let mut d: Vec<f64> = x.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()).collect();
+    let mid = d.len() / 2;
+    let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
+    *median / 0.674_489_75 / 6f64.sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn difference_noise_recovers_sigma_under_a_slow_signal() {
+        let mut g = super::super::synth::Gaussian::new(3);
+        let x: Vec<f64> = (0..50_000).map(|k| (k as f64 * 1e-3).sin() * 5.0 + 0.01 * g.normal()).collect();
+        let s = difference_noise(&x);
+        assert!((s / 0.01 - 1.0).abs() < 0.03, "{s}");
+        assert!(noise_correlation(&x) < 0.02);
+    }
+
+    #[test]
+    fn ar1_correlation_is_recovered() {
+        let mut g = super::super::synth::Gaussian::new(4);
+        let mut e = 0.0;
+        let x: Vec<f64> = (0..100_000).map(|_| {
+            e = 0.8 * e + g.normal();
+            e
+        }).collect();
+        assert!((noise_correlation(&x) - 0.8).abs() < 0.02);
+    }
+}

@@ -1,0 +1,322 @@
+//! The calibration problem: the baseline's free parameters plus the parameters of a set of
+//! catalogue effects, fitted by least squares to the decimated recording on the fitting stretch.
+//!
+//! Parameter vector (internal coordinates): ln E, exponent shift, Fz scale, moment scale,
+//! azimuth shift (deg), four offsets, then each effect's parameters (time constants as ln tau).
+//! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
+//! chi-square in noise units and channels of any unit mix.
+
+use sim::effects::{Chain, Effect, EffectKind};
+
+use super::baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
+use super::data::{Data, Series};
+use super::lm::{self, Problem, Solution};
+
+/// Number of baseline parameters at the head of the vector.
+pub const N_BASE: usize = 9;
+/// How far the azimuth may be corrected: the jig's mounting accuracy.
+pub const AZIMUTH_TOLERANCE_DEG: f64 = 3.0;
+
+/// What stays fixed for all fits of one recording.
+pub struct Setup<'a> {
+    pub data: &'a Data,
+    pub drive: Drive,
+    pub front_end: FrontEnd,
+    pub contact_angle_deg: f64,
+    /// Samples of the decimated series in the fitting stretch / in the held-out stretch.
+    pub fit_mask: Vec<bool>,
+    pub heldout_mask: Vec<bool>,
+    /// Channels worth comparing (a peak-to-peak range above the noise).
+    pub used: [bool; 4],
+}
+
+/// One parameter's coding: bounds, finite-difference step and starting values (internal units).
+#[derive(Debug, Clone)]
+pub struct ParamSpec {
+    pub name: &'static str,
+    pub lower: f64,
+    pub upper: f64,
+    pub step: f64,
+    pub starts: Vec<f64>,
+    /// Internal value is ln of the physical one.
+    pub log: bool,
+}
+
+fn spec(name: &'static str, lower: f64, upper: f64, step: f64, starts: &[f64], log: bool) -> ParamSpec {
+    ParamSpec { name, lower, upper, step, starts: starts.to_vec(), log }
+}
+
+/// Coding of each effect's parameters, in catalogue order. `chip_peak_v` is the largest
+/// recorded output magnitude (for the saturation start).
+pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
+    use EffectKind::*;
+    let ln = f64::ln;
+    match kind {
+        ViscoelasticRelaxation => vec![
+            spec("tau_s", ln(0.1), ln(200.0), 1e-4, &[ln(1.0), ln(5.0), ln(30.0)], true),
+            spec("fraction", 0.0, 0.95, 1e-4, &[0.2], false),
+        ],
+        Hysteresis => vec![spec("width", 0.0, 0.5, 1e-4, &[0.03], false)],
+        HighpassCoupling => vec![spec("tau_s", ln(0.5), ln(5000.0), 1e-4, &[ln(10.0), ln(100.0)], true)],
+        ThermalDrift => vec![
+            spec("amplitude_V", -5.0, 5.0, 1e-5, &[1e-3], false),
+            spec("tau_s", ln(1.0), ln(2000.0), 1e-4, &[ln(10.0), ln(60.0)], true),
+        ],
+        Stiffening => vec![spec("exponent", 0.3, 3.0, 1e-4, &[1.2], false)],
+        Crosstalk => vec![spec("angle_deg", -60.0, 60.0, 1e-3, &[5.0, -5.0], false)],
+        AmplifierSaturation => vec![spec("limit_V", 1e-3, 20.0, 1e-4, &[chip_peak_v], false)],
+        TimeOffset => vec![spec("lag_s", -2.0, 2.0, 1e-4, &[0.05, -0.05], false)],
+        MainsInterference => vec![
+            spec("freq_hz", 40.0, 70.0, 1e-4, &[50.0], false),
+            spec("amplitude_V", 0.0, 5.0, 1e-5, &[0.0], false),
+        ],
+        BridgeNonlinearity => vec![spec("quadratic", -0.9, 0.9, 1e-4, &[0.05, -0.05], false)],
+        ContactFriction => vec![spec("mu", 0.0, 2.0, 1e-4, &[0.1], false)],
+    }
+}
+
+/// A model to fit: the baseline plus `kinds` (mains excluded: it is fitted at full rate).
+pub struct Model<'s, 'a> {
+    pub setup: &'s Setup<'a>,
+    pub kinds: Vec<EffectKind>,
+    specs: Vec<ParamSpec>,
+    /// Full vector with `None` where free.
+    fixed: Vec<Option<f64>>,
+}
+
+impl<'s, 'a> Model<'s, 'a> {
+    pub fn new(setup: &'s Setup<'a>, kinds: &[EffectKind], base: &[f64]) -> Self {
+        let chip_peak = (1..4).map(|c| sim::effects::peak_abs(&setup.data.fit.y[c])).fold(0.0, f64::max);
+        let mut specs = base_specs(setup, base);
+        for &k in kinds {
+            specs.extend(effect_specs(k, chip_peak));
+        }
+        let mut fixed = vec![None; specs.len()];
+        // A chip rotation and an azimuth error are the same rotation of the moment vector:
+        // with crosstalk in the model the azimuth stays nominal.
+        if kinds.contains(&EffectKind::Crosstalk) {
+            fixed[4] = Some(0.0);
+        }
+        for (c, used) in setup.used.iter().enumerate() {
+            if !used {
+                fixed[5 + c] = Some(0.0);
+            }
+        }
+        Self { setup, kinds: kinds.to_vec(), specs, fixed }
+    }
+
+    /// Start effect number `effect` (in `kinds` order) from `values` (internal units), keeping
+    /// the catalogue default of its primary parameter as a second start.
+    pub fn seed(&mut self, effect: usize, values: &[f64]) {
+        let first = N_BASE + self.kinds[..effect].iter().map(|k| k.param_names().len()).sum::<usize>();
+        for (j, &v) in values.iter().enumerate() {
+            let s = &mut self.specs[first + j];
+            let default = s.starts[0];
+            s.starts = if j == 0 && (default - v).abs() > 1e-9 { vec![v, default] } else { vec![v] };
+        }
+    }
+
+    /// The starting values of parameter `j` of effect number `effect` (internal units).
+    pub fn starts_mut(&mut self, effect: usize, j: usize) -> &mut Vec<f64> {
+        let first = N_BASE + self.kinds[..effect].iter().map(|k| k.param_names().len()).sum::<usize>();
+        &mut self.specs[first + j].starts
+    }
+
+    pub fn specs(&self) -> &[ParamSpec] {
+        &self.specs
+    }
+
+    fn expand(&self, free: &[f64]) -> Vec<f64> {
+        let mut it = free.iter();
+        self.fixed.iter().map(|f| f.unwrap_or_else(|| *it.next().expect("free parameter count"))).collect()
+    }
+
+    fn free_indices(&self) -> Vec<usize> {
+        (0..self.fixed.len()).filter(|&i| self.fixed[i].is_none()).collect()
+    }
+
+    /// Baseline parameters and effect chain of a full parameter vector.
+    pub fn decode(&self, full: &[f64]) -> (BaselineParams, Chain) {
+        let base = BaselineParams {
+            youngs_modulus_pa: full[0].exp(),
+            exponent_shift: full[1],
+            scale_fz: full[2],
+            scale_moment: full[3],
+            azimuth_shift_deg: full[4],
+            offset: [full[5], full[6], full[7], full[8]],
+        };
+        let mut effects = Vec::new();
+        let mut i = N_BASE;
+        for &k in &self.kinds {
+            let n = k.param_names().len();
+            let phys: Vec<f64> =
+                (i..i + n).map(|j| if self.specs[j].log { full[j].exp() } else { full[j] }).collect();
+            effects.push(k.with_params(&phys));
+            i += n;
+        }
+        (base, Chain::new(effects))
+    }
+
+    pub fn outputs(&self, full: &[f64], series_drive: &Drive) -> Outputs {
+        let (base, chain) = self.decode(full);
+        evaluate(series_drive, &self.setup.front_end, &base, &chain, self.setup.contact_angle_deg, None)
+    }
+
+    /// Weighted residuals of a full vector on `mask` of the decimated series.
+    pub fn weighted(&self, full: &[f64], mask: &[bool], out: &mut Vec<f64>) {
+        let s = self.setup;
+        let m = self.outputs(full, &s.drive);
+        out.clear();
+        for c in 0..4 {
+            if !s.used[c] {
+                continue;
+            }
+            let y = &s.data.fit.y[c];
+            let model = m.channel(c);
+            out.extend((0..y.len()).filter(|&k| mask[k]).map(|k| (y[k] - model[k]) * s.data.weight(c, k)));
+        }
+    }
+
+    /// Fit from the best of the starting points; `base` holds the baseline's current values.
+    pub fn fit(&self, max_iterations: usize) -> Fitted {
+        let free = self.free_indices();
+        let opt = lm::Options {
+            max_iterations,
+            step: free.iter().map(|&i| self.specs[i].step).collect(),
+            lower: free.iter().map(|&i| self.specs[i].lower).collect(),
+            upper: free.iter().map(|&i| self.specs[i].upper).collect(),
+        };
+        let mut best: Option<Solution> = None;
+        for start in self.starting_points() {
+            let p0: Vec<f64> = free.iter().map(|&i| start[i]).collect();
+            let sol = lm::solve(self, &p0, &opt);
+            if best.as_ref().is_none_or(|b| sol.sse < b.sse) {
+                best = Some(sol);
+            }
+        }
+        let sol = best.expect("at least one starting point");
+        let full = self.expand(&sol.p);
+        Fitted { full, free, solution: sol }
+    }
+
+    /// Cartesian product of the effect parameters' starting values (baseline at its start).
+    fn starting_points(&self) -> Vec<Vec<f64>> {
+        let mut points = vec![self.specs.iter().map(|s| s.starts[0]).collect::<Vec<f64>>()];
+        for (i, s) in self.specs.iter().enumerate().skip(N_BASE) {
+            points = points
+                .into_iter()
+                .flat_map(|p| s.starts.iter().map(move |&v| {
+                    let mut q = p.clone();
+                    q[i] = v;
+                    q
+                }))
+                .collect();
+        }
+        for p in &mut points {
+            for (i, f) in self.fixed.iter().enumerate() {
+                if let Some(v) = f {
+                    p[i] = *v;
+                }
+            }
+        }
+        points
+    }
+}
+
+impl Problem for Model<'_, '_> {
+    fn residuals(&self, p: &[f64], out: &mut Vec<f64>) {
+        let full = self.expand(p);
+        self.weighted(&full, &self.setup.fit_mask, out);
+    }
+}
+
+/// A fitted model.
+pub struct Fitted {
+    pub full: Vec<f64>,
+    /// Indices of `full` that were free, in the order of the solution's covariance.
+    pub free: Vec<usize>,
+    pub solution: Solution,
+}
+
+/// Baseline coding; `base` gives the starting values (from [`initial_baseline`] or a previous
+/// fit).
+fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
+    let r = setup.data.range;
+    let off = |c: usize| 10.0 * r[c].max(1e-9);
+    let scale_step = |v: f64| 1e-6 * v.abs().max(1e-3);
+    vec![
+        spec("youngs_modulus_Pa", base[0] - 8.0, base[0] + 8.0, 1e-5, &[base[0]], true),
+        spec("exponent_shift", -0.7, 1.5, 1e-5, &[base[1]], false),
+        spec("scale_fz", -1e3, 1e3, scale_step(base[2]), &[base[2]], false),
+        spec("scale_moment", -1e3, 1e3, scale_step(base[3]), &[base[3]], false),
+        spec("azimuth_shift_deg", -AZIMUTH_TOLERANCE_DEG, AZIMUTH_TOLERANCE_DEG, 1e-3, &[base[4]], false),
+        spec("offset_load_N", -off(0), off(0), 1e-6 * r[0].max(1e-9), &[base[5]], false),
+        spec("offset_fz_V", -off(1), off(1), 1e-6 * r[1].max(1e-9), &[base[6]], false),
+        spec("offset_mx_V", -off(2), off(2), 1e-6 * r[2].max(1e-9), &[base[7]], false),
+        spec("offset_my_V", -off(3), off(3), 1e-6 * r[3].max(1e-9), &[base[8]], false),
+    ]
+}
+
+/// Starting baseline by linear least squares at the nominal shape: modulus from the load cell,
+/// scales from the outputs, offsets from the first samples at rest.
+pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
+    let d = &setup.data.fit;
+    let drive = &setup.drive;
+    let ls = |x: &dyn Fn(usize) -> f64, y: &[f64]| {
+        let (mut sxy, mut sxx) = (0.0, 0.0);
+        for (k, yk) in y.iter().enumerate() {
+            if setup.fit_mask[k] {
+                sxy += x(k) * yk;
+                sxx += x(k) * x(k);
+            }
+        }
+        if sxx > 0.0 { sxy / sxx } else { 0.0 }
+    };
+    let e = ls(&|k| drive.unit[k].force_n, &d.y[0]).max(1.0);
+    let nominal = evaluate(drive, &setup.front_end, &BaselineParams::nominal(e), &Chain::default(), setup.contact_angle_deg, None);
+    let s_fz = ls(&|k| nominal.volts[0][k], &d.y[1]);
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for c in 1..3 {
+        for k in 0..d.len() {
+            if setup.fit_mask[k] {
+                sxy += nominal.volts[c][k] * d.y[c + 1][k];
+                sxx += nominal.volts[c][k].powi(2);
+            }
+        }
+    }
+    let s_m = if sxx > 0.0 { sxy / sxx } else { 1.0 };
+    let rest = rest_offsets(d);
+    vec![e.ln(), 0.0, if s_fz != 0.0 { s_fz } else { 1.0 }, if s_m != 0.0 { s_m } else { 1.0 }, 0.0, rest[0], rest[1], rest[2], rest[3]]
+}
+
+/// Mean of each channel over the samples before the rod first touches.
+fn rest_offsets(d: &Series) -> [f64; 4] {
+    let n = d.rod_mm.iter().position(|&r| r > 0.0).unwrap_or(d.len()).max(1);
+    std::array::from_fn(|c| d.y[c][..n].iter().sum::<f64>() / n as f64)
+}
+
+/// Physical value of internal parameter `i` of `model` in `full`.
+pub fn physical(model: &Model, full: &[f64], i: usize) -> f64 {
+    if model.specs()[i].log { full[i].exp() } else { full[i] }
+}
+
+/// Standard error of physical parameter `i`, from sigma² (JᵀJ)⁻¹ with sigma² the residual
+/// variance inflated by (1 + rho)/(1 - rho) for lag-1 autocorrelation rho of the residual.
+pub fn stderr(model: &Model, fitted: &Fitted, i: usize, rho: f64) -> Option<f64> {
+    let pos = fitted.free.iter().position(|&j| j == i)?;
+    let cov = fitted.solution.jtj_inv.as_ref()?;
+    let dof = (fitted.solution.n as f64 - fitted.free.len() as f64).max(1.0);
+    let rho = rho.clamp(0.0, 0.99);
+    let var = fitted.solution.sse / dof * (1.0 + rho) / (1.0 - rho) * cov[pos][pos];
+    let se = var.max(0.0).sqrt();
+    Some(if model.specs()[i].log { se * full_exp(fitted.full[i]) } else { se })
+}
+
+fn full_exp(v: f64) -> f64 {
+    v.exp()
+}
+
+/// The effect objects of a fitted model (without the baseline).
+pub fn effects_of(model: &Model, full: &[f64]) -> Vec<Effect> {
+    model.decode(full).1.effects
+}

@@ -1,0 +1,192 @@
+//! Where the baseline misses: per channel and regime window the residual's share, whiteness
+//! (Ljung–Box), correlation with candidate drivers, and a lag estimate.
+
+use serde::Serialize;
+
+use super::regimes::Segment;
+
+/// A window where the baseline misses (contract field `mismatches`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Mismatch {
+    pub channel: &'static str,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub regime: &'static str,
+    /// RMS residual inside the window, in the channel's unit.
+    pub rms: f64,
+    /// Share of the total squared (range-normalised) residual inside the window.
+    pub share: f64,
+}
+
+/// Per-channel and per-regime-window shares of `residual[c]` (decimated), worst first, keeping
+/// windows that hold at least `min_share`.
+pub fn mismatches(
+    t_s: &[f64],
+    segments: &[Segment],
+    residual: &[Vec<f64>; 4],
+    range: &[f64; 4],
+    used: &[bool; 4],
+    min_share: f64,
+) -> Vec<Mismatch> {
+    let norm = |c: usize, v: f64| (v / range[c].max(1e-300)).powi(2);
+    let total: f64 = (0..4).filter(|&c| used[c]).map(|c| residual[c].iter().map(|&v| norm(c, v)).sum::<f64>()).sum();
+    if total <= 0.0 {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for c in (0..4).filter(|&c| used[c]) {
+        for s in segments {
+            let r = &residual[c][s.start..s.end];
+            let share = r.iter().map(|&v| norm(c, v)).sum::<f64>() / total;
+            if share >= min_share {
+                let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt();
+                let t_end_s = t_s[(s.end).min(t_s.len() - 1)];
+                out.push(Mismatch {
+                    channel: super::data::CHANNELS[c],
+                    t_start_s: t_s[s.start],
+                    t_end_s,
+                    regime: s.regime.name(),
+                    rms,
+                    share,
+                });
+            }
+        }
+    }
+    out.sort_by(|a, b| b.share.total_cmp(&a.share));
+    out
+}
+
+/// Ljung–Box statistic over lags 1..=m and its p-value (chi-square with m degrees of freedom,
+/// Wilson–Hilferty approximation).
+pub fn ljung_box(r: &[f64], m: usize) -> (f64, f64) {
+    let n = r.len();
+    if n <= m + 1 {
+        return (0.0, 1.0);
+    }
+    let mean = r.iter().sum::<f64>() / n as f64;
+    let c0: f64 = r.iter().map(|v| (v - mean).powi(2)).sum();
+    if c0 <= 0.0 {
+        return (0.0, 1.0);
+    }
+    let q: f64 = (1..=m)
+        .map(|k| {
+            let ck: f64 = (k..n).map(|i| (r[i] - mean) * (r[i - k] - mean)).sum();
+            (ck / c0).powi(2) / (n - k) as f64
+        })
+        .sum::<f64>()
+        * n as f64
+        * (n + 2) as f64;
+    (q, chi2_survival(q, m as f64))
+}
+
+/// Lag-1 autocorrelation.
+pub fn lag1(r: &[f64]) -> f64 {
+    let n = r.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let mean = r.iter().sum::<f64>() / n as f64;
+    let c0: f64 = r.iter().map(|v| (v - mean).powi(2)).sum();
+    let c1: f64 = (1..n).map(|i| (r[i] - mean) * (r[i - 1] - mean)).sum();
+    if c0 > 0.0 { c1 / c0 } else { 0.0 }
+}
+
+/// P(chi2_k > x), Wilson–Hilferty.
+pub fn chi2_survival(x: f64, k: f64) -> f64 {
+    let z = ((x / k).cbrt() - (1.0 - 2.0 / (9.0 * k))) / (2.0 / (9.0 * k)).sqrt();
+    0.5 * erfc(z / std::f64::consts::SQRT_2)
+}
+
+/// Complementary error function (Numerical Recipes' erfcc, |error| < 1.2e-7).
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let poly = -z * z - 1.265_512_23
+        + t * (1.000_023_68
+            + t * (0.374_091_96
+                + t * (0.096_784_18
+                    + t * (-0.186_288_06
+                        + t * (0.278_868_07
+                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+    let r = t * poly.exp();
+    if x >= 0.0 { r } else { 2.0 - r }
+}
+
+/// Pearson correlation.
+pub fn correlation(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    if n < 3 {
+        return 0.0;
+    }
+    let (ma, mb) = (a[..n].iter().sum::<f64>() / n as f64, b[..n].iter().sum::<f64>() / n as f64);
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (x, y) = (a[i] - ma, b[i] - mb);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    if saa > 0.0 && sbb > 0.0 { sab / (saa * sbb).sqrt() } else { 0.0 }
+}
+
+/// Lag (s) that best explains `residual` as lag x d(model)/dt with the sign of a sensor that
+/// lags: recorded(t) = model(t - lag) gives residual = -lag model'(t).
+pub fn lag_estimate(t_s: &[f64], model: &[f64], residual: &[f64]) -> f64 {
+    let n = t_s.len();
+    let (mut num, mut den) = (0.0, 0.0);
+    for k in 1..n.saturating_sub(1) {
+        let dt = t_s[k + 1] - t_s[k - 1];
+        if dt <= 0.0 {
+            continue;
+        }
+        let d = (model[k + 1] - model[k - 1]) / dt;
+        num += -residual[k] * d;
+        den += d * d;
+    }
+    if den > 0.0 { num / den } else { 0.0 }
+}
+
+/// Per-channel localisation beyond the windows.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelLocalisation {
+    pub channel: &'static str,
+    pub ljung_box_q: f64,
+    pub ljung_box_p: f64,
+    pub white: bool,
+    pub corr_load: f64,
+    pub corr_load_squared: f64,
+    pub corr_dload_dt: f64,
+    pub corr_temperature: Option<f64>,
+    /// Correlation with the other channels' residuals, in contract order.
+    pub corr_other_residuals: Vec<(String, f64)>,
+    pub lag_estimate_s: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ljung_box_accepts_noise_and_rejects_a_ramp() {
+        let mut g = super::super::synth::Gaussian::new(11);
+        let noise: Vec<f64> = (0..5000).map(|_| g.normal()).collect();
+        assert!(ljung_box(&noise, 20).1 > 0.01);
+        let smooth: Vec<f64> = (0..5000).map(|k| (k as f64 * 0.01).sin() + 0.1 * g.normal()).collect();
+        assert!(ljung_box(&smooth, 20).1 < 1e-6);
+    }
+
+    #[test]
+    fn chi2_survival_at_known_points() {
+        // chi2_{20}: 31.41 is the 95th percentile.
+        assert!((chi2_survival(31.41, 20.0) - 0.05).abs() < 2e-3);
+    }
+
+    #[test]
+    fn lag_estimate_recovers_a_shift() {
+        let t: Vec<f64> = (0..2000).map(|k| k as f64 * 0.01).collect();
+        let model: Vec<f64> = t.iter().map(|t| (0.5 * t).sin()).collect();
+        let rec: Vec<f64> = t.iter().map(|t| (0.5 * (t - 0.04)).sin()).collect();
+        let r: Vec<f64> = rec.iter().zip(&model).map(|(a, b)| a - b).collect();
+        assert!((lag_estimate(&t, &model, &r) - 0.04).abs() < 1e-3);
+    }
+}

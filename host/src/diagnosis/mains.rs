@@ -1,0 +1,138 @@
+//! Mains pickup, at full rate: a scan of the residual's amplitude spectrum for a narrow line
+//! between 45 and 65 Hz, then a least-squares fit of the fundamental and third harmonic
+//! (amplitude and phase per channel, one frequency) as `sim::effects::MainsInterference` makes.
+
+use std::f64::consts::TAU;
+
+/// Line search band.
+const BAND_HZ: (f64, f64) = (45.0, 65.0);
+/// Scan resolution.
+const SCAN_STEP_HZ: f64 = 0.05;
+/// Samples used for the scan and for the refinement (the amplitude fit uses all).
+const SCAN_SAMPLES: usize = 10_000;
+const REFINE_SAMPLES: usize = 60_000;
+
+/// A fitted line: frequency and, per channel, the sine/cosine weights of the fundamental and
+/// third harmonic.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Line {
+    pub freq_hz: f64,
+    /// Per channel [a1, b1, a3, b3]: a sin + b cos at f and at 3f.
+    pub coef: Vec<[f64; 4]>,
+    /// Peak over the median of the scanned amplitude spectrum.
+    pub prominence: f64,
+}
+
+impl Line {
+    /// Mean amplitude of the fundamental over the channels.
+    pub fn amplitude(&self) -> f64 {
+        self.coef.iter().map(|c| c[0].hypot(c[1])).sum::<f64>() / self.coef.len().max(1) as f64
+    }
+
+    pub fn at(&self, channel: usize, t: f64, harmonic: bool) -> f64 {
+        let c = self.coef[channel];
+        let w = TAU * self.freq_hz * t;
+        let h = if harmonic { c[2] * (3.0 * w).sin() + c[3] * (3.0 * w).cos() } else { 0.0 };
+        c[0] * w.sin() + c[1] * w.cos() + h
+    }
+}
+
+/// Summed squared amplitude over channels at `f` (projection on sin and cos).
+/// The phasor e^{i w t} is advanced by multiplying with e^{i w dt}, recomputed only when the
+/// step changes (gaps) and re-anchored every 1000 samples against rounding drift.
+fn power(t: &[f64], residuals: &[&[f64]], f: f64, idx: &[usize]) -> f64 {
+    let w = TAU * f;
+    let mut sums = vec![(0.0, 0.0); residuals.len()];
+    let (mut sn, mut cs) = (0.0, 1.0);
+    let mut rot = (0.0, 1.0);
+    let mut last_dt = f64::NAN;
+    for (i, &k) in idx.iter().enumerate() {
+        if i % 1000 == 0 {
+            (sn, cs) = (w * t[k]).sin_cos();
+        } else {
+            let dt = t[k] - t[idx[i - 1]];
+            if dt != last_dt {
+                rot = (w * dt).sin_cos();
+                last_dt = dt;
+            }
+            (sn, cs) = (sn * rot.1 + cs * rot.0, cs * rot.1 - sn * rot.0);
+        }
+        for (sum, r) in sums.iter_mut().zip(residuals) {
+            sum.0 += r[k] * sn;
+            sum.1 += r[k] * cs;
+        }
+    }
+    sums.iter().map(|(s, c)| s * s + c * c).sum::<f64>() / (idx.len() as f64).powi(2) * 4.0
+}
+
+/// Find the strongest line in the band among the samples `mask` selects; `None` when the
+/// sample rate cannot show the band.
+pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -> Option<Line> {
+    if rate_hz < 2.2 * BAND_HZ.1 {
+        return None;
+    }
+    let idx: Vec<usize> = (0..t.len()).filter(|&k| mask[k]).collect();
+    if idx.len() < 1000 {
+        return None;
+    }
+    let scan: Vec<usize> = idx.iter().copied().take(SCAN_SAMPLES).collect();
+    let freqs: Vec<f64> = (0..).map(|i| BAND_HZ.0 + i as f64 * SCAN_STEP_HZ).take_while(|&f| f <= BAND_HZ.1).collect();
+    let spectrum: Vec<f64> = freqs.iter().map(|&f| power(t, residuals, f, &scan)).collect();
+    let (imax, &pmax) = spectrum.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
+    let mut sorted = spectrum.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2].max(1e-300);
+    // Refine by golden section on all samples within one scan step.
+    let (mut a, mut b) = (freqs[imax] - SCAN_STEP_HZ, freqs[imax] + SCAN_STEP_HZ);
+    let g = 0.618_033_988_75;
+    let refine: Vec<usize> = idx.iter().copied().take(REFINE_SAMPLES).collect();
+    for _ in 0..20 {
+        let (x1, x2) = (b - g * (b - a), a + g * (b - a));
+        if power(t, residuals, x1, &refine) > power(t, residuals, x2, &refine) {
+            b = x2;
+        } else {
+            a = x1;
+        }
+    }
+    let freq_hz = 0.5 * (a + b);
+    let harmonic = rate_hz > 2.2 * 3.0 * freq_hz;
+    let coef = residuals.iter().map(|r| fit_coefficients(t, r, &idx, freq_hz, harmonic)).collect();
+    Some(Line { freq_hz, coef, prominence: pmax / median })
+}
+
+/// Least squares of a sin + b cos at f (and 3f) on the selected samples.
+fn fit_coefficients(t: &[f64], r: &[f64], idx: &[usize], f: f64, harmonic: bool) -> [f64; 4] {
+    let m = if harmonic { 4 } else { 2 };
+    let mut ata = vec![vec![0.0; m]; m];
+    let mut atb = vec![0.0; m];
+    for &k in idx {
+        let w = TAU * f * t[k];
+        let basis = [w.sin(), w.cos(), (3.0 * w).sin(), (3.0 * w).cos()];
+        for i in 0..m {
+            atb[i] += basis[i] * r[k];
+            for j in 0..m {
+                ata[i][j] += basis[i] * basis[j];
+            }
+        }
+    }
+    let x = super::lm::solve_linear(ata, atb).unwrap_or_else(|| vec![0.0; m]);
+    let mut c = [0.0; 4];
+    c[..m].copy_from_slice(&x);
+    c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_a_line_off_the_scan_grid() {
+        let t: Vec<f64> = (0..60_000).map(|k| k as f64 * 1e-3).collect();
+        let mut g = super::super::synth::Gaussian::new(5);
+        let r: Vec<f64> = t.iter().map(|t| 0.01 * (TAU * 50.03 * t + 0.4).sin() + 0.01 * g.normal()).collect();
+        let line = find_line(&t, &[&r], &vec![true; t.len()], 1000.0).unwrap();
+        assert!((line.freq_hz - 50.03).abs() < 3e-3, "{}", line.freq_hz);
+        assert!((line.amplitude() - 0.01).abs() < 5e-4);
+        assert!(line.prominence > 100.0);
+    }
+}

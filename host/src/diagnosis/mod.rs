@@ -1,0 +1,20 @@
+//! Mismatch diagnosis (`shared/contracts/diagnosis-v1.md`): calibrate the baseline model of a
+//! compression test to a recording, locate what remains, name the missing physics from the
+//! catalogue (`sim::effects`), fit it, and show the fit improve on a held-out stretch.
+
+pub mod baseline;
+pub mod standin;
+pub mod synth;
+pub mod data;
+pub mod evidence;
+pub mod fit;
+pub mod lm;
+pub mod localise;
+pub mod mains;
+pub mod output;
+pub mod pipeline;
+pub mod regimes;
+
+pub use pipeline::{diagnose, Diagnosis, Options};
+pub mod report;
+pub mod prove;

@@ -1,0 +1,112 @@
+//! OUT.json of `diagnosis-v1.md`, field for field, plus extra fields (`localisation`,
+//! `candidates`, `seconds`) that the contract welcomes.
+
+use serde::ser::{Serialize, SerializeMap, Serializer};
+use serde::Serialize as DeriveSerialize;
+
+use super::localise::{ChannelLocalisation, Mismatch};
+
+/// The contract's format tag.
+pub const FORMAT: &str = "tactile-diagnosis/1";
+
+/// Named numbers that keep their order in JSON (primary parameter first).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Numbers(pub Vec<(String, f64)>);
+
+impl Numbers {
+    pub fn get(&self, key: &str) -> Option<f64> {
+        self.0.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
+    }
+
+    pub fn push(&mut self, key: &str, value: f64) {
+        self.0.push((key.to_string(), value));
+    }
+}
+
+impl Serialize for Numbers {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut map = s.serialize_map(Some(self.0.len()))?;
+        for (k, v) in &self.0 {
+            // JSON has no NaN: a value that could not be computed is null.
+            if v.is_finite() {
+                map.serialize_entry(k, v)?;
+            } else {
+                map.serialize_entry(k, &Option::<f64>::None)?;
+            }
+        }
+        map.end()
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, DeriveSerialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    NoSignificantMismatch,
+    Explained,
+    PartiallyExplained,
+    Unexplained,
+}
+
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct Baseline {
+    pub params: Numbers,
+    pub rmse: Numbers,
+}
+
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct EffectReport {
+    pub name: String,
+    pub channels: Vec<String>,
+    pub params: Numbers,
+    pub param_stderr: Numbers,
+    pub evidence: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub catalogue: Option<bool>,
+}
+
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct Heldout {
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub rmse_before: f64,
+    pub rmse_after: f64,
+}
+
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct Fit {
+    pub rmse_before: f64,
+    pub rmse_after: f64,
+    pub heldout: Heldout,
+}
+
+/// One candidate model tried, for the record.
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct CandidateReport {
+    pub effects: Vec<String>,
+    pub bic: f64,
+    pub aicc: f64,
+    /// Weighted sum of squares on the held-out stretch (noise units).
+    pub heldout_chi2: f64,
+    pub accepted: bool,
+}
+
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct Localisation {
+    pub channels: Vec<ChannelLocalisation>,
+    /// Spectral lines in the baseline residual: (frequency, mean amplitude in V, prominence).
+    pub lines: Vec<(f64, f64, f64)>,
+}
+
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct Report {
+    pub format: &'static str,
+    pub recording: String,
+    pub verdict: Verdict,
+    pub baseline: Baseline,
+    pub mismatches: Vec<Mismatch>,
+    pub effects: Vec<EffectReport>,
+    pub fit: Fit,
+    pub localisation: Localisation,
+    pub candidates: Vec<CandidateReport>,
+    pub seconds: f64,
+}

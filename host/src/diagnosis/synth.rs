@@ -1,0 +1,140 @@
+//! Synthetic recordings: the baseline model of the compression test, optionally with catalogue
+//! effects and noise, written as a `recording-v1` recording. `tactile simulate` and the proof
+//! generator (`tactile prove`) both use this.
+
+use sim::compression::{rod_at_load, CompressionTest};
+use sim::effects::{Chain, Effect};
+
+use super::baseline::{evaluate, BaselineParams, Drive, FingertipResponse, FrontEnd};
+use crate::recording::{Channels, Meta, Recording};
+
+/// Standard deviations of white measurement noise.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Noise {
+    pub load_n: f64,
+    /// [fz, mx, my]
+    pub volts: [f64; 3],
+    pub temp_c: f64,
+}
+
+/// Everything one synthetic recording needs.
+pub struct SimSpec<'a> {
+    pub fingertip: &'a dyn FingertipResponse,
+    pub front_end: FrontEnd,
+    /// The truth's baseline: modulus, and the deviations from the nominal model (exponent,
+    /// sensitivities, azimuth, offsets) that a real sensor has and the diagnosis must calibrate.
+    pub baseline: BaselineParams,
+    pub contact_angle_deg: f64,
+    pub azimuth_deg: f64,
+    pub radius_mm: f64,
+    pub test: CompressionTest,
+    /// One compression cycle per peak load.
+    pub peak_loads_n: Vec<f64>,
+    pub effects: Vec<Effect>,
+    pub noise: Noise,
+    pub seed: u64,
+    /// Temperature at power-up and its rise during warm-up (with `thermal_drift`).
+    pub ambient_c: f64,
+    pub warm_up_rise_c: f64,
+    pub source: String,
+}
+
+/// Largest rod travel searched for the peak load.
+const MAX_ROD_MM: f64 = 60.0;
+
+/// Run the baseline (plus effects and noise) through the standard test.
+pub fn simulate(spec: &SimSpec) -> Recording {
+    let force_at = |d: f64| spec.fingertip.unit_response(d).force_n * spec.baseline.youngs_modulus_pa;
+    let turns: Vec<f64> = spec.peak_loads_n.iter().map(|&l| rod_at_load(force_at, l, MAX_ROD_MM)).collect();
+    let history = spec.test.rod_history(&turns);
+    let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm);
+    let chain = Chain::new(spec.effects.clone());
+    let mut rng = Gaussian::new(spec.seed);
+    let noise = spec.noise;
+    let mut add_noise = |v: &mut [Vec<f64>; 3]| {
+        for (b, ch) in v.iter_mut().enumerate() {
+            ch.iter_mut().for_each(|x| *x += noise.volts[b] * rng.normal());
+        }
+    };
+    let out = evaluate(&drive, &spec.front_end, &spec.baseline, &chain, spec.contact_angle_deg, Some(&mut add_noise));
+    let load_n = out.load_n.iter().map(|f| f + noise.load_n * rng.normal()).collect();
+    let warm_up = spec.effects.iter().find_map(|e| match e {
+        Effect::ThermalDrift(d) => Some(*d),
+        _ => None,
+    });
+    let temp_c = history
+        .t_s
+        .iter()
+        .map(|&t| spec.ambient_c + warm_up.map_or(0.0, |d| spec.warm_up_rise_c * d.warm_up(t)) + noise.temp_c * rng.normal())
+        .collect();
+    let [fz_v, mx_v, my_v] = out.volts;
+    let fe = &spec.front_end;
+    let meta = Meta {
+        sample_rate_hz: spec.test.sample_rate_hz,
+        contact_angle_deg: spec.contact_angle_deg,
+        azimuth_deg: spec.azimuth_deg,
+        fingertip_radius_mm: spec.radius_mm,
+        gain_fz: fe.gain[0],
+        gain_mx: fe.gain[1],
+        gain_my: fe.gain[2],
+        excitation_v: fe.excitation_v,
+        rod_speed_mm_per_min: Some(spec.test.speed_mm_per_min),
+        source: Some(spec.source.clone()),
+        other: Vec::new(),
+    };
+    Recording {
+        meta,
+        channels: Channels { t_s: history.t_s, rod_mm: history.rod_mm, load_n, fz_v, mx_v, my_v },
+        temp_c: Some(temp_c),
+        extra: Vec::new(),
+    }
+}
+
+/// Standard normal deviates: SplitMix64 (Steele et al. 2014) with the Box–Muller transform, so
+/// a seed gives the same recording on every platform without a dependency.
+pub struct Gaussian {
+    state: u64,
+    spare: Option<f64>,
+}
+
+impl Gaussian {
+    pub fn new(seed: u64) -> Self {
+        Self { state: seed, spare: None }
+    }
+
+    /// Uniform in (0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    /// A standard normal deviate.
+    pub fn normal(&mut self) -> f64 {
+        if let Some(s) = self.spare.take() {
+            return s;
+        }
+        let (u, v) = (self.uniform(), self.uniform());
+        let r = (-2.0 * u.ln()).sqrt();
+        let (s, c) = (std::f64::consts::TAU * v).sin_cos();
+        self.spare = Some(r * s);
+        r * c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gaussian_has_unit_variance() {
+        let mut g = Gaussian::new(7);
+        let x: Vec<f64> = (0..100_000).map(|_| g.normal()).collect();
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / x.len() as f64;
+        assert!(mean.abs() < 0.01 && (var - 1.0).abs() < 0.02, "{mean} {var}");
+    }
+}

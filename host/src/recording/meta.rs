@@ -1,0 +1,110 @@
+//! The metadata block: `# key = value` lines ahead of the header.
+
+use super::RecordingError;
+
+/// Typed metadata of a recording. Keys the contract does not know are kept in `other`, in file
+/// order, and written back unchanged.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Meta {
+    pub sample_rate_hz: f64,
+    /// Inclination theta_p of the load axis from the fingertip axis.
+    pub contact_angle_deg: f64,
+    /// Azimuth phi of the tilt plane from the chip's x axis, counter-clockwise.
+    pub azimuth_deg: f64,
+    pub fingertip_radius_mm: f64,
+    pub gain_fz: f64,
+    pub gain_mx: f64,
+    pub gain_my: f64,
+    pub excitation_v: f64,
+    pub rod_speed_mm_per_min: Option<f64>,
+    pub source: Option<String>,
+    /// Unknown keys, kept.
+    pub other: Vec<(String, String)>,
+}
+
+/// Required numeric keys, in the order the writer emits them.
+pub(super) const REQUIRED_KEYS: [&str; 9] = [
+    "sample_rate_hz",
+    "contact_angle_deg",
+    "azimuth_deg",
+    "fingertip_radius_mm",
+    "gain_fz",
+    "gain_mx",
+    "gain_my",
+    "excitation_V",
+    "format",
+];
+
+impl Meta {
+    /// The `key = value` pairs to write, required keys first.
+    pub(super) fn pairs(&self) -> Vec<(String, String)> {
+        let mut p = vec![("format".to_string(), super::FORMAT.to_string())];
+        let nums = [
+            ("sample_rate_hz", self.sample_rate_hz),
+            ("contact_angle_deg", self.contact_angle_deg),
+            ("azimuth_deg", self.azimuth_deg),
+            ("fingertip_radius_mm", self.fingertip_radius_mm),
+            ("gain_fz", self.gain_fz),
+            ("gain_mx", self.gain_mx),
+            ("gain_my", self.gain_my),
+            ("excitation_V", self.excitation_v),
+        ];
+        p.extend(nums.iter().map(|(k, v)| (k.to_string(), v.to_string())));
+        if let Some(v) = self.rod_speed_mm_per_min {
+            p.push(("rod_speed_mm_per_min".into(), v.to_string()));
+        }
+        if let Some(s) = &self.source {
+            p.push(("source".into(), s.clone()));
+        }
+        p.extend(self.other.iter().cloned());
+        p
+    }
+
+    /// Build the typed metadata from the raw pairs (with their line numbers); `header_line` is
+    /// where a missing key is reported.
+    pub(super) fn from_pairs(
+        pairs: Vec<(usize, String, String)>,
+        header_line: usize,
+    ) -> Result<Self, RecordingError> {
+        let find = |key: &'static str| pairs.iter().rev().find(|(_, k, _)| k == key);
+        let num = |key: &'static str| -> Result<f64, RecordingError> {
+            let (line, _, value) = find(key).ok_or(RecordingError::MissingKey { line: header_line, key })?;
+            parse_number(value).ok_or_else(|| RecordingError::BadMetaValue {
+                line: *line,
+                key: key.to_string(),
+                value: value.clone(),
+            })
+        };
+        let (fline, _, fvalue) =
+            find("format").ok_or(RecordingError::MissingKey { line: header_line, key: "format" })?;
+        if fvalue != super::FORMAT {
+            return Err(RecordingError::WrongFormat { line: *fline, value: fvalue.clone() });
+        }
+        let rod_speed_mm_per_min =
+            if find("rod_speed_mm_per_min").is_some() { Some(num("rod_speed_mm_per_min")?) } else { None };
+        let meta = Meta {
+            sample_rate_hz: num("sample_rate_hz")?,
+            contact_angle_deg: num("contact_angle_deg")?,
+            azimuth_deg: num("azimuth_deg")?,
+            fingertip_radius_mm: num("fingertip_radius_mm")?,
+            gain_fz: num("gain_fz")?,
+            gain_mx: num("gain_mx")?,
+            gain_my: num("gain_my")?,
+            excitation_v: num("excitation_V")?,
+            rod_speed_mm_per_min,
+            source: find("source").map(|(_, _, v)| v.clone()),
+            other: pairs
+                .iter()
+                .filter(|(_, k, _)| !REQUIRED_KEYS.contains(&k.as_str()) && k != "rod_speed_mm_per_min" && k != "source")
+                .map(|(_, k, v)| (k.clone(), v.clone()))
+                .collect(),
+        };
+        Ok(meta)
+    }
+}
+
+/// A finite decimal number (metadata values and data fields alike).
+pub(super) fn parse_number(s: &str) -> Option<f64> {
+    let v: f64 = s.trim().parse().ok()?;
+    v.is_finite().then_some(v)
+}

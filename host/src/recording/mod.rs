@@ -1,0 +1,129 @@
+//! The recording interchange format, version 1 (`shared/contracts/recording-v1.md`): a CSV with
+//! `# key = value` metadata, one header line and numeric rows.
+//!
+//! [`read`] / [`Recording::parse`] refuse a file that breaks the layout with a
+//! [`RecordingError`] naming the line and the field; [`RecordingWriter`] writes rows
+//! incrementally (the logger and `tactile simulate` use it).
+
+mod error;
+mod meta;
+mod reader;
+mod writer;
+
+pub use error::RecordingError;
+pub use meta::Meta;
+pub use reader::{read, read_from};
+pub use writer::RecordingWriter;
+
+/// The value of the `format` key this module reads and writes.
+pub const FORMAT: &str = "tactile-recording/1";
+
+/// The required columns, in the order the writer emits them.
+pub const REQUIRED_COLUMNS: [&str; 6] = ["t_s", "rod_mm", "load_N", "fz_V", "mx_V", "my_V"];
+/// The optional temperature column.
+pub const TEMP_COLUMN: &str = "temp_C";
+
+/// One channel that is not required by the contract, carried along by name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    pub name: String,
+    pub values: Vec<f64>,
+}
+
+/// The required channels, one value per row; a missing value is `NaN`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Channels {
+    pub t_s: Vec<f64>,
+    pub rod_mm: Vec<f64>,
+    pub load_n: Vec<f64>,
+    pub fz_v: Vec<f64>,
+    pub mx_v: Vec<f64>,
+    pub my_v: Vec<f64>,
+}
+
+impl Channels {
+    /// Number of rows (gaps included).
+    pub fn len(&self) -> usize {
+        self.t_s.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.t_s.is_empty()
+    }
+
+    /// The four compared signals by contract name, in the order load, fz, mx, my.
+    pub fn signals(&self) -> [(&'static str, &[f64]); 4] {
+        [
+            ("load_N", &self.load_n),
+            ("fz_V", &self.fz_v),
+            ("mx_V", &self.mx_v),
+            ("my_V", &self.my_v),
+        ]
+    }
+
+    /// Whether row `i` is a gap (a required value missing).
+    pub fn is_gap(&self, i: usize) -> bool {
+        [&self.t_s, &self.rod_mm, &self.load_n, &self.fz_v, &self.mx_v, &self.my_v]
+            .iter()
+            .any(|c| c[i].is_nan())
+    }
+}
+
+/// A whole recording in memory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recording {
+    pub meta: Meta,
+    pub channels: Channels,
+    /// `temp_C`, when the file has that column.
+    pub temp_c: Option<Vec<f64>>,
+    /// Every other column, in file order.
+    pub extra: Vec<Column>,
+}
+
+impl Recording {
+    /// A recording with no rows yet.
+    pub fn new(meta: Meta) -> Self {
+        Self { meta, channels: Channels::default(), temp_c: None, extra: Vec::new() }
+    }
+
+    /// Parse a recording from text already in memory.
+    pub fn parse(text: &str) -> Result<Self, RecordingError> {
+        read_from(text.as_bytes())
+    }
+
+    /// The same recording without its gap rows (rows with a missing required value).
+    pub fn without_gaps(&self) -> Recording {
+        let keep: Vec<usize> = (0..self.channels.len()).filter(|&i| !self.channels.is_gap(i)).collect();
+        let pick = |v: &Vec<f64>| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        let c = &self.channels;
+        Recording {
+            meta: self.meta.clone(),
+            channels: Channels {
+                t_s: pick(&c.t_s),
+                rod_mm: pick(&c.rod_mm),
+                load_n: pick(&c.load_n),
+                fz_v: pick(&c.fz_v),
+                mx_v: pick(&c.mx_v),
+                my_v: pick(&c.my_v),
+            },
+            temp_c: self.temp_c.as_ref().map(pick),
+            extra: self.extra.iter().map(|c| Column { name: c.name.clone(), values: pick(&c.values) }).collect(),
+        }
+    }
+
+    /// Write the whole recording to `out` in the contract's layout.
+    pub fn write_to<W: std::io::Write>(&self, out: W) -> std::io::Result<()> {
+        let names: Vec<&str> = self.extra.iter().map(|c| c.name.as_str()).collect();
+        let mut w = RecordingWriter::new(out, &self.meta, self.temp_c.is_some(), &names)?;
+        let c = &self.channels;
+        let mut extra = vec![0.0; self.extra.len()];
+        for i in 0..c.len() {
+            for (e, col) in extra.iter_mut().zip(&self.extra) {
+                *e = col.values[i];
+            }
+            let row = [c.t_s[i], c.rod_mm[i], c.load_n[i], c.fz_v[i], c.mx_v[i], c.my_v[i]];
+            w.write_row(&row, self.temp_c.as_ref().map(|t| t[i]), &extra)?;
+        }
+        w.flush()
+    }
+}

@@ -1,0 +1,30 @@
+//! The proof of issue 8 as a test: 44 generated recordings with concealed effects, diagnosed
+//! blind, must meet the acceptance figures. About a minute of CPU on 2 cores (500 Hz recordings).
+
+use host::diagnosis::prove::{markdown, run, Plan, Summary};
+
+#[test]
+fn concealed_effects_are_found_blind() {
+    let hw = hardware::Params::load_default().expect("hardware/ loads");
+    let plan = Plan {
+        seed: 8,
+        sample_rate_hz: 500.0,
+        no_effect: 6,
+        per_effect: 3,
+        radius_mm: hw.fingertip.radius_mm,
+        options: host::diagnosis::Options::from_hardware(&hw, false).unwrap(),
+        front_end: host::diagnosis::baseline::FrontEnd::from_hardware(&hw).unwrap(),
+    };
+    let cases = plan.generate();
+    assert!(cases.len() >= 40);
+    for kind in sim::effects::EffectKind::ALL {
+        assert!(cases.iter().filter(|c| c.truth.iter().any(|e| e.kind() == kind)).count() >= 3, "{}", kind.name());
+    }
+    let scores = run(&cases, &plan.options);
+    let s = Summary::of(&scores);
+    println!("{}", markdown(&scores, &s));
+    assert!(s.correct_share >= 0.9, "effect set right in {:.0} %", 100.0 * s.correct_share);
+    assert_eq!(s.false_alarms, 0, "false alarms on no-effect recordings");
+    assert!(s.primary_within_20 >= 0.8, "primary parameter within 20 % in {:.0} %", 100.0 * s.primary_within_20);
+    assert!(s.heldout_ratio_mean <= 0.5, "held-out RMSE after/before {:.3}", s.heldout_ratio_mean);
+}
