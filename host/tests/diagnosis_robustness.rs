@@ -3,18 +3,36 @@
 //! nothing is reported on the departures that are not catalogue effects at all.
 //! Run: `cargo test --release -p host --test diagnosis_robustness -- --ignored --nocapture`.
 
-use host::diagnosis::baseline::{BaselineParams, FrontEnd};
+use host::diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
 use host::diagnosis::standin::HertzContact;
 use host::diagnosis::synth::{simulate, Gaussian, Noise, SimSpec};
 use host::recording::Recording;
 use sim::effects::Effect;
 
+/// A force law outside the diagnosis's family: Hertz stiffened by the finite gel thickness,
+/// F = F_Hertz (1 + 0.5 (d / R)^2), chip loads in proportion.
+struct Thick(HertzContact);
+
+impl FingertipResponse for Thick {
+    fn unit_response(&self, rod_mm: f64) -> UnitResponse {
+        let u = self.0.unit_response(rod_mm);
+        let k = 1.0 + 0.5 * (rod_mm.max(0.0) / self.0.radius_mm).powi(2);
+        UnitResponse { force_n: u.force_n * k, chip: u.chip.map(|c| c * k) }
+    }
+}
+
 fn recording(effects: &[&str], tweak: impl Fn(&mut SimSpec)) -> (Recording, host::diagnosis::Options) {
+    recording_with(effects, false, tweak)
+}
+
+fn recording_with(effects: &[&str], thick: bool, tweak: impl Fn(&mut SimSpec)) -> (Recording, host::diagnosis::Options) {
     let hw = hardware::Params::load_default().unwrap();
     let opt = host::diagnosis::Options::from_hardware(&hw, false).unwrap();
-    let fingertip = HertzContact { radius_mm: 20.0, poisson: opt.poisson, contact_angle_deg: 20.0, azimuth_deg: 60.0, lever_mm: opt.lever_mm };
+    let hertz = HertzContact { radius_mm: 20.0, poisson: opt.poisson, contact_angle_deg: 20.0, azimuth_deg: 60.0, lever_mm: opt.lever_mm };
+    let thick_tip = Thick(hertz);
+    let fingertip: &dyn FingertipResponse = if thick { &thick_tip } else { &hertz };
     let mut spec = SimSpec {
-        fingertip: &fingertip,
+        fingertip,
         front_end: FrontEnd::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(1.0e5),
         contact_angle_deg: 20.0,
@@ -71,6 +89,10 @@ fn departures_from_the_models() {
     let mismatched_gain = found(&rec, &opt, "Mx sensitivity 10 % above My (no effect)");
     let (rec, opt) = recording(&[], |s| s.baseline.exponent_shift = 0.25);
     let exponent = found(&rec, &opt, "force exponent 1.75 instead of 1.5 (no effect)");
+    let (rec, opt) = recording_with(&[], true, |_| {});
+    let thick = found(&rec, &opt, "finite-thickness force law outside the family (no effect)");
+    let (rec, opt) = recording_with(&["viscoelastic_relaxation:tau_s=4,fraction=0.3"], true, |_| {});
+    found(&rec, &opt, "finite-thickness force law + relaxation");
     let (mut rec, opt) = recording(&[], |_| {});
     smooth(&mut rec, 0.2);
     found(&rec, &opt, "firmware smoother alpha 0.2 at 500 Hz (no effect)");
@@ -84,5 +106,6 @@ fn departures_from_the_models() {
     let (rec, opt) = recording(&["stiffening:exponent=1.3", "bridge_nonlinearity:quadratic=0.1"], |_| {});
     found(&rec, &opt, "stiffening + bridge nonlinearity");
     assert!(exponent.is_empty(), "a different force exponent is calibration, not an effect");
+    assert!(thick.is_empty(), "a different force law is calibration, not an effect: {thick:?}");
     assert!(mismatched_gain.len() <= 1, "{mismatched_gain:?}");
 }

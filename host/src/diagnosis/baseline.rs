@@ -138,6 +138,9 @@ pub struct BaselineParams {
     pub youngs_modulus_pa: f64,
     /// Change of the force–indentation exponent against the fingertip model's own.
     pub exponent_shift: f64,
+    /// Curvature of ln F against ln(rod travel): a force law whose local exponent itself changes
+    /// with indentation (finite thickness, contact growth), F ~ (d/d_max)^(shift + k ln(d/d_max)).
+    pub exponent_curvature: f64,
     /// Sensitivity scale of the Fz channel against the nominal front end.
     pub scale_fz: f64,
     /// Sensitivity scale of both moment channels (identical bridges).
@@ -153,6 +156,7 @@ impl BaselineParams {
         Self {
             youngs_modulus_pa,
             exponent_shift: 0.0,
+            exponent_curvature: 0.0,
             scale_fz: 1.0,
             scale_moment: 1.0,
             azimuth_shift_deg: 0.0,
@@ -222,7 +226,8 @@ pub fn evaluate(
     let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
     for (u, &l) in drive.unit.iter().zip(&drive.ln_rel_rod) {
-        let w = p.youngs_modulus_pa * if p.exponent_shift != 0.0 { (p.exponent_shift * l).exp() } else { 1.0 };
+        let warp = p.exponent_shift * l + p.exponent_curvature * l * l;
+        let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
         let (mx, my) = (u.chip[1] * w, u.chip[2] * w);
         chip[0].push(u.chip[0] * w);

@@ -2,7 +2,7 @@
 //! catalogue effects, fitted by least squares to the decimated recording on the fitting stretch.
 //!
 //! Parameter vector (internal coordinates): ln E, exponent shift, Fz scale, moment scale,
-//! azimuth shift (deg), four offsets, then each effect's parameters (time constants as ln tau).
+//! azimuth shift (deg), four offsets, exponent curvature, then each effect's parameters (time constants as ln tau).
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
 //! chi-square in noise units and channels of any unit mix.
 
@@ -13,7 +13,7 @@ use super::data::{Data, Series};
 use super::lm::{self, Problem, Solution};
 
 /// Number of baseline parameters at the head of the vector.
-pub const N_BASE: usize = 9;
+pub const N_BASE: usize = 10;
 /// How far the azimuth may be corrected: the jig's mounting accuracy.
 pub const AZIMUTH_TOLERANCE_DEG: f64 = 3.0;
 
@@ -144,6 +144,7 @@ impl<'s, 'a> Model<'s, 'a> {
             scale_moment: full[3],
             azimuth_shift_deg: full[4],
             offset: [full[5], full[6], full[7], full[8]],
+            exponent_curvature: full[9],
         };
         let mut effects = Vec::new();
         let mut i = N_BASE;
@@ -254,6 +255,7 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
         spec("offset_fz_V", -off(1), off(1), 1e-6 * r[1].max(1e-9), &[base[6]], false),
         spec("offset_mx_V", -off(2), off(2), 1e-6 * r[2].max(1e-9), &[base[7]], false),
         spec("offset_my_V", -off(3), off(3), 1e-6 * r[3].max(1e-9), &[base[8]], false),
+        spec("exponent_curvature", -0.5, 0.5, 1e-5, &[base[9]], false),
     ]
 }
 
@@ -286,7 +288,7 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
     }
     let s_m = if sxx > 0.0 { sxy / sxx } else { 1.0 };
     let rest = rest_offsets(d);
-    vec![e.ln(), 0.0, if s_fz != 0.0 { s_fz } else { 1.0 }, if s_m != 0.0 { s_m } else { 1.0 }, 0.0, rest[0], rest[1], rest[2], rest[3]]
+    vec![e.ln(), 0.0, if s_fz != 0.0 { s_fz } else { 1.0 }, if s_m != 0.0 { s_m } else { 1.0 }, 0.0, rest[0], rest[1], rest[2], rest[3], 0.0]
 }
 
 /// Mean of each channel over the samples before the rod first touches.

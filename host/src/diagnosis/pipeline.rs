@@ -455,6 +455,7 @@ fn baseline_params(base: &Candidate) -> Numbers {
     let mut n = Numbers::default();
     n.push("youngs_modulus_Pa", f[0].exp());
     n.push("force_exponent", standin::HERTZ_EXPONENT + f[1]);
+    n.push("force_exponent_curvature", f[9]);
     n.push("scale_fz", f[2]);
     n.push("scale_moment", f[3]);
     n.push("azimuth_shift_deg", f[4]);

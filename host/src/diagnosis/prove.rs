@@ -95,6 +95,7 @@ impl Plan {
         let baseline = BaselineParams {
             youngs_modulus_pa: modulus,
             exponent_shift: u(-0.1, 0.1),
+            exponent_curvature: u(-0.05, 0.05),
             scale_fz: u(0.85, 1.15),
             scale_moment: u(0.85, 1.15),
             azimuth_shift_deg: u(-1.5, 1.5),
