@@ -82,10 +82,19 @@ pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -
     let mut sorted = spectrum.clone();
     sorted.sort_by(f64::total_cmp);
     let median = sorted[sorted.len() / 2].max(1e-300);
-    // Refine by golden section on all samples within one scan step.
-    let (mut a, mut b) = (freqs[imax] - SCAN_STEP_HZ, freqs[imax] + SCAN_STEP_HZ);
-    let g = 0.618_033_988_75;
+    // Refine on a longer window, whose main lobe is narrower than the scan step: first a fine
+    // scan across the coarse peak (golden section alone would land on a side lobe), then golden
+    // section within one fine step.
     let refine: Vec<usize> = idx.iter().copied().take(REFINE_SAMPLES).collect();
+    let span = t[refine[refine.len() - 1]] - t[refine[0]];
+    let fine_step = (0.25 / span.max(1e-9)).min(SCAN_STEP_HZ);
+    let n_fine = (2.0 * SCAN_STEP_HZ / fine_step).ceil() as usize;
+    let f_fine = (0..=n_fine)
+        .map(|i| freqs[imax] - SCAN_STEP_HZ + i as f64 * fine_step)
+        .max_by(|&x, &y| power(t, residuals, x, &refine).total_cmp(&power(t, residuals, y, &refine)))
+        .unwrap_or(freqs[imax]);
+    let (mut a, mut b) = (f_fine - fine_step, f_fine + fine_step);
+    let g = 0.618_033_988_75;
     for _ in 0..20 {
         let (x1, x2) = (b - g * (b - a), a + g * (b - a));
         if power(t, residuals, x1, &refine) > power(t, residuals, x2, &refine) {
@@ -129,9 +138,9 @@ mod tests {
     fn finds_a_line_off_the_scan_grid() {
         let t: Vec<f64> = (0..60_000).map(|k| k as f64 * 1e-3).collect();
         let mut g = super::super::synth::Gaussian::new(5);
-        let r: Vec<f64> = t.iter().map(|t| 0.01 * (TAU * 50.03 * t + 0.4).sin() + 0.01 * g.normal()).collect();
+        let r: Vec<f64> = t.iter().map(|t| 0.01 * (TAU * 59.93 * t + 0.4).sin() + 0.01 * g.normal()).collect();
         let line = find_line(&t, &[&r], &vec![true; t.len()], 1000.0).unwrap();
-        assert!((line.freq_hz - 50.03).abs() < 3e-3, "{}", line.freq_hz);
+        assert!((line.freq_hz - 59.93).abs() < 1e-3, "{}", line.freq_hz);
         assert!((line.amplitude() - 0.01).abs() < 5e-4);
         assert!(line.prominence > 100.0);
     }

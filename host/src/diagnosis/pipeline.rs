@@ -255,7 +255,9 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         candidates,
         seconds: started.elapsed().as_secs_f64(),
     };
-    let improved_dec = add_line_dec(&data, &chosen_dec, mains.as_ref());
+    // At the fitting rate a mains line averages out over whole periods, so the improved model
+    // plotted there is the slow model alone.
+    let improved_dec = chosen_dec;
     let plots = PlotData {
         t_s: fit_t.clone(),
         recorded: data.fit.y.clone(),
@@ -387,11 +389,6 @@ fn add_line(data: &Data, o: &Outputs, line: Option<&Line>) -> Outputs {
         }
     }
     out
-}
-
-/// The decimated view of the line is its block mean, which is ~0 for 50 Hz on 20 ms blocks.
-fn add_line_dec(_data: &Data, o: &Outputs, _line: Option<&Line>) -> Outputs {
-    o.clone()
 }
 
 /// The line counts if it is prominent and removing it helps on the fitting stretch and on the
