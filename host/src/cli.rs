@@ -50,7 +50,11 @@ pub mod exit {
     pub const NO_INPUT: u8 = 66;
     pub const UNAVAILABLE: u8 = 69;
     pub const IO: u8 = 74;
+    /// An output file could not be created or written.
+    pub const CANT_CREATE: u8 = 73;
     pub const NO_PERM: u8 = 77;
+    /// The device answered but refused or spoke another protocol version.
+    pub const PROTOCOL: u8 = 76;
 }
 
 /// Something that knows which exit code it deserves. Error types of the library implement

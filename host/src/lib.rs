@@ -5,3 +5,8 @@ pub mod cli;
 pub mod cmd;
 pub mod diagnosis;
 pub mod recording;
+pub mod decode;
+pub mod device;
+pub mod live;
+pub mod logger;
+pub mod plot;

@@ -1,6 +1,7 @@
 //! The emulated sensor: mechanics -> beam stress -> piezoresistors -> bridges -> amplifier -> ADC.
 #![cfg_attr(not(feature = "std"), no_std)]
 
+pub mod ads131m04;
 #[cfg(feature = "std")]
 pub mod link;
 

@@ -1,0 +1,208 @@
+//! Firmware for the NUCLEO-F411RE (STM32F411RE, Cortex-M4F at 100 MHz). The ADS131M04 on SPI1
+//! signals each conversion on DRDY (EXTI, falling edge); the interrupt reads it through the driver
+//! and queues the sample. The main loop runs the device core and writes frames to USART2, the
+//! ST-LINK virtual COM port. The MCP4728 trim DAC sits on I2C1. Pins and rates: hardware/board.toml
+//! (checked against the code at compile time, see boards/nucleo_f411re.rs). defmt logs over RTT (`cargo run --release --bin nucleo-f411re`).
+#![cfg_attr(target_os = "none", no_std, no_main)]
+
+#[cfg(not(target_os = "none"))]
+fn main() {
+    eprintln!(
+        "this is a thumbv7em-none-eabihf binary for the NUCLEO-F411RE: build it from firmware/"
+    );
+    std::process::exit(2);
+}
+
+#[cfg(target_os = "none")]
+#[path = "../../boards/nucleo_f411re.rs"]
+mod board;
+
+#[cfg(target_os = "none")]
+mod target {
+    use super::board;
+    use core::cell::RefCell;
+    use cortex_m_rt::entry;
+    use critical_section::Mutex;
+    use embedded_hal::spi::MODE_1;
+    use embedded_hal_bus::spi::ExclusiveDevice;
+    use embedded_hal_nb::serial::{Read, Write};
+    use firmware::ads131m04::{Ads131m04, Config, Osr};
+    use firmware::device::{Device, Frontend, HardwareError};
+    use firmware::mcp4728::{trim_writes, Mcp4728};
+    use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
+    use stm32f4xx_hal::gpio::{Edge, Input, Output, PinState, PB6, PC7};
+    use stm32f4xx_hal::i2c::{DutyCycle, I2c, Mode as I2cMode};
+    use stm32f4xx_hal::pac::{self, interrupt, I2C1, SPI1};
+    use stm32f4xx_hal::prelude::*;
+    use stm32f4xx_hal::rcc::Config as RccConfig;
+    use stm32f4xx_hal::serial::config::Config as SerialConfig;
+    use stm32f4xx_hal::spi::Spi;
+    use {defmt_rtt as _, panic_probe as _};
+
+    type AdcSpi = ExclusiveDevice<Spi<SPI1>, PB6<Output>, embedded_hal_bus::spi::NoDelay>;
+    type Adc = Ads131m04<AdcSpi, PC7<Input>>;
+
+    struct Acquisition {
+        adc: Adc,
+        acq: Acquirer<'static>,
+        index: u32,
+        last: [i32; 4],
+    }
+
+    static ACQUISITION: Mutex<RefCell<Option<Acquisition>>> = Mutex::new(RefCell::new(None));
+    static mut QUEUE: SampleQueue = SampleQueue::new();
+    static OVERRUNS: Overruns = Overruns::new();
+
+    /// DRDY fell: a conversion is ready. Read it (CRC checked) and queue it; never wait.
+    #[interrupt]
+    fn EXTI9_5() {
+        critical_section::with(|cs| {
+            let mut slot = ACQUISITION.borrow_ref_mut(cs);
+            let Some(a) = slot.as_mut() else { return };
+            a.adc.drdy_mut().clear_interrupt_pending_bit();
+            let (codes, read_error) = match a.adc.read() {
+                Ok(conv) => (conv.codes, false),
+                Err(_) => (a.last, true),
+            };
+            a.last = codes;
+            a.acq.push(RawSample {
+                index: a.index,
+                codes,
+                read_error,
+            });
+            a.index = a.index.wrapping_add(1);
+        });
+    }
+
+    struct NucleoFrontend {
+        dac: Mcp4728<I2c<I2C1>>,
+    }
+
+    impl Frontend for NucleoFrontend {
+        fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
+            self.dac
+                .multi_write(&trim_writes(codes))
+                .map_err(|_| HardwareError::Dac)
+        }
+
+        fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError> {
+            critical_section::with(|cs| {
+                let mut slot = ACQUISITION.borrow_ref_mut(cs);
+                let Some(a) = slot.as_mut() else {
+                    return Err(HardwareError::Adc);
+                };
+                a.adc.set_osr(osr).map_err(|_| HardwareError::Adc)
+            })
+        }
+    }
+
+    #[entry]
+    fn main() -> ! {
+        let () = board::PIN_CHECKS;
+        let mut dp = pac::Peripherals::take().unwrap();
+        let mut rcc = dp.RCC.freeze(
+            RccConfig::hse(board::HSE_HZ.Hz())
+                .bypass_hse_oscillator()
+                .sysclk(board::SYSCLK_HZ.Hz()),
+        );
+        let gpioa = dp.GPIOA.split(&mut rcc);
+        let gpiob = dp.GPIOB.split(&mut rcc);
+        let gpioc = dp.GPIOC.split(&mut rcc);
+        // ADC SYNC/RESET held high (the driver resets with the RESET command); DAC LDAC held
+        // low so its outputs follow each write.
+        let _sync_reset = gpioa.pa9.into_push_pull_output_in_state(PinState::High);
+        let _ldac = gpiob.pb10.into_push_pull_output_in_state(PinState::Low);
+        let mut syscfg = dp.SYSCFG.constrain(&mut rcc);
+
+        let serial = dp
+            .USART2
+            .serial::<u8>(
+                (gpioa.pa2, gpioa.pa3),
+                SerialConfig::default().baudrate(board::UART_BAUD.bps()),
+                &mut rcc,
+            )
+            .unwrap();
+        let (mut tx, mut rx) = serial.split();
+
+        let spi = dp.SPI1.spi(
+            (Some(gpioa.pa5), Some(gpioa.pa6), Some(gpioa.pa7)),
+            MODE_1,
+            board::SPI_HZ.Hz(),
+            &mut rcc,
+        );
+        let cs = gpiob.pb6.into_push_pull_output_in_state(PinState::High);
+        let spi = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
+        let mut drdy = gpioc.pc7.into_pull_up_input();
+        drdy.make_interrupt_source(&mut syscfg);
+        drdy.trigger_on_edge(&mut dp.EXTI, Edge::Falling);
+        drdy.enable_interrupt(&mut dp.EXTI);
+
+        let i2c = I2c::new(
+            dp.I2C1,
+            (gpiob.pb8, gpiob.pb9),
+            I2cMode::fast(board::I2C_HZ.Hz(), DutyCycle::Ratio2to1),
+            &mut rcc,
+        );
+
+        let config = board::device_config();
+        let mut adc = Ads131m04::new(spi, drdy);
+        let adc_config = Config {
+            word_length: board::word_length(),
+            osr: config.osr,
+            gains: config.pga,
+            input_crc: board::ADC_INPUT_CRC,
+        };
+        match adc.init(&adc_config) {
+            Ok(id) => defmt::info!("ADS131M04 ID {=u16:#06x}", id),
+            Err(e) => defmt::error!("ADS131M04 init failed: {}", defmt::Debug2Format(&e)),
+        }
+        // SAFETY: the queue is split once, before the DRDY interrupt is unmasked.
+        let (producer, mut consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
+        critical_section::with(|cs| {
+            let acq = Acquirer::new(producer, &OVERRUNS);
+            ACQUISITION.borrow_ref_mut(cs).replace(Acquisition {
+                adc,
+                acq,
+                index: 0,
+                last: [0; 4],
+            });
+        });
+        let mut fe = NucleoFrontend {
+            dac: Mcp4728::new(i2c, board::DAC_ADDRESS),
+        };
+        let mut dev = Device::new(config);
+        if dev.power_up(&mut fe).is_err() {
+            defmt::error!("MCP4728 did not acknowledge the power-up write");
+        }
+        // SAFETY: the handler and everything it touches are initialised above.
+        unsafe { cortex_m::peripheral::NVIC::unmask(pac::Interrupt::EXTI9_5) };
+        defmt::info!("streaming core up at {=u32} samples/s", dev.rate_hz());
+
+        // No WFI here: USART2 has a one-byte receive register and no receive interrupt is used,
+        // so the loop must keep polling or a burst of request bytes would overrun it.
+        loop {
+            while let Some(raw) = consumer.dequeue() {
+                dev.on_sample(&raw, &mut fe);
+            }
+            dev.note_overruns(OVERRUNS.take());
+            let mut buf = [0u8; 32];
+            let mut n = 0;
+            while n < buf.len() {
+                match rx.read() {
+                    Ok(b) => {
+                        buf[n] = b;
+                        n += 1;
+                    }
+                    Err(nb::Error::WouldBlock) => break,
+                    // Overrun or framing error: the accumulator resynchronises at the next 0x00.
+                    Err(nb::Error::Other(_)) => break,
+                }
+            }
+            if n > 0 {
+                dev.on_rx(&buf[..n]);
+            }
+            dev.poll(&mut fe);
+            dev.tx().drain(|b| tx.write(b).is_ok());
+        }
+    }
+}
