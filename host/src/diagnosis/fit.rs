@@ -6,7 +6,7 @@
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
 //! chi-square in noise units and channels of any unit mix.
 
-use sim::effects::{Chain, Effect, EffectKind};
+use sim::effects::{Chain, EffectKind};
 
 use super::baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
 use super::data::{Data, Series};
@@ -482,17 +482,9 @@ pub fn stderr(model: &Model, fitted: &Fitted, i: usize, rho: f64) -> Option<f64>
     let var = fitted.solution.sse / dof * (1.0 + rho) / (1.0 - rho) * cov[pos][pos];
     let se = var.max(0.0).sqrt();
     Some(if model.specs()[i].log {
-        se * full_exp(fitted.full[i])
+        se * fitted.full[i].exp()
     } else {
         se
     })
 }
 
-fn full_exp(v: f64) -> f64 {
-    v.exp()
-}
-
-/// The effect objects of a fitted model (without the baseline).
-pub fn effects_of(model: &Model, full: &[f64]) -> Vec<Effect> {
-    model.decode(full).1.effects
-}
