@@ -195,6 +195,9 @@ impl BaselineParams {
     }
 }
 
+/// ln of the smallest relative rod travel the force-law warp distinguishes.
+const MIN_LN_REL_ROD: f64 = -4.605_170_185_988_091; // ln(0.01)
+
 /// The drive of one evaluation: a time base and the unit response at each time.
 #[derive(Debug, Clone)]
 pub struct Drive {
@@ -210,9 +213,11 @@ impl Drive {
         let unit = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
         let ln_rel_rod = rod_mm
             .iter()
+            // Frozen below 1 % of the largest travel: the warp must stay bounded as d -> 0 (a
+            // positive curvature would otherwise blow up at travels of 1e-16 mm).
             .map(|&d| {
                 if d > 0.0 && rod_max > 0.0 {
-                    (d / rod_max).ln()
+                    (d / rod_max).ln().max(MIN_LN_REL_ROD)
                 } else {
                     0.0
                 }
