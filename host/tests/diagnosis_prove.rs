@@ -18,13 +18,33 @@ fn concealed_effects_are_found_blind() {
     let cases = plan.generate();
     assert!(cases.len() >= 40);
     for kind in sim::effects::EffectKind::ALL {
-        assert!(cases.iter().filter(|c| c.truth.iter().any(|e| e.kind() == kind)).count() >= 3, "{}", kind.name());
+        assert!(
+            cases
+                .iter()
+                .filter(|c| c.truth.iter().any(|e| e.kind() == kind))
+                .count()
+                >= 3,
+            "{}",
+            kind.name()
+        );
     }
     let scores = run(&cases, &plan.options);
     let s = Summary::of(&scores);
     println!("{}", markdown(&scores, &s));
-    assert!(s.correct_share >= 0.9, "effect set right in {:.0} %", 100.0 * s.correct_share);
+    assert!(
+        s.correct_share >= 0.9,
+        "effect set right in {:.0} %",
+        100.0 * s.correct_share
+    );
     assert_eq!(s.false_alarms, 0, "false alarms on no-effect recordings");
-    assert!(s.primary_within_20 >= 0.8, "primary parameter within 20 % in {:.0} %", 100.0 * s.primary_within_20);
-    assert!(s.heldout_ratio_mean <= 0.5, "held-out RMSE after/before {:.3}", s.heldout_ratio_mean);
+    assert!(
+        s.primary_within_20 >= 0.8,
+        "primary parameter within 20 % in {:.0} %",
+        100.0 * s.primary_within_20
+    );
+    assert!(
+        s.heldout_ratio_mean <= 0.5,
+        "held-out RMSE after/before {:.3}",
+        s.heldout_ratio_mean
+    );
 }

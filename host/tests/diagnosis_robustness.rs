@@ -3,27 +3,72 @@
 //! nothing is reported on the departures that are not catalogue effects at all.
 //! Run: `cargo test --release -p host --test diagnosis_robustness -- --ignored --nocapture`.
 
-use host::diagnosis::baseline::{BaselineParams, FrontEnd};
+use host::diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
 use host::diagnosis::standin::HertzContact;
 use host::diagnosis::synth::{simulate, Gaussian, Noise, SimSpec};
 use host::recording::Recording;
 use sim::effects::Effect;
 
-fn recording(effects: &[&str], tweak: impl Fn(&mut SimSpec)) -> (Recording, host::diagnosis::Options) {
+/// A force law outside the diagnosis's family: Hertz stiffened by the finite gel thickness,
+/// F = F_Hertz (1 + 0.5 (d / R)^2), chip loads in proportion.
+struct Thick(HertzContact);
+
+impl FingertipResponse for Thick {
+    fn unit_response(&self, rod_mm: f64) -> UnitResponse {
+        let u = self.0.unit_response(rod_mm);
+        let k = 1.0 + 0.5 * (rod_mm.max(0.0) / self.0.radius_mm).powi(2);
+        UnitResponse {
+            force_n: u.force_n * k,
+            chip: u.chip.map(|c| c * k),
+        }
+    }
+}
+
+fn recording(
+    effects: &[&str],
+    tweak: impl Fn(&mut SimSpec),
+) -> (Recording, host::diagnosis::Options) {
+    recording_with(effects, false, tweak)
+}
+
+fn recording_with(
+    effects: &[&str],
+    thick: bool,
+    tweak: impl Fn(&mut SimSpec),
+) -> (Recording, host::diagnosis::Options) {
     let hw = hardware::Params::load_default().unwrap();
     let opt = host::diagnosis::Options::from_hardware(&hw, false).unwrap();
-    let fingertip = HertzContact { radius_mm: 20.0, poisson: opt.poisson, contact_angle_deg: 20.0, azimuth_deg: 60.0, lever_mm: opt.lever_mm };
+    let hertz = HertzContact {
+        radius_mm: 20.0,
+        poisson: opt.poisson,
+        contact_angle_deg: 20.0,
+        azimuth_deg: 60.0,
+        lever_mm: opt.lever_mm,
+    };
+    let thick_tip = Thick(hertz);
+    let fingertip: &dyn FingertipResponse = if thick { &thick_tip } else { &hertz };
     let mut spec = SimSpec {
-        fingertip: &fingertip,
+        fingertip,
         front_end: FrontEnd::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(1.0e5),
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
         radius_mm: 20.0,
-        test: sim::compression::CompressionTest { sample_rate_hz: 500.0, recovery_s: 45.0, ..Default::default() },
+        test: sim::compression::CompressionTest {
+            sample_rate_hz: 500.0,
+            recovery_s: 45.0,
+            ..Default::default()
+        },
         peak_loads_n: vec![60.0, 40.0],
-        effects: effects.iter().map(|s| Effect::from_spec(s).unwrap()).collect(),
-        noise: Noise { load_n: 0.02, volts: [2e-3; 3], temp_c: 0.02 },
+        effects: effects
+            .iter()
+            .map(|s| Effect::from_spec(s).unwrap())
+            .collect(),
+        noise: Noise {
+            load_n: 0.02,
+            volts: [2e-3; 3],
+            temp_c: 0.02,
+        },
         seed: 3,
         ambient_c: 25.0,
         warm_up_rise_c: 5.0,
@@ -36,14 +81,23 @@ fn recording(effects: &[&str], tweak: impl Fn(&mut SimSpec)) -> (Recording, host
 
 fn found(rec: &Recording, opt: &host::diagnosis::Options, label: &str) -> Vec<String> {
     let d = host::diagnosis::diagnose(rec, label, opt).unwrap();
-    let names: Vec<String> = d.report.effects.iter().map(|e| format!("{} {:?}", e.name, e.params.0)).collect();
+    let names: Vec<String> = d
+        .report
+        .effects
+        .iter()
+        .map(|e| format!("{} {:?}", e.name, e.params.0))
+        .collect();
     println!("{label:55} -> {:?} {:?}", d.report.verdict, names);
     d.report.effects.iter().map(|e| e.name.clone()).collect()
 }
 
 /// First-order IIR smoother y += alpha (x - y) on the outputs (the firmware's filter).
 fn smooth(rec: &mut Recording, alpha: f64) {
-    for ch in [&mut rec.channels.fz_v, &mut rec.channels.mx_v, &mut rec.channels.my_v] {
+    for ch in [
+        &mut rec.channels.fz_v,
+        &mut rec.channels.mx_v,
+        &mut rec.channels.my_v,
+    ] {
         let mut y = ch[0];
         for v in ch.iter_mut() {
             y += alpha * (*v - y);
@@ -55,7 +109,11 @@ fn smooth(rec: &mut Recording, alpha: f64) {
 /// Add AR(1) noise (correlation rho per sample) of standard deviation sigma to the outputs.
 fn coloured_noise(rec: &mut Recording, rho: f64, sigma: f64) {
     let mut g = Gaussian::new(99);
-    for ch in [&mut rec.channels.fz_v, &mut rec.channels.mx_v, &mut rec.channels.my_v] {
+    for ch in [
+        &mut rec.channels.fz_v,
+        &mut rec.channels.mx_v,
+        &mut rec.channels.my_v,
+    ] {
         let mut e = 0.0;
         for v in ch.iter_mut() {
             e = rho * e + (1.0 - rho * rho).sqrt() * sigma * g.normal();
@@ -71,18 +129,64 @@ fn departures_from_the_models() {
     let mismatched_gain = found(&rec, &opt, "Mx sensitivity 10 % above My (no effect)");
     let (rec, opt) = recording(&[], |s| s.baseline.exponent_shift = 0.25);
     let exponent = found(&rec, &opt, "force exponent 1.75 instead of 1.5 (no effect)");
+    let (rec, opt) = recording_with(&[], true, |_| {});
+    let thick = found(
+        &rec,
+        &opt,
+        "finite-thickness force law outside the family (no effect)",
+    );
+    let (rec, opt) = recording_with(
+        &["viscoelastic_relaxation:tau_s=4,fraction=0.3"],
+        true,
+        |_| {},
+    );
+    found(&rec, &opt, "finite-thickness force law + relaxation");
     let (mut rec, opt) = recording(&[], |_| {});
     smooth(&mut rec, 0.2);
-    found(&rec, &opt, "firmware smoother alpha 0.2 at 500 Hz (no effect)");
+    found(
+        &rec,
+        &opt,
+        "firmware smoother alpha 0.2 at 500 Hz (no effect)",
+    );
     let (mut rec, opt) = recording(&[], |_| {});
     coloured_noise(&mut rec, 0.95, 2e-3);
     found(&rec, &opt, "AR(1) noise rho 0.95, 2 mV (no effect)");
-    let (rec, opt) = recording(&["viscoelastic_relaxation:tau_s=1.5,fraction=0.15", "viscoelastic_relaxation:tau_s=20,fraction=0.2"], |_| {});
+    let (rec, opt) = recording(
+        &[
+            "viscoelastic_relaxation:tau_s=1.5,fraction=0.15",
+            "viscoelastic_relaxation:tau_s=20,fraction=0.2",
+        ],
+        |_| {},
+    );
     found(&rec, &opt, "two-term Prony relaxation 1.5 s and 20 s");
-    let (rec, opt) = recording(&["viscoelastic_relaxation:tau_s=5,fraction=0.3", "highpass_coupling:tau_s=40", "mains_interference:freq_hz=50,amplitude_V=0.005"], |_| {});
-    found(&rec, &opt, "three effects: relaxation + AC coupling + mains");
-    let (rec, opt) = recording(&["stiffening:exponent=1.3", "bridge_nonlinearity:quadratic=0.1"], |_| {});
+    let (rec, opt) = recording(
+        &[
+            "viscoelastic_relaxation:tau_s=5,fraction=0.3",
+            "highpass_coupling:tau_s=40",
+            "mains_interference:freq_hz=50,amplitude_V=0.005",
+        ],
+        |_| {},
+    );
+    found(
+        &rec,
+        &opt,
+        "three effects: relaxation + AC coupling + mains",
+    );
+    let (rec, opt) = recording(
+        &[
+            "stiffening:exponent=1.3",
+            "bridge_nonlinearity:quadratic=0.1",
+        ],
+        |_| {},
+    );
     found(&rec, &opt, "stiffening + bridge nonlinearity");
-    assert!(exponent.is_empty(), "a different force exponent is calibration, not an effect");
+    assert!(
+        exponent.is_empty(),
+        "a different force exponent is calibration, not an effect"
+    );
+    assert!(
+        thick.is_empty(),
+        "a different force law is calibration, not an effect: {thick:?}"
+    );
     assert!(mismatched_gain.len() <= 1, "{mismatched_gain:?}");
 }

@@ -14,7 +14,13 @@ use sim::effects::Effect;
 fn read_and_diagnose_300_s_at_1_khz() {
     let hw = hardware::Params::load_default().unwrap();
     let opt = host::diagnosis::Options::from_hardware(&hw, false).unwrap();
-    let fingertip = HertzContact { radius_mm: 20.0, poisson: opt.poisson, contact_angle_deg: 20.0, azimuth_deg: 60.0, lever_mm: opt.lever_mm };
+    let fingertip = HertzContact {
+        radius_mm: 20.0,
+        poisson: opt.poisson,
+        contact_angle_deg: 20.0,
+        azimuth_deg: 60.0,
+        lever_mm: opt.lever_mm,
+    };
     let spec = SimSpec {
         fingertip: &fingertip,
         front_end: FrontEnd::from_hardware(&hw).unwrap(),
@@ -22,13 +28,20 @@ fn read_and_diagnose_300_s_at_1_khz() {
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
         radius_mm: 20.0,
-        test: sim::compression::CompressionTest { recovery_s: 45.0, ..Default::default() },
+        test: sim::compression::CompressionTest {
+            recovery_s: 45.0,
+            ..Default::default()
+        },
         peak_loads_n: vec![60.0, 45.0, 30.0],
         effects: vec![
             Effect::from_spec("viscoelastic_relaxation:tau_s=4,fraction=0.3").unwrap(),
             Effect::from_spec("highpass_coupling:tau_s=40").unwrap(),
         ],
-        noise: Noise { load_n: 0.02, volts: [2e-3; 3], temp_c: 0.02 },
+        noise: Noise {
+            load_n: 0.02,
+            volts: [2e-3; 3],
+            temp_c: 0.02,
+        },
         seed: 1,
         ambient_c: 25.0,
         warm_up_rise_c: 5.0,
@@ -47,6 +60,13 @@ fn read_and_diagnose_300_s_at_1_khz() {
     std::fs::remove_file(&path).ok();
     println!("recording: {seconds:.0} s, {} rows", back.channels.len());
     println!("read:     {read_s:.3} s = {:.2} of the 1 s limit", read_s);
-    println!("diagnose: {diag_s:.2} s = {:.2} of the 10 s limit ({} threads)", diag_s / 10.0, rayon::current_num_threads());
-    println!("found: {:?}", d.report.effects.iter().map(|e| &e.name).collect::<Vec<_>>());
+    println!(
+        "diagnose: {diag_s:.2} s = {:.2} of the 10 s limit ({} threads)",
+        diag_s / 10.0,
+        rayon::current_num_threads()
+    );
+    println!(
+        "found: {:?}",
+        d.report.effects.iter().map(|e| &e.name).collect::<Vec<_>>()
+    );
 }

@@ -37,16 +37,28 @@ fn contract_example_reads_with_typed_metadata() {
 
 #[test]
 fn spaces_around_equals_are_optional_and_unknown_keys_are_kept() {
-    let meta = META.replace("# gain_fz = 3000", "#gain_fz=3000").replace("# azimuth_deg = 60", "#   azimuth_deg=   60");
-    let r = ok(&format!("{meta}# operator = A. N. Other\n# jig = 20 deg, mount B\n{HEADER}0,0,0,0,0,0\n"));
+    let meta = META
+        .replace("# gain_fz = 3000", "#gain_fz=3000")
+        .replace("# azimuth_deg = 60", "#   azimuth_deg=   60");
+    let r = ok(&format!(
+        "{meta}# operator = A. N. Other\n# jig = 20 deg, mount B\n{HEADER}0,0,0,0,0,0\n"
+    ));
     assert_eq!(r.meta.gain_fz, 3000.0);
     assert_eq!(r.meta.azimuth_deg, 60.0);
-    assert_eq!(r.meta.other, vec![("operator".to_string(), "A. N. Other".to_string()), ("jig".into(), "20 deg, mount B".into())]);
+    assert_eq!(
+        r.meta.other,
+        vec![
+            ("operator".to_string(), "A. N. Other".to_string()),
+            ("jig".into(), "20 deg, mount B".into())
+        ]
+    );
 }
 
 #[test]
 fn comment_lines_without_equals_are_ignored() {
-    let r = ok(&format!("# recorded on the lab rig\n{META}# plain note\n{HEADER}0,0,0,0,0,0\n"));
+    let r = ok(&format!(
+        "# recorded on the lab rig\n{META}# plain note\n{HEADER}0,0,0,0,0,0\n"
+    ));
     assert_eq!(r.channels.len(), 1);
     assert!(r.meta.other.is_empty());
 }
@@ -62,7 +74,11 @@ fn crlf_line_ends_are_accepted() {
 fn empty_nan_and_nan_fields_are_missing_and_make_gaps() {
     let r = ok(&format!("{META}{HEADER}0,0,0,0,0,0\n0.001,,0,0,0,0\n0.002,0,nan,0,0,0\n0.003,0,0,NaN,0,0\n0.004,0,0,0,0,0\n"));
     assert_eq!(r.channels.len(), 5);
-    assert!(r.channels.rod_mm[1].is_nan() && r.channels.load_n[2].is_nan() && r.channels.fz_v[3].is_nan());
+    assert!(
+        r.channels.rod_mm[1].is_nan()
+            && r.channels.load_n[2].is_nan()
+            && r.channels.fz_v[3].is_nan()
+    );
     assert_eq!(r.without_gaps().channels.t_s, vec![0.0, 0.004]);
 }
 
@@ -75,7 +91,9 @@ fn exponent_and_signed_numbers_parse() {
 
 #[test]
 fn extra_columns_and_temperature_are_carried_in_any_order() {
-    let r = ok(&format!("{META}my_V,seq,t_s,temp_C,rod_mm,load_N,fz_V,mx_V\n5,7,0,25.5,1,2,3,4\n"));
+    let r = ok(&format!(
+        "{META}my_V,seq,t_s,temp_C,rod_mm,load_N,fz_V,mx_V\n5,7,0,25.5,1,2,3,4\n"
+    ));
     assert_eq!(r.channels.my_v, vec![5.0]);
     assert_eq!(r.channels.t_s, vec![0.0]);
     assert_eq!(r.temp_c, Some(vec![25.5]));
@@ -100,22 +118,45 @@ fn writer_round_trips_everything() {
 
 #[test]
 fn missing_required_key_is_refused_naming_it() {
-    for key in ["sample_rate_hz", "contact_angle_deg", "azimuth_deg", "fingertip_radius_mm", "gain_fz", "gain_mx", "gain_my", "excitation_V", "format"] {
-        let meta: String = META.lines().filter(|l| !l.starts_with(&format!("# {key} ="))).map(|l| format!("{l}\n")).collect();
+    for key in [
+        "sample_rate_hz",
+        "contact_angle_deg",
+        "azimuth_deg",
+        "fingertip_radius_mm",
+        "gain_fz",
+        "gain_mx",
+        "gain_my",
+        "excitation_V",
+        "format",
+    ] {
+        let meta: String = META
+            .lines()
+            .filter(|l| !l.starts_with(&format!("# {key} =")))
+            .map(|l| format!("{l}\n"))
+            .collect();
         let e = err(&format!("{meta}{HEADER}0,0,0,0,0,0\n"));
-        assert!(e.contains(&format!("`{key}`")) && e.contains("line "), "{key}: {e}");
+        assert!(
+            e.contains(&format!("`{key}`")) && e.contains("line "),
+            "{key}: {e}"
+        );
     }
 }
 
 #[test]
 fn non_numeric_metadata_value_is_refused() {
-    let e = err(&format!("{}{HEADER}0,0,0,0,0,0\n", META.replace("# gain_mx = 1000", "# gain_mx = high")));
+    let e = err(&format!(
+        "{}{HEADER}0,0,0,0,0,0\n",
+        META.replace("# gain_mx = 1000", "# gain_mx = high")
+    ));
     assert_eq!(e, "line 7, field `gain_mx`: `high` is not a number");
 }
 
 #[test]
 fn wrong_format_value_is_refused() {
-    let e = err(&format!("{}{HEADER}0,0,0,0,0,0\n", META.replace("tactile-recording/1", "tactile-recording/2")));
+    let e = err(&format!(
+        "{}{HEADER}0,0,0,0,0,0\n",
+        META.replace("tactile-recording/1", "tactile-recording/2")
+    ));
     assert!(e.starts_with("line 1, field `format`"), "{e}");
 }
 
@@ -154,7 +195,9 @@ fn wrong_field_count_is_refused() {
 fn bad_utf8_is_refused_naming_the_line() {
     let mut bytes = format!("{META}{HEADER}0,0,0,0,0,0\n").into_bytes();
     bytes.extend_from_slice(b"0.001,0,0,\xff\xfe,0,0\n");
-    let e = host::recording::read_from(&bytes[..]).unwrap_err().to_string();
+    let e = host::recording::read_from(&bytes[..])
+        .unwrap_err()
+        .to_string();
     assert_eq!(e, "line 13: not valid UTF-8");
 }
 
@@ -178,7 +221,8 @@ fn writer_streams_rows_and_flushes_on_demand() {
     {
         let mut w = host::recording::RecordingWriter::new(&mut buf, &r.meta, false, &[]).unwrap();
         for i in 0..1000 {
-            w.write_row(&[i as f64 * 1e-3, 0.1, 0.2, 0.3, f64::NAN, 0.5], None, &[]).unwrap();
+            w.write_row(&[i as f64 * 1e-3, 0.1, 0.2, 0.3, f64::NAN, 0.5], None, &[])
+                .unwrap();
         }
         w.flush().unwrap();
     }

@@ -63,7 +63,11 @@ impl CompressionTest {
                     i += 1;
                 }
                 let s = segments[i];
-                let u = if s.t1_s > s.t0_s { ((t - s.t0_s) / (s.t1_s - s.t0_s)).clamp(0.0, 1.0) } else { 1.0 };
+                let u = if s.t1_s > s.t0_s {
+                    ((t - s.t0_s) / (s.t1_s - s.t0_s)).clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
                 s.rod0_mm + u * (s.rod1_mm - s.rod0_mm)
             })
             .collect();
@@ -74,7 +78,12 @@ impl CompressionTest {
         let mut out = Vec::new();
         let mut t = 0.0;
         let mut push = |dt: f64, a: f64, b: f64, t: &mut f64| {
-            out.push(Segment { t0_s: *t, t1_s: *t + dt, rod0_mm: a, rod1_mm: b });
+            out.push(Segment {
+                t0_s: *t,
+                t1_s: *t + dt,
+                rod0_mm: a,
+                rod1_mm: b,
+            });
             *t += dt;
         };
         let start = self.start_rod_mm;
@@ -83,7 +92,12 @@ impl CompressionTest {
             let travel = (turn - start).max(0.0);
             push(travel / self.speed_mm_per_min * 60.0, start, turn, &mut t);
             push(self.hold_s, turn, turn, &mut t);
-            push(travel / self.return_speed_mm_per_min * 60.0, turn, start, &mut t);
+            push(
+                travel / self.return_speed_mm_per_min * 60.0,
+                turn,
+                start,
+                &mut t,
+            );
             push(self.recovery_s, start, start, &mut t);
         }
         out

@@ -29,9 +29,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let name = args.recording.display().to_string();
     let d = diagnose(&rec, &name, &opt).with_context(|| name.clone())?;
     let json = serde_json::to_string_pretty(&d.report).context("encoding the diagnosis")?;
-    std::fs::write(&args.json, json + "\n").with_context(|| format!("writing {}", args.json.display()))?;
+    std::fs::write(&args.json, json + "\n")
+        .with_context(|| format!("writing {}", args.json.display()))?;
     if let Some(dir) = &args.report {
-        report::write(dir, &d).with_context(|| format!("writing the report into {}", dir.display()))?;
+        report::write(dir, &d)
+            .with_context(|| format!("writing the report into {}", dir.display()))?;
     }
     Ok(())
 }

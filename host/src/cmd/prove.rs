@@ -7,8 +7,8 @@ use std::time::Instant;
 use anyhow::Context;
 
 use crate::diagnosis::baseline::FrontEnd;
-use crate::diagnosis::Options;
 use crate::diagnosis::prove::{csv, markdown, run as score, summary_svg, Plan, Summary};
+use crate::diagnosis::Options;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -46,22 +46,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let started = Instant::now();
     let cases = plan.generate();
     let generated = started.elapsed().as_secs_f64();
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
     if args.write_recordings {
         for c in &cases {
             let path = args.out.join(format!("prove-{:02}.csv", c.id));
-            let file = std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
-            c.recording.write_to(file).with_context(|| format!("writing {}", path.display()))?;
+            let file = std::fs::File::create(&path)
+                .with_context(|| format!("creating {}", path.display()))?;
+            c.recording
+                .write_to(file)
+                .with_context(|| format!("writing {}", path.display()))?;
         }
     }
     let scores = score(&cases, &plan.options);
     let summary = Summary::of(&scores);
     let table = markdown(&scores, &summary);
     println!("{table}");
-    println!("generated {} recordings in {generated:.1} s; total {:.1} s", cases.len(), started.elapsed().as_secs_f64());
+    println!(
+        "generated {} recordings in {generated:.1} s; total {:.1} s",
+        cases.len(),
+        started.elapsed().as_secs_f64()
+    );
     std::fs::write(args.out.join("score.md"), &table)?;
     std::fs::write(args.out.join("score.csv"), csv(&scores))?;
     std::fs::write(args.out.join("summary.svg"), summary_svg(&scores))?;
-    anyhow::ensure!(summary.passes(), "the acceptance criteria of issue 8 are not met (see the table)");
+    anyhow::ensure!(
+        summary.passes(),
+        "the acceptance criteria of issue 8 are not met (see the table)"
+    );
     Ok(())
 }

@@ -82,9 +82,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some([a, b, c]) => [*a, *b, *c],
         _ => nominal.gain,
     };
-    let mut front_end = FrontEnd::from_chip(&params, gain, args.excitation_v.unwrap_or(nominal.excitation_v))?;
+    let mut front_end = FrontEnd::from_chip(
+        &params,
+        gain,
+        args.excitation_v.unwrap_or(nominal.excitation_v),
+    )?;
     if let Some(alpha) = args.smoother_alpha {
-        anyhow::ensure!(alpha > 0.0 && alpha < 1.0, "--smoother-alpha must lie in (0, 1)");
+        anyhow::ensure!(
+            alpha > 0.0 && alpha < 1.0,
+            "--smoother-alpha must lie in (0, 1)"
+        );
         front_end.smoother_tau_s = smoother_tau_s(alpha, test.sample_rate_hz);
     }
     let fingertip = HertzContact {
@@ -94,7 +101,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         azimuth_deg: args.azimuth,
         lever_mm: params.chip.pillar_height_um * 1e-3,
     };
-    let names: Vec<String> = effects.iter().map(|e| e.kind().name().to_string()).collect();
+    let names: Vec<String> = effects
+        .iter()
+        .map(|e| e.kind().name().to_string())
+        .collect();
     let spec = SimSpec {
         fingertip: &fingertip,
         front_end,
@@ -103,19 +113,32 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         azimuth_deg: args.azimuth,
         radius_mm: tip.radius_mm,
         test,
-        peak_loads_n: std::iter::once(args.peak_load).chain(args.then_peak_load.iter().copied()).collect(),
+        peak_loads_n: std::iter::once(args.peak_load)
+            .chain(args.then_peak_load.iter().copied())
+            .collect(),
         effects,
-        noise: Noise { load_n: args.noise_load_n, volts: [args.noise_v; 3], temp_c: 0.0 },
+        noise: Noise {
+            load_n: args.noise_load_n,
+            volts: [args.noise_v; 3],
+            temp_c: 0.0,
+        },
         seed: args.seed,
         ambient_c: 25.0,
         warm_up_rise_c: 5.0,
-        source: format!("tactile simulate (stand-in Hertz baseline); effects: [{}]", names.join(" ")),
+        source: format!(
+            "tactile simulate (stand-in Hertz baseline); effects: [{}]",
+            names.join(" ")
+        ),
     };
     let mut rec: Recording = simulate(&spec);
     if let Some(alpha) = args.smoother_alpha {
-        rec.meta.other.push((SMOOTHER_KEY.to_string(), alpha.to_string()));
+        rec.meta
+            .other
+            .push((SMOOTHER_KEY.to_string(), alpha.to_string()));
     }
-    let file = std::fs::File::create(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
-    rec.write_to(file).with_context(|| format!("writing {}", args.out.display()))?;
+    let file = std::fs::File::create(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    rec.write_to(file)
+        .with_context(|| format!("writing {}", args.out.display()))?;
     Ok(())
 }

@@ -33,7 +33,10 @@ impl ResponseTable {
     /// `rod_mm` increasing, one point each.
     pub fn new(rod_mm: Vec<f64>, points: Vec<UnitResponse>) -> Self {
         assert_eq!(rod_mm.len(), points.len(), "one response per rod travel");
-        assert!(rod_mm.windows(2).all(|w| w[1] > w[0]), "rod travel must increase");
+        assert!(
+            rod_mm.windows(2).all(|w| w[1] > w[0]),
+            "rod travel must increase"
+        );
         Self { rod_mm, points }
     }
 
@@ -41,7 +44,10 @@ impl ResponseTable {
     /// FE's `Curve::points`: rod_mm, force_n, fz_n, mx_nm, my_nm), divided by that modulus: the
     /// neo-Hookean response scales linearly with E at fixed geometry. Points must have
     /// increasing rod travel; repeated travels (a hold) keep the first.
-    pub fn from_curve(points: impl IntoIterator<Item = (f64, f64, [f64; 3])>, youngs_modulus_pa: f64) -> Self {
+    pub fn from_curve(
+        points: impl IntoIterator<Item = (f64, f64, [f64; 3])>,
+        youngs_modulus_pa: f64,
+    ) -> Self {
         let mut rod = Vec::new();
         let mut out = Vec::new();
         for (rod_mm, force_n, chip) in points {
@@ -49,14 +55,19 @@ impl ResponseTable {
                 continue;
             }
             rod.push(rod_mm);
-            out.push(UnitResponse { force_n: force_n / youngs_modulus_pa, chip: chip.map(|c| c / youngs_modulus_pa) });
+            out.push(UnitResponse {
+                force_n: force_n / youngs_modulus_pa,
+                chip: chip.map(|c| c / youngs_modulus_pa),
+            });
         }
         Self::new(rod, out)
     }
 
     /// Tabulate any response on `n` even steps of `0..=max_rod_mm`.
     pub fn sample(model: &dyn FingertipResponse, max_rod_mm: f64, n: usize) -> Self {
-        let rod: Vec<f64> = (0..n).map(|i| max_rod_mm * i as f64 / (n - 1) as f64).collect();
+        let rod: Vec<f64> = (0..n)
+            .map(|i| max_rod_mm * i as f64 / (n - 1) as f64)
+            .collect();
         let points = rod.iter().map(|&d| model.unit_response(d)).collect();
         Self::new(rod, points)
     }
@@ -68,12 +79,20 @@ impl FingertipResponse for ResponseTable {
         if n == 0 || rod_mm <= self.rod_mm[0] {
             return UnitResponse::default();
         }
-        let i = self.rod_mm.partition_point(|&r| r <= rod_mm).min(n - 1).max(1);
+        let i = self
+            .rod_mm
+            .partition_point(|&r| r <= rod_mm)
+            .min(n - 1)
+            .max(1);
         let (r0, r1) = (self.rod_mm[i - 1], self.rod_mm[i]);
         let u = ((rod_mm - r0) / (r1 - r0)).min(1.0);
         let (a, b) = (self.points[i - 1], self.points[i]);
         // Past the table's end, extrapolate along the last interval.
-        let u = if rod_mm > self.rod_mm[n - 1] { (rod_mm - r0) / (r1 - r0) } else { u };
+        let u = if rod_mm > self.rod_mm[n - 1] {
+            (rod_mm - r0) / (r1 - r0)
+        } else {
+            u
+        };
         UnitResponse {
             force_n: a.force_n + u * (b.force_n - a.force_n),
             chip: std::array::from_fn(|k| a.chip[k] + u * (b.chip[k] - a.chip[k])),
@@ -109,16 +128,27 @@ impl FrontEnd {
     /// The chip's sensitivity matrix (the `chip` crate's beam and bridge model of
     /// `hardware/chip.toml`) per volt of its excitation; gains and excitation as given (the
     /// recording's metadata when diagnosing).
-    pub fn from_chip(hw: &hardware::Params, gain: [f64; 3], excitation_v: f64) -> Result<Self, chip::from_hardware::FromHardwareError> {
+    pub fn from_chip(
+        hw: &hardware::Params,
+        gain: [f64; 3],
+        excitation_v: f64,
+    ) -> Result<Self, chip::from_hardware::FromHardwareError> {
         let params = chip::params::ChipParams::try_from(&hw.chip)?;
         let s = chip::sensitivity_matrix(&params);
         let per_v = s.map(|row| row.map(|v| v / hw.chip.excitation_v));
-        Ok(Self { sensitivity_per_v: per_v, gain, excitation_v, smoother_tau_s: None })
+        Ok(Self {
+            sensitivity_per_v: per_v,
+            gain,
+            excitation_v,
+            smoother_tau_s: None,
+        })
     }
 
     /// Everything from `hardware/`: the chip's sensitivities, the amplifier chain's DC gains
     /// (`sim::frontend`, from `frontend.toml`) and the bridge excitation of `chip.toml`.
-    pub fn from_hardware(hw: &hardware::Params) -> Result<Self, chip::from_hardware::FromHardwareError> {
+    pub fn from_hardware(
+        hw: &hardware::Params,
+    ) -> Result<Self, chip::from_hardware::FromHardwareError> {
         let fe = sim::frontend::FrontEnd::from_params(hw);
         let gain = std::array::from_fn(|i| fe.channels[i].gain());
         Self::from_chip(hw, gain, hw.chip.excitation_v)
@@ -138,6 +168,9 @@ pub struct BaselineParams {
     pub youngs_modulus_pa: f64,
     /// Change of the force–indentation exponent against the fingertip model's own.
     pub exponent_shift: f64,
+    /// Curvature of ln F against ln(rod travel): a force law whose local exponent itself changes
+    /// with indentation (finite thickness, contact growth), F ~ (d/d_max)^(shift + k ln(d/d_max)).
+    pub exponent_curvature: f64,
     /// Sensitivity scale of the Fz channel against the nominal front end.
     pub scale_fz: f64,
     /// Sensitivity scale of both moment channels (identical bridges).
@@ -153,6 +186,7 @@ impl BaselineParams {
         Self {
             youngs_modulus_pa,
             exponent_shift: 0.0,
+            exponent_curvature: 0.0,
             scale_fz: 1.0,
             scale_moment: 1.0,
             azimuth_shift_deg: 0.0,
@@ -160,6 +194,9 @@ impl BaselineParams {
         }
     }
 }
+
+/// ln of the smallest relative rod travel the force-law warp distinguishes.
+const MIN_LN_REL_ROD: f64 = -4.605_170_185_988_091; // ln(0.01)
 
 /// The drive of one evaluation: a time base and the unit response at each time.
 #[derive(Debug, Clone)]
@@ -176,9 +213,21 @@ impl Drive {
         let unit = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
         let ln_rel_rod = rod_mm
             .iter()
-            .map(|&d| if d > 0.0 && rod_max > 0.0 { (d / rod_max).ln() } else { 0.0 })
+            // Frozen below 1 % of the largest travel: the warp must stay bounded as d -> 0 (a
+            // positive curvature would otherwise blow up at travels of 1e-16 mm).
+            .map(|&d| {
+                if d > 0.0 && rod_max > 0.0 {
+                    (d / rod_max).ln().max(MIN_LN_REL_ROD)
+                } else {
+                    0.0
+                }
+            })
             .collect();
-        Self { t_s, unit, ln_rel_rod }
+        Self {
+            t_s,
+            unit,
+            ln_rel_rod,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -200,7 +249,11 @@ pub struct Outputs {
 impl Outputs {
     /// Channel `c` in contract order load_N, fz_V, mx_V, my_V.
     pub fn channel(&self, c: usize) -> &[f64] {
-        if c == 0 { &self.load_n } else { &self.volts[c - 1] }
+        if c == 0 {
+            &self.load_n
+        } else {
+            &self.volts[c - 1]
+        }
     }
 }
 
@@ -222,7 +275,8 @@ pub fn evaluate(
     let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
     for (u, &l) in drive.unit.iter().zip(&drive.ln_rel_rod) {
-        let w = p.youngs_modulus_pa * if p.exponent_shift != 0.0 { (p.exponent_shift * l).exp() } else { 1.0 };
+        let warp = p.exponent_shift * l + p.exponent_curvature * l * l;
+        let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
         let (mx, my) = (u.chip[1] * w, u.chip[2] * w);
         chip[0].push(u.chip[0] * w);
@@ -257,7 +311,10 @@ pub fn evaluate(
             v.iter_mut().zip(h).for_each(|(x, h)| *x -= h);
         }
     }
-    Outputs { load_n: load, volts }
+    Outputs {
+        load_n: load,
+        volts,
+    }
 }
 
 #[cfg(test)]
@@ -268,7 +325,10 @@ mod tests {
     impl FingertipResponse for Linear {
         fn unit_response(&self, rod_mm: f64) -> UnitResponse {
             let d = rod_mm.max(0.0);
-            UnitResponse { force_n: d, chip: [d, -d, 0.5 * d] }
+            UnitResponse {
+                force_n: d,
+                chip: [d, -d, 0.5 * d],
+            }
         }
     }
 
@@ -294,7 +354,12 @@ mod tests {
 
     #[test]
     fn table_from_a_curve_is_per_unit_modulus() {
-        let pts = [(0.0, 0.0, [0.0; 3]), (1.0, 2e4, [1e4, 0.0, 5e3]), (1.0, 2e4, [1e4, 0.0, 5e3]), (2.0, 6e4, [3e4, -1e3, 1e4])];
+        let pts = [
+            (0.0, 0.0, [0.0; 3]),
+            (1.0, 2e4, [1e4, 0.0, 5e3]),
+            (1.0, 2e4, [1e4, 0.0, 5e3]),
+            (2.0, 6e4, [3e4, -1e3, 1e4]),
+        ];
         let t = ResponseTable::from_curve(pts, 1e4);
         let u = t.unit_response(1.5);
         assert!((u.force_n - 4.0).abs() < 1e-12 && (u.chip[0] - 2.0).abs() < 1e-12);
@@ -302,11 +367,30 @@ mod tests {
 
     #[test]
     fn outputs_scale_linearly_with_modulus() {
-        let fe = FrontEnd { sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], gain: [2.0, 3.0, 3.0], excitation_v: 1.5, smoother_tau_s: None };
+        let fe = FrontEnd {
+            sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            gain: [2.0, 3.0, 3.0],
+            excitation_v: 1.5,
+            smoother_tau_s: None,
+        };
         let drive = Drive::new(&Linear, vec![0.0, 1.0, 2.0], &[0.0, 1.0, 2.0]);
         let chain = Chain::default();
-        let a = evaluate(&drive, &fe, &BaselineParams::nominal(1.0), &chain, 20.0, None);
-        let b = evaluate(&drive, &fe, &BaselineParams::nominal(2.0), &chain, 20.0, None);
+        let a = evaluate(
+            &drive,
+            &fe,
+            &BaselineParams::nominal(1.0),
+            &chain,
+            20.0,
+            None,
+        );
+        let b = evaluate(
+            &drive,
+            &fe,
+            &BaselineParams::nominal(2.0),
+            &chain,
+            20.0,
+            None,
+        );
         assert_eq!(a.volts[0], vec![0.0, 3.0, 6.0]);
         assert_eq!(b.volts[1], vec![0.0, -9.0, -18.0]);
         assert_eq!(b.load_n[2], 4.0);

@@ -75,12 +75,24 @@ impl Data {
         let full = Series {
             t_s: c.t_s.clone(),
             rod_mm: c.rod_mm.clone(),
-            y: [c.load_n.clone(), c.fz_v.clone(), c.mx_v.clone(), c.my_v.clone()],
-            temp_c: rec.temp_c.clone().filter(|t| t.iter().all(|v| v.is_finite())),
+            y: [
+                c.load_n.clone(),
+                c.fz_v.clone(),
+                c.mx_v.clone(),
+                c.my_v.clone(),
+            ],
+            temp_c: rec
+                .temp_c
+                .clone()
+                .filter(|t| t.iter().all(|v| v.is_finite())),
             count: vec![1; c.len()],
         };
         let span = full.t_s[full.len() - 1] - full.t_s[0];
-        let rate = if span > 0.0 { (full.len() - 1) as f64 / span } else { rec.meta.sample_rate_hz };
+        let rate = if span > 0.0 {
+            (full.len() - 1) as f64 / span
+        } else {
+            rec.meta.sample_rate_hz
+        };
         let fine = ((rate * FINE_BLOCK_S).round() as usize).max(1);
         let coarse = ((rate * COARSE_BLOCK_S).round() as usize).max(1);
         let fast = fast_samples(&full.t_s, &full.rod_mm);
@@ -93,7 +105,13 @@ impl Data {
             let white = difference_noise(&full.y[k]) * (6.0 / (6.0 - 8.0 * r + 2.0 * r * r)).sqrt();
             white.max(1e-6 * range[k]).max(1e-12)
         });
-        Ok(Self { full, fit, range, noise_full, noise_rho })
+        Ok(Self {
+            full,
+            fit,
+            range,
+            noise_full,
+            noise_rho,
+        })
     }
 
     /// Weight of decimated sample `k` of channel `c`: one over its noise level.
@@ -117,7 +135,11 @@ fn fast_samples(t_s: &[f64], rod_mm: &[f64]) -> Vec<bool> {
     let v: Vec<f64> = (0..n)
         .map(|k| {
             let (a, b) = (k.saturating_sub(window), (k + window).min(n - 1));
-            if t_s[b] > t_s[a] { (rod_mm[b] - rod_mm[a]) / (t_s[b] - t_s[a]) } else { 0.0 }
+            if t_s[b] > t_s[a] {
+                (rod_mm[b] - rod_mm[a]) / (t_s[b] - t_s[a])
+            } else {
+                0.0
+            }
         })
         .collect();
     let mut pos: Vec<f64> = v.iter().copied().filter(|&x| x > 0.0).collect();
@@ -128,7 +150,15 @@ fn fast_samples(t_s: &[f64], rod_mm: &[f64]) -> Vec<bool> {
         *pos.select_nth_unstable_by(mid, f64::total_cmp).1
     };
     // Speed class: still, loading speed, fast.
-    let class = |x: f64| if x.abs() > 1.5 * typical { 2 } else if x.abs() > 0.5 * typical { 1 } else { 0 };
+    let class = |x: f64| {
+        if x.abs() > 1.5 * typical {
+            2
+        } else if x.abs() > 0.5 * typical {
+            1
+        } else {
+            0
+        }
+    };
     let mut fast = vec![false; n];
     let mark = |from: f64, to: f64, fast: &mut Vec<bool>| {
         let a = t_s.partition_point(|&t| t < from);
@@ -138,7 +168,11 @@ fn fast_samples(t_s: &[f64], rod_mm: &[f64]) -> Vec<bool> {
     for k in 1..n {
         let (c0, c1) = (class(v[k - 1]), class(v[k]));
         if c0 != c1 {
-            mark(t_s[k] - MARGIN_BEFORE_S, t_s[k] + MARGIN_BEFORE_S, &mut fast);
+            mark(
+                t_s[k] - MARGIN_BEFORE_S,
+                t_s[k] + MARGIN_BEFORE_S,
+                &mut fast,
+            );
         }
         if c1 == 2 {
             mark(t_s[k] - MARGIN_BEFORE_S, t_s[k] + MARGIN_AFTER_S, &mut fast);
@@ -160,19 +194,35 @@ pub fn decimate(s: &Series, fast: &[bool], fine: usize, coarse: usize) -> Series
         bounds.push((k, end));
         k = end;
     }
-    let mean = |x: &[f64]| bounds.iter().map(|&(a, b)| x[a..b].iter().sum::<f64>() / (b - a) as f64).collect::<Vec<f64>>();
+    let mean = |x: &[f64]| {
+        bounds
+            .iter()
+            .map(|&(a, b)| x[a..b].iter().sum::<f64>() / (b - a) as f64)
+            .collect::<Vec<f64>>()
+    };
     Series {
         t_s: mean(&s.t_s),
         rod_mm: mean(&s.rod_mm),
         y: std::array::from_fn(|c| mean(&s.y[c])),
         temp_c: s.temp_c.as_ref().map(|t| mean(t)),
-        count: bounds.iter().map(|&(a, b)| s.count[a..b].iter().sum()).collect(),
+        count: bounds
+            .iter()
+            .map(|&(a, b)| s.count[a..b].iter().sum())
+            .collect(),
     }
 }
 
 pub fn peak_to_peak(x: &[f64]) -> f64 {
-    let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
-    if hi >= lo { hi - lo } else { 0.0 }
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    if hi >= lo {
+        hi - lo
+    } else {
+        0.0
+    }
 }
 
 /// Lag-1 correlation rho of AR(1) noise from second differences, which cancel any signal that
@@ -212,7 +262,10 @@ pub fn difference_noise(x: &[f64]) -> f64 {
     if x.len() < 3 {
         return 0.0;
     }
-    let mut d: Vec<f64> = x.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()).collect();
+    let mut d: Vec<f64> = x
+        .windows(3)
+        .map(|w| (w[2] - 2.0 * w[1] + w[0]).abs())
+        .collect();
     let mid = d.len() / 2;
     let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
     *median / 0.674_489_75 / 6f64.sqrt()
@@ -225,7 +278,9 @@ mod tests {
     #[test]
     fn difference_noise_recovers_sigma_under_a_slow_signal() {
         let mut g = super::super::synth::Gaussian::new(3);
-        let x: Vec<f64> = (0..50_000).map(|k| (k as f64 * 1e-3).sin() * 5.0 + 0.01 * g.normal()).collect();
+        let x: Vec<f64> = (0..50_000)
+            .map(|k| (k as f64 * 1e-3).sin() * 5.0 + 0.01 * g.normal())
+            .collect();
         let s = difference_noise(&x);
         assert!((s / 0.01 - 1.0).abs() < 0.03, "{s}");
         assert!(noise_correlation(&x) < 0.02);
@@ -235,10 +290,12 @@ mod tests {
     fn ar1_correlation_is_recovered() {
         let mut g = super::super::synth::Gaussian::new(4);
         let mut e = 0.0;
-        let x: Vec<f64> = (0..100_000).map(|_| {
-            e = 0.8 * e + g.normal();
-            e
-        }).collect();
+        let x: Vec<f64> = (0..100_000)
+            .map(|_| {
+                e = 0.8 * e + g.normal();
+                e
+            })
+            .collect();
         assert!((noise_correlation(&x) - 0.8).abs() < 0.02);
     }
 }

@@ -7,7 +7,13 @@ use super::output::Numbers;
 
 /// The sentence for `kind` with its fitted `params`; `bic_gain` and `heldout_gain` (held-out
 /// chi-square without the effect over with it) quantify the evidence where known.
-pub fn sentence(kind: EffectKind, params: &Numbers, bic_gain: f64, heldout_gain: f64, _data: &Data) -> String {
+pub fn sentence(
+    kind: EffectKind,
+    params: &Numbers,
+    bic_gain: f64,
+    heldout_gain: f64,
+    _data: &Data,
+) -> String {
     let p = |k: &str| params.get(k).unwrap_or(f64::NAN);
     use EffectKind::*;
     let what = match kind {

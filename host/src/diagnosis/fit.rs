@@ -2,18 +2,18 @@
 //! catalogue effects, fitted by least squares to the decimated recording on the fitting stretch.
 //!
 //! Parameter vector (internal coordinates): ln E, exponent shift, Fz scale, moment scale,
-//! azimuth shift (deg), four offsets, then each effect's parameters (time constants as ln tau).
+//! azimuth shift (deg), four offsets, exponent curvature, then each effect's parameters (time constants as ln tau).
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
 //! chi-square in noise units and channels of any unit mix.
 
-use sim::effects::{Chain, Effect, EffectKind};
+use sim::effects::{Chain, EffectKind};
 
 use super::baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
 use super::data::{Data, Series};
 use super::lm::{self, Problem, Solution};
 
 /// Number of baseline parameters at the head of the vector.
-pub const N_BASE: usize = 9;
+pub const N_BASE: usize = 10;
 /// How far the azimuth may be corrected: the jig's mounting accuracy.
 pub const AZIMUTH_TOLERANCE_DEG: f64 = 3.0;
 
@@ -42,8 +42,22 @@ pub struct ParamSpec {
     pub log: bool,
 }
 
-fn spec(name: &'static str, lower: f64, upper: f64, step: f64, starts: &[f64], log: bool) -> ParamSpec {
-    ParamSpec { name, lower, upper, step, starts: starts.to_vec(), log }
+fn spec(
+    name: &'static str,
+    lower: f64,
+    upper: f64,
+    step: f64,
+    starts: &[f64],
+    log: bool,
+) -> ParamSpec {
+    ParamSpec {
+        name,
+        lower,
+        upper,
+        step,
+        starts: starts.to_vec(),
+        log,
+    }
 }
 
 /// Coding of each effect's parameters, in catalogue order. `chip_peak_v` is the largest
@@ -53,14 +67,35 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
     let ln = f64::ln;
     match kind {
         ViscoelasticRelaxation => vec![
-            spec("tau_s", ln(0.1), ln(200.0), 1e-4, &[ln(1.0), ln(5.0), ln(30.0)], true),
+            spec(
+                "tau_s",
+                ln(0.1),
+                ln(200.0),
+                1e-4,
+                &[ln(1.0), ln(5.0), ln(30.0)],
+                true,
+            ),
             spec("fraction", 0.0, 0.95, 1e-4, &[0.2], false),
         ],
         Hysteresis => vec![spec("width", 0.0, 0.5, 1e-4, &[0.03], false)],
-        HighpassCoupling => vec![spec("tau_s", ln(0.5), ln(5000.0), 1e-4, &[ln(10.0), ln(100.0)], true)],
+        HighpassCoupling => vec![spec(
+            "tau_s",
+            ln(0.5),
+            ln(5000.0),
+            1e-4,
+            &[ln(10.0), ln(100.0)],
+            true,
+        )],
         ThermalDrift => vec![
             spec("amplitude_V", -5.0, 5.0, 1e-5, &[1e-3], false),
-            spec("tau_s", ln(1.0), ln(2000.0), 1e-4, &[ln(10.0), ln(60.0)], true),
+            spec(
+                "tau_s",
+                ln(1.0),
+                ln(2000.0),
+                1e-4,
+                &[ln(10.0), ln(60.0)],
+                true,
+            ),
         ],
         Stiffening => vec![spec("exponent", 0.3, 3.0, 1e-4, &[1.2], false)],
         Crosstalk => vec![spec("angle_deg", -60.0, 60.0, 1e-3, &[5.0, -5.0], false)],
@@ -86,7 +121,9 @@ pub struct Model<'s, 'a> {
 
 impl<'s, 'a> Model<'s, 'a> {
     pub fn new(setup: &'s Setup<'a>, kinds: &[EffectKind], base: &[f64]) -> Self {
-        let chip_peak = (1..4).map(|c| sim::effects::peak_abs(&setup.data.fit.y[c])).fold(0.0, f64::max);
+        let chip_peak = (1..4)
+            .map(|c| sim::effects::peak_abs(&setup.data.fit.y[c]))
+            .fold(0.0, f64::max);
         let mut specs = base_specs(setup, base);
         for &k in kinds {
             specs.extend(effect_specs(k, chip_peak));
@@ -102,23 +139,40 @@ impl<'s, 'a> Model<'s, 'a> {
                 fixed[5 + c] = Some(0.0);
             }
         }
-        Self { setup, kinds: kinds.to_vec(), specs, fixed }
+        Self {
+            setup,
+            kinds: kinds.to_vec(),
+            specs,
+            fixed,
+        }
     }
 
     /// Start effect number `effect` (in `kinds` order) from `values` (internal units), keeping
     /// the catalogue default of its primary parameter as a second start.
     pub fn seed(&mut self, effect: usize, values: &[f64]) {
-        let first = N_BASE + self.kinds[..effect].iter().map(|k| k.param_names().len()).sum::<usize>();
+        let first = N_BASE
+            + self.kinds[..effect]
+                .iter()
+                .map(|k| k.param_names().len())
+                .sum::<usize>();
         for (j, &v) in values.iter().enumerate() {
             let s = &mut self.specs[first + j];
             let default = s.starts[0];
-            s.starts = if j == 0 && (default - v).abs() > 1e-9 { vec![v, default] } else { vec![v] };
+            s.starts = if j == 0 && (default - v).abs() > 1e-9 {
+                vec![v, default]
+            } else {
+                vec![v]
+            };
         }
     }
 
     /// The starting values of parameter `j` of effect number `effect` (internal units).
     pub fn starts_mut(&mut self, effect: usize, j: usize) -> &mut Vec<f64> {
-        let first = N_BASE + self.kinds[..effect].iter().map(|k| k.param_names().len()).sum::<usize>();
+        let first = N_BASE
+            + self.kinds[..effect]
+                .iter()
+                .map(|k| k.param_names().len())
+                .sum::<usize>();
         &mut self.specs[first + j].starts
     }
 
@@ -128,11 +182,16 @@ impl<'s, 'a> Model<'s, 'a> {
 
     fn expand(&self, free: &[f64]) -> Vec<f64> {
         let mut it = free.iter();
-        self.fixed.iter().map(|f| f.unwrap_or_else(|| *it.next().expect("free parameter count"))).collect()
+        self.fixed
+            .iter()
+            .map(|f| f.unwrap_or_else(|| *it.next().expect("free parameter count")))
+            .collect()
     }
 
     fn free_indices(&self) -> Vec<usize> {
-        (0..self.fixed.len()).filter(|&i| self.fixed[i].is_none()).collect()
+        (0..self.fixed.len())
+            .filter(|&i| self.fixed[i].is_none())
+            .collect()
     }
 
     /// Baseline parameters and effect chain of a full parameter vector.
@@ -144,13 +203,21 @@ impl<'s, 'a> Model<'s, 'a> {
             scale_moment: full[3],
             azimuth_shift_deg: full[4],
             offset: [full[5], full[6], full[7], full[8]],
+            exponent_curvature: full[9],
         };
         let mut effects = Vec::new();
         let mut i = N_BASE;
         for &k in &self.kinds {
             let n = k.param_names().len();
-            let phys: Vec<f64> =
-                (i..i + n).map(|j| if self.specs[j].log { full[j].exp() } else { full[j] }).collect();
+            let phys: Vec<f64> = (i..i + n)
+                .map(|j| {
+                    if self.specs[j].log {
+                        full[j].exp()
+                    } else {
+                        full[j]
+                    }
+                })
+                .collect();
             effects.push(k.with_params(&phys));
             i += n;
         }
@@ -159,7 +226,14 @@ impl<'s, 'a> Model<'s, 'a> {
 
     pub fn outputs(&self, full: &[f64], series_drive: &Drive) -> Outputs {
         let (base, chain) = self.decode(full);
-        evaluate(series_drive, &self.setup.front_end, &base, &chain, self.setup.contact_angle_deg, None)
+        evaluate(
+            series_drive,
+            &self.setup.front_end,
+            &base,
+            &chain,
+            self.setup.contact_angle_deg,
+            None,
+        )
     }
 
     /// Weighted residuals of a full vector on `mask` of the decimated series.
@@ -173,7 +247,11 @@ impl<'s, 'a> Model<'s, 'a> {
             }
             let y = &s.data.fit.y[c];
             let model = m.channel(c);
-            out.extend((0..y.len()).filter(|&k| mask[k]).map(|k| (y[k] - model[k]) * s.data.weight(c, k)));
+            out.extend(
+                (0..y.len())
+                    .filter(|&k| mask[k])
+                    .map(|k| (y[k] - model[k]) * s.data.weight(c, k)),
+            );
         }
     }
 
@@ -196,7 +274,11 @@ impl<'s, 'a> Model<'s, 'a> {
         }
         let sol = best.expect("at least one starting point");
         let full = self.expand(&sol.p);
-        Fitted { full, free, solution: sol }
+        Fitted {
+            full,
+            free,
+            solution: sol,
+        }
     }
 
     /// Cartesian product of the effect parameters' starting values (baseline at its start).
@@ -205,11 +287,13 @@ impl<'s, 'a> Model<'s, 'a> {
         for (i, s) in self.specs.iter().enumerate().skip(N_BASE) {
             points = points
                 .into_iter()
-                .flat_map(|p| s.starts.iter().map(move |&v| {
-                    let mut q = p.clone();
-                    q[i] = v;
-                    q
-                }))
+                .flat_map(|p| {
+                    s.starts.iter().map(move |&v| {
+                        let mut q = p.clone();
+                        q[i] = v;
+                        q
+                    })
+                })
                 .collect();
         }
         for p in &mut points {
@@ -245,15 +329,72 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
     let off = |c: usize| 10.0 * r[c].max(1e-9);
     let scale_step = |v: f64| 1e-6 * v.abs().max(1e-3);
     vec![
-        spec("youngs_modulus_Pa", base[0] - 8.0, base[0] + 8.0, 1e-5, &[base[0]], true),
+        spec(
+            "youngs_modulus_Pa",
+            base[0] - 8.0,
+            base[0] + 8.0,
+            1e-5,
+            &[base[0]],
+            true,
+        ),
         spec("exponent_shift", -0.7, 1.5, 1e-5, &[base[1]], false),
-        spec("scale_fz", -1e3, 1e3, scale_step(base[2]), &[base[2]], false),
-        spec("scale_moment", -1e3, 1e3, scale_step(base[3]), &[base[3]], false),
-        spec("azimuth_shift_deg", -AZIMUTH_TOLERANCE_DEG, AZIMUTH_TOLERANCE_DEG, 1e-3, &[base[4]], false),
-        spec("offset_load_N", -off(0), off(0), 1e-6 * r[0].max(1e-9), &[base[5]], false),
-        spec("offset_fz_V", -off(1), off(1), 1e-6 * r[1].max(1e-9), &[base[6]], false),
-        spec("offset_mx_V", -off(2), off(2), 1e-6 * r[2].max(1e-9), &[base[7]], false),
-        spec("offset_my_V", -off(3), off(3), 1e-6 * r[3].max(1e-9), &[base[8]], false),
+        spec(
+            "scale_fz",
+            -1e3,
+            1e3,
+            scale_step(base[2]),
+            &[base[2]],
+            false,
+        ),
+        spec(
+            "scale_moment",
+            -1e3,
+            1e3,
+            scale_step(base[3]),
+            &[base[3]],
+            false,
+        ),
+        spec(
+            "azimuth_shift_deg",
+            -AZIMUTH_TOLERANCE_DEG,
+            AZIMUTH_TOLERANCE_DEG,
+            1e-3,
+            &[base[4]],
+            false,
+        ),
+        spec(
+            "offset_load_N",
+            -off(0),
+            off(0),
+            1e-6 * r[0].max(1e-9),
+            &[base[5]],
+            false,
+        ),
+        spec(
+            "offset_fz_V",
+            -off(1),
+            off(1),
+            1e-6 * r[1].max(1e-9),
+            &[base[6]],
+            false,
+        ),
+        spec(
+            "offset_mx_V",
+            -off(2),
+            off(2),
+            1e-6 * r[2].max(1e-9),
+            &[base[7]],
+            false,
+        ),
+        spec(
+            "offset_my_V",
+            -off(3),
+            off(3),
+            1e-6 * r[3].max(1e-9),
+            &[base[8]],
+            false,
+        ),
+        spec("exponent_curvature", -0.5, 0.5, 1e-5, &[base[9]], false),
     ]
 }
 
@@ -270,10 +411,21 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
                 sxx += x(k) * x(k);
             }
         }
-        if sxx > 0.0 { sxy / sxx } else { 0.0 }
+        if sxx > 0.0 {
+            sxy / sxx
+        } else {
+            0.0
+        }
     };
     let e = ls(&|k| drive.unit[k].force_n, &d.y[0]).max(1.0);
-    let nominal = evaluate(drive, &setup.front_end, &BaselineParams::nominal(e), &Chain::default(), setup.contact_angle_deg, None);
+    let nominal = evaluate(
+        drive,
+        &setup.front_end,
+        &BaselineParams::nominal(e),
+        &Chain::default(),
+        setup.contact_angle_deg,
+        None,
+    );
     let s_fz = ls(&|k| nominal.volts[0][k], &d.y[1]);
     let (mut sxy, mut sxx) = (0.0, 0.0);
     for c in 1..3 {
@@ -286,18 +438,38 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
     }
     let s_m = if sxx > 0.0 { sxy / sxx } else { 1.0 };
     let rest = rest_offsets(d);
-    vec![e.ln(), 0.0, if s_fz != 0.0 { s_fz } else { 1.0 }, if s_m != 0.0 { s_m } else { 1.0 }, 0.0, rest[0], rest[1], rest[2], rest[3]]
+    vec![
+        e.ln(),
+        0.0,
+        if s_fz != 0.0 { s_fz } else { 1.0 },
+        if s_m != 0.0 { s_m } else { 1.0 },
+        0.0,
+        rest[0],
+        rest[1],
+        rest[2],
+        rest[3],
+        0.0,
+    ]
 }
 
 /// Mean of each channel over the samples before the rod first touches.
 fn rest_offsets(d: &Series) -> [f64; 4] {
-    let n = d.rod_mm.iter().position(|&r| r > 0.0).unwrap_or(d.len()).max(1);
+    let n = d
+        .rod_mm
+        .iter()
+        .position(|&r| r > 0.0)
+        .unwrap_or(d.len())
+        .max(1);
     std::array::from_fn(|c| d.y[c][..n].iter().sum::<f64>() / n as f64)
 }
 
 /// Physical value of internal parameter `i` of `model` in `full`.
 pub fn physical(model: &Model, full: &[f64], i: usize) -> f64 {
-    if model.specs()[i].log { full[i].exp() } else { full[i] }
+    if model.specs()[i].log {
+        full[i].exp()
+    } else {
+        full[i]
+    }
 }
 
 /// Standard error of physical parameter `i`, from sigma² (JᵀJ)⁻¹ with sigma² the residual
@@ -309,14 +481,10 @@ pub fn stderr(model: &Model, fitted: &Fitted, i: usize, rho: f64) -> Option<f64>
     let rho = rho.clamp(0.0, 0.99);
     let var = fitted.solution.sse / dof * (1.0 + rho) / (1.0 - rho) * cov[pos][pos];
     let se = var.max(0.0).sqrt();
-    Some(if model.specs()[i].log { se * full_exp(fitted.full[i]) } else { se })
+    Some(if model.specs()[i].log {
+        se * fitted.full[i].exp()
+    } else {
+        se
+    })
 }
 
-fn full_exp(v: f64) -> f64 {
-    v.exp()
-}
-
-/// The effect objects of a fitted model (without the baseline).
-pub fn effects_of(model: &Model, full: &[f64]) -> Vec<Effect> {
-    model.decode(full).1.effects
-}

@@ -34,7 +34,11 @@ fn sse(r: &[f64]) -> f64 {
 /// Minimise from `p0`.
 pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
     let m = p0.len();
-    let mut p: Vec<f64> = p0.iter().enumerate().map(|(i, &v)| v.clamp(opt.lower[i], opt.upper[i])).collect();
+    let mut p: Vec<f64> = p0
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| v.clamp(opt.lower[i], opt.upper[i]))
+        .collect();
     let mut r = Vec::new();
     problem.residuals(&p, &mut r);
     let mut cost = sse(&r);
@@ -63,7 +67,9 @@ pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
                 lambda *= 10.0;
                 continue;
             };
-            let cand: Vec<f64> = (0..m).map(|i| (p[i] + delta[i]).clamp(opt.lower[i], opt.upper[i])).collect();
+            let cand: Vec<f64> = (0..m)
+                .map(|i| (p[i] + delta[i]).clamp(opt.lower[i], opt.upper[i]))
+                .collect();
             problem.residuals(&cand, &mut trial);
             let c = sse(&trial);
             if c.is_finite() && c < cost {
@@ -87,11 +93,24 @@ pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
     finish(problem, p, r, cost, opt, iterations)
 }
 
-fn finish(problem: &dyn Problem, p: Vec<f64>, r: Vec<f64>, sse: f64, opt: &Options, iterations: usize) -> Solution {
+fn finish(
+    problem: &dyn Problem,
+    p: Vec<f64>,
+    r: Vec<f64>,
+    sse: f64,
+    opt: &Options,
+    iterations: usize,
+) -> Solution {
     let mut jac = vec![Vec::new(); p.len()];
     jacobian(problem, &p, &r, opt, &mut jac);
     let (jtj, _) = normal_equations(&jac, &r);
-    Solution { n: r.len(), jtj_inv: invert(jtj), p, sse, iterations }
+    Solution {
+        n: r.len(),
+        jtj_inv: invert(jtj),
+        p,
+        sse,
+        iterations,
+    }
 }
 
 /// Forward differences, stepping inward at an upper bound.
@@ -99,7 +118,11 @@ fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options, jac: &mu
     let mut q = p.to_vec();
     let mut out = Vec::new();
     for i in 0..p.len() {
-        let h = if p[i] + opt.step[i] > opt.upper[i] { -opt.step[i] } else { opt.step[i] };
+        let h = if p[i] + opt.step[i] > opt.upper[i] {
+            -opt.step[i]
+        } else {
+            opt.step[i]
+        };
         q[i] = p[i] + h;
         problem.residuals(&q, &mut out);
         q[i] = p[i];
@@ -126,7 +149,11 @@ fn normal_equations(jac: &[Vec<f64>], r: &[f64]) -> (Vec<Vec<f64>>, Vec<f64>) {
 /// Gaussian elimination with partial pivoting; `None` if singular.
 pub fn solve_linear(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
     let n = b.len();
-    let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
+    let scale = a
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
     for col in 0..n {
         let piv = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
         if a[piv][col].abs() <= 1e-14 * scale {
@@ -157,10 +184,19 @@ pub fn solve_linear(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
 pub fn invert(a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
     let n = a.len();
     let cols: Option<Vec<Vec<f64>>> = (0..n)
-        .map(|j| solve_linear(a.clone(), (0..n).map(|i| if i == j { 1.0 } else { 0.0 }).collect()))
+        .map(|j| {
+            solve_linear(
+                a.clone(),
+                (0..n).map(|i| if i == j { 1.0 } else { 0.0 }).collect(),
+            )
+        })
         .collect();
     let cols = cols?;
-    Some((0..n).map(|i| (0..n).map(|j| cols[j][i]).collect()).collect())
+    Some(
+        (0..n)
+            .map(|i| (0..n).map(|j| cols[j][i]).collect())
+            .collect(),
+    )
 }
 
 #[cfg(test)]
@@ -175,7 +211,12 @@ mod tests {
     impl Problem for Decay {
         fn residuals(&self, p: &[f64], out: &mut Vec<f64>) {
             out.clear();
-            out.extend(self.t.iter().zip(&self.y).map(|(t, y)| p[0] * (-t / p[1]).exp() - y));
+            out.extend(
+                self.t
+                    .iter()
+                    .zip(&self.y)
+                    .map(|(t, y)| p[0] * (-t / p[1]).exp() - y),
+            );
         }
     }
 
@@ -183,9 +224,18 @@ mod tests {
     fn fits_an_exponential() {
         let t: Vec<f64> = (0..200).map(|k| k as f64 * 0.05).collect();
         let y = t.iter().map(|t| 2.0 * (-t / 1.7f64).exp()).collect();
-        let opt = Options { max_iterations: 100, step: vec![1e-6, 1e-6], lower: vec![0.0, 0.1], upper: vec![10.0, 10.0] };
+        let opt = Options {
+            max_iterations: 100,
+            step: vec![1e-6, 1e-6],
+            lower: vec![0.0, 0.1],
+            upper: vec![10.0, 10.0],
+        };
         let s = solve(&Decay { t, y }, &[1.0, 5.0], &opt);
-        assert!((s.p[0] - 2.0).abs() < 1e-6 && (s.p[1] - 1.7).abs() < 1e-6, "{:?}", s.p);
+        assert!(
+            (s.p[0] - 2.0).abs() < 1e-6 && (s.p[1] - 1.7).abs() < 1e-6,
+            "{:?}",
+            s.p
+        );
         assert!(s.jtj_inv.is_some());
     }
 }

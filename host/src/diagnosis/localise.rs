@@ -29,7 +29,10 @@ pub fn mismatches(
     min_share: f64,
 ) -> Vec<Mismatch> {
     let norm = |c: usize, v: f64| (v / range[c].max(1e-300)).powi(2);
-    let total: f64 = (0..4).filter(|&c| used[c]).map(|c| residual[c].iter().map(|&v| norm(c, v)).sum::<f64>()).sum();
+    let total: f64 = (0..4)
+        .filter(|&c| used[c])
+        .map(|c| residual[c].iter().map(|&v| norm(c, v)).sum::<f64>())
+        .sum();
     if total <= 0.0 {
         return Vec::new();
     }
@@ -88,7 +91,11 @@ pub fn lag1(r: &[f64]) -> f64 {
     let mean = r.iter().sum::<f64>() / n as f64;
     let c0: f64 = r.iter().map(|v| (v - mean).powi(2)).sum();
     let c1: f64 = (1..n).map(|i| (r[i] - mean) * (r[i - 1] - mean)).sum();
-    if c0 > 0.0 { c1 / c0 } else { 0.0 }
+    if c0 > 0.0 {
+        c1 / c0
+    } else {
+        0.0
+    }
 }
 
 /// P(chi2_k > x), Wilson–Hilferty.
@@ -107,9 +114,14 @@ fn erfc(x: f64) -> f64 {
                 + t * (0.096_784_18
                     + t * (-0.186_288_06
                         + t * (0.278_868_07
-                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+                            + t * (-1.135_203_98
+                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
     let r = t * poly.exp();
-    if x >= 0.0 { r } else { 2.0 - r }
+    if x >= 0.0 {
+        r
+    } else {
+        2.0 - r
+    }
 }
 
 /// Pearson correlation.
@@ -118,7 +130,10 @@ pub fn correlation(a: &[f64], b: &[f64]) -> f64 {
     if n < 3 {
         return 0.0;
     }
-    let (ma, mb) = (a[..n].iter().sum::<f64>() / n as f64, b[..n].iter().sum::<f64>() / n as f64);
+    let (ma, mb) = (
+        a[..n].iter().sum::<f64>() / n as f64,
+        b[..n].iter().sum::<f64>() / n as f64,
+    );
     let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
     for i in 0..n {
         let (x, y) = (a[i] - ma, b[i] - mb);
@@ -126,7 +141,11 @@ pub fn correlation(a: &[f64], b: &[f64]) -> f64 {
         saa += x * x;
         sbb += y * y;
     }
-    if saa > 0.0 && sbb > 0.0 { sab / (saa * sbb).sqrt() } else { 0.0 }
+    if saa > 0.0 && sbb > 0.0 {
+        sab / (saa * sbb).sqrt()
+    } else {
+        0.0
+    }
 }
 
 /// Lag (s) that best explains `residual` as lag x d(model)/dt with the sign of a sensor that
@@ -143,7 +162,11 @@ pub fn lag_estimate(t_s: &[f64], model: &[f64], residual: &[f64]) -> f64 {
         num += -residual[k] * d;
         den += d * d;
     }
-    if den > 0.0 { num / den } else { 0.0 }
+    if den > 0.0 {
+        num / den
+    } else {
+        0.0
+    }
 }
 
 /// Per-channel localisation beyond the windows.
@@ -171,7 +194,9 @@ mod tests {
         let mut g = super::super::synth::Gaussian::new(11);
         let noise: Vec<f64> = (0..5000).map(|_| g.normal()).collect();
         assert!(ljung_box(&noise, 20).1 > 0.01);
-        let smooth: Vec<f64> = (0..5000).map(|k| (k as f64 * 0.01).sin() + 0.1 * g.normal()).collect();
+        let smooth: Vec<f64> = (0..5000)
+            .map(|k| (k as f64 * 0.01).sin() + 0.1 * g.normal())
+            .collect();
         assert!(ljung_box(&smooth, 20).1 < 1e-6);
     }
 

@@ -32,7 +32,11 @@ impl Line {
     pub fn at(&self, channel: usize, t: f64, harmonic: bool) -> f64 {
         let c = self.coef[channel];
         let w = TAU * self.freq_hz * t;
-        let h = if harmonic { c[2] * (3.0 * w).sin() + c[3] * (3.0 * w).cos() } else { 0.0 };
+        let h = if harmonic {
+            c[2] * (3.0 * w).sin() + c[3] * (3.0 * w).cos()
+        } else {
+            0.0
+        };
         c[0] * w.sin() + c[1] * w.cos() + h
     }
 }
@@ -76,16 +80,36 @@ pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -
         return None;
     }
     let scan: Vec<usize> = idx.iter().copied().take(SCAN_SAMPLES).collect();
-    let freqs: Vec<f64> = (0..).map(|i| BAND_HZ.0 + i as f64 * SCAN_STEP_HZ).take_while(|&f| f <= BAND_HZ.1).collect();
-    let spectrum: Vec<f64> = freqs.iter().map(|&f| power(t, residuals, f, &scan)).collect();
-    let (imax, &pmax) = spectrum.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
+    let freqs: Vec<f64> = (0..)
+        .map(|i| BAND_HZ.0 + i as f64 * SCAN_STEP_HZ)
+        .take_while(|&f| f <= BAND_HZ.1)
+        .collect();
+    let spectrum: Vec<f64> = freqs
+        .iter()
+        .map(|&f| power(t, residuals, f, &scan))
+        .collect();
+    let (imax, &pmax) = spectrum
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))?;
     let mut sorted = spectrum.clone();
     sorted.sort_by(f64::total_cmp);
     let median = sorted[sorted.len() / 2].max(1e-300);
-    // Refine by golden section on all samples within one scan step.
-    let (mut a, mut b) = (freqs[imax] - SCAN_STEP_HZ, freqs[imax] + SCAN_STEP_HZ);
-    let g = 0.618_033_988_75;
+    // Refine on a longer window, whose main lobe is narrower than the scan step: first a fine
+    // scan across the coarse peak (golden section alone would land on a side lobe), then golden
+    // section within one fine step.
     let refine: Vec<usize> = idx.iter().copied().take(REFINE_SAMPLES).collect();
+    let span = t[refine[refine.len() - 1]] - t[refine[0]];
+    let fine_step = (0.25 / span.max(1e-9)).min(SCAN_STEP_HZ);
+    let n_fine = (2.0 * SCAN_STEP_HZ / fine_step).ceil() as usize;
+    let f_fine = (0..=n_fine)
+        .map(|i| freqs[imax] - SCAN_STEP_HZ + i as f64 * fine_step)
+        .max_by(|&x, &y| {
+            power(t, residuals, x, &refine).total_cmp(&power(t, residuals, y, &refine))
+        })
+        .unwrap_or(freqs[imax]);
+    let (mut a, mut b) = (f_fine - fine_step, f_fine + fine_step);
+    let g = 0.618_033_988_75;
     for _ in 0..20 {
         let (x1, x2) = (b - g * (b - a), a + g * (b - a));
         if power(t, residuals, x1, &refine) > power(t, residuals, x2, &refine) {
@@ -96,8 +120,15 @@ pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -
     }
     let freq_hz = 0.5 * (a + b);
     let harmonic = rate_hz > 2.2 * 3.0 * freq_hz;
-    let coef = residuals.iter().map(|r| fit_coefficients(t, r, &idx, freq_hz, harmonic)).collect();
-    Some(Line { freq_hz, coef, prominence: pmax / median })
+    let coef = residuals
+        .iter()
+        .map(|r| fit_coefficients(t, r, &idx, freq_hz, harmonic))
+        .collect();
+    Some(Line {
+        freq_hz,
+        coef,
+        prominence: pmax / median,
+    })
 }
 
 /// Least squares of a sin + b cos at f (and 3f) on the selected samples.
@@ -129,9 +160,12 @@ mod tests {
     fn finds_a_line_off_the_scan_grid() {
         let t: Vec<f64> = (0..60_000).map(|k| k as f64 * 1e-3).collect();
         let mut g = super::super::synth::Gaussian::new(5);
-        let r: Vec<f64> = t.iter().map(|t| 0.01 * (TAU * 50.03 * t + 0.4).sin() + 0.01 * g.normal()).collect();
+        let r: Vec<f64> = t
+            .iter()
+            .map(|t| 0.01 * (TAU * 59.93 * t + 0.4).sin() + 0.01 * g.normal())
+            .collect();
         let line = find_line(&t, &[&r], &vec![true; t.len()], 1000.0).unwrap();
-        assert!((line.freq_hz - 50.03).abs() < 3e-3, "{}", line.freq_hz);
+        assert!((line.freq_hz - 59.93).abs() < 1e-3, "{}", line.freq_hz);
         assert!((line.amplitude() - 0.01).abs() < 5e-4);
         assert!(line.prominence > 100.0);
     }

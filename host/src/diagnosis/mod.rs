@@ -3,8 +3,6 @@
 //! catalogue (`sim::effects`), fit it, and show the fit improve on a held-out stretch.
 
 pub mod baseline;
-pub mod standin;
-pub mod synth;
 pub mod data;
 pub mod evidence;
 pub mod fit;
@@ -14,7 +12,9 @@ pub mod mains;
 pub mod output;
 pub mod pipeline;
 pub mod regimes;
+pub mod standin;
+pub mod synth;
 
 pub use pipeline::{diagnose, Diagnosis, Options};
-pub mod report;
 pub mod prove;
+pub mod report;

@@ -31,7 +31,10 @@ pub struct Options {
 }
 
 impl Options {
-    pub fn from_hardware(hw: &hardware::Params, progress: bool) -> Result<Self, chip::from_hardware::FromHardwareError> {
+    pub fn from_hardware(
+        hw: &hardware::Params,
+        progress: bool,
+    ) -> Result<Self, chip::from_hardware::FromHardwareError> {
         let fe = super::baseline::FrontEnd::from_chip(hw, [1.0; 3], hw.chip.excitation_v)?;
         Ok(Self {
             poisson: hw.fingertip.poisson,
@@ -77,7 +80,14 @@ impl<'s, 'a> Candidate<'s, 'a> {
         let mut r = Vec::new();
         model.weighted(&fitted.full, &model.setup.heldout_mask, &mut r);
         let heldout_chi2 = r.iter().map(|v| v * v).sum();
-        Self { kinds: model.kinds.clone(), model, fitted, bic, aicc, heldout_chi2 }
+        Self {
+            kinds: model.kinds.clone(),
+            model,
+            fitted,
+            bic,
+            aicc,
+            heldout_chi2,
+        }
     }
 
     /// Better than `other` (a sub-model) on both criteria.
@@ -141,8 +151,10 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         used,
     };
 
-    let slow_kinds: Vec<EffectKind> =
-        EffectKind::ALL.into_iter().filter(|k| *k != EffectKind::MainsInterference).collect();
+    let slow_kinds: Vec<EffectKind> = EffectKind::ALL
+        .into_iter()
+        .filter(|k| *k != EffectKind::MainsInterference)
+        .collect();
     let bar = progress_bar(opt.progress, 1 + slow_kinds.len() + 7);
     let init = initial_baseline(&setup);
     let base = Candidate::new(Model::new(&setup, &[], &init), BASE_ITERATIONS);
@@ -172,7 +184,10 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
             _ => false,
         }
     };
-    let all: Vec<&Candidate> = std::iter::once(&base).chain(&singles).chain(&pairs).collect();
+    let all: Vec<&Candidate> = std::iter::once(&base)
+        .chain(&singles)
+        .chain(&pairs)
+        .collect();
     let chosen: &Candidate = all
         .iter()
         .copied()
@@ -216,7 +231,8 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
 
     // Localisation of the baseline's residual, on the decimated series.
     let base_dec = base.model.outputs(&base.fitted.full, &setup.drive);
-    let residual: [Vec<f64>; 4] = std::array::from_fn(|c| diff(&data.fit.y[c], base_dec.channel(c)));
+    let residual: [Vec<f64>; 4] =
+        std::array::from_fn(|c| diff(&data.fit.y[c], base_dec.channel(c)));
     let mismatches = localise::mismatches(fit_t, &segments, &residual, &data.range, &used, 0.02);
     let channels = channel_localisation(&data, &base_dec, &residual);
     let chosen_dec = chosen.model.outputs(&chosen.fitted.full, &setup.drive);
@@ -242,7 +258,15 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         baseline: Baseline {
             params: baseline_params(&base),
             rmse: Numbers(
-                (0..4).filter(|&c| used[c]).map(|c| (CHANNELS[c].to_string(), channel_rmse(&data, &base_full, c, &all_rows))).collect(),
+                (0..4)
+                    .filter(|&c| used[c])
+                    .map(|c| {
+                        (
+                            CHANNELS[c].to_string(),
+                            channel_rmse(&data, &base_full, c, &all_rows),
+                        )
+                    })
+                    .collect(),
             ),
         },
         mismatches,
@@ -250,12 +274,18 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         fit,
         localisation: Localisation {
             channels,
-            lines: base_line.iter().filter(|l| l.prominence > MIN_LINE_PROMINENCE).map(|l| (l.freq_hz, l.amplitude(), l.prominence)).collect(),
+            lines: base_line
+                .iter()
+                .filter(|l| l.prominence > MIN_LINE_PROMINENCE)
+                .map(|l| (l.freq_hz, l.amplitude(), l.prominence))
+                .collect(),
         },
         candidates,
         seconds: started.elapsed().as_secs_f64(),
     };
-    let improved_dec = add_line_dec(&data, &chosen_dec, mains.as_ref());
+    // At the fitting rate a mains line averages out over whole periods, so the improved model
+    // plotted there is the slow model alone.
+    let improved_dec = chosen_dec;
     let plots = PlotData {
         t_s: fit_t.clone(),
         recorded: data.fit.y.clone(),
@@ -274,15 +304,21 @@ fn progress_bar(show: bool, n: usize) -> indicatif::ProgressBar {
     }
     let bar = indicatif::ProgressBar::new(n as u64);
     bar.set_style(
-        indicatif::ProgressStyle::with_template("fitting candidate models {bar:30} {pos}/{len} {elapsed}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        indicatif::ProgressStyle::with_template(
+            "fitting candidate models {bar:30} {pos}/{len} {elapsed}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     bar
 }
 
 /// Pairs among the four best singles by BIC, plus viscoelastic relaxation with AC coupling
 /// (together they mimic the original observations), seeded from the singles' optima.
-fn fit_pairs<'s, 'a>(setup: &'s Setup<'a>, singles: &[Candidate<'s, 'a>], bar: &indicatif::ProgressBar) -> Vec<Candidate<'s, 'a>> {
+fn fit_pairs<'s, 'a>(
+    setup: &'s Setup<'a>,
+    singles: &[Candidate<'s, 'a>],
+    bar: &indicatif::ProgressBar,
+) -> Vec<Candidate<'s, 'a>> {
     let mut order: Vec<&Candidate> = singles.iter().collect();
     order.sort_by(|a, b| a.bic.total_cmp(&b.bic));
     let top: Vec<EffectKind> = order.iter().take(4).map(|c| c.kinds[0]).collect();
@@ -303,8 +339,14 @@ fn fit_pairs<'s, 'a>(setup: &'s Setup<'a>, singles: &[Candidate<'s, 'a>], bar: &
     let out = pairs
         .par_iter()
         .map(|&(a, b)| {
-            let sa = singles.iter().find(|c| c.kinds == [a]).expect("every single is fitted");
-            let sb = singles.iter().find(|c| c.kinds == [b]).expect("every single is fitted");
+            let sa = singles
+                .iter()
+                .find(|c| c.kinds == [a])
+                .expect("every single is fitted");
+            let sb = singles
+                .iter()
+                .find(|c| c.kinds == [b])
+                .expect("every single is fitted");
             let better = if sa.bic < sb.bic { sa } else { sb };
             let mut model = Model::new(setup, &[a, b], &better.fitted.full[..N_BASE]);
             model.seed(0, &sa.fitted.full[N_BASE..]);
@@ -350,8 +392,13 @@ fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
 
 /// Mean over the compared channels of RMS residual / recorded peak-to-peak range.
 fn contract_rmse(data: &Data, o: &Outputs, mask: &[bool]) -> f64 {
-    let used: Vec<usize> = (0..4).filter(|&c| data.range[c] > 10.0 * data.noise_full[c]).collect();
-    used.iter().map(|&c| channel_rmse(data, o, c, mask)).sum::<f64>() / used.len().max(1) as f64
+    let used: Vec<usize> = (0..4)
+        .filter(|&c| data.range[c] > 10.0 * data.noise_full[c])
+        .collect();
+    used.iter()
+        .map(|&c| channel_rmse(data, o, c, mask))
+        .sum::<f64>()
+        / used.len().max(1) as f64
 }
 
 fn channel_rmse(data: &Data, o: &Outputs, c: usize, mask: &[bool]) -> f64 {
@@ -368,7 +415,9 @@ fn channel_rmse(data: &Data, o: &Outputs, c: usize, mask: &[bool]) -> f64 {
 }
 
 fn line_in_residual(data: &Data, o: &Outputs, mask: &[bool]) -> Option<Line> {
-    let res: Vec<Vec<f64>> = (1..4).map(|c| diff(&data.full.y[c], o.channel(c))).collect();
+    let res: Vec<Vec<f64>> = (1..4)
+        .map(|c| diff(&data.full.y[c], o.channel(c)))
+        .collect();
     let refs: Vec<&[f64]> = res.iter().map(|r| r.as_slice()).collect();
     let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
     let rate = (data.full.len() - 1) as f64 / span.max(1e-9);
@@ -389,11 +438,6 @@ fn add_line(data: &Data, o: &Outputs, line: Option<&Line>) -> Outputs {
     out
 }
 
-/// The decimated view of the line is its block mean, which is ~0 for 50 Hz on 20 ms blocks.
-fn add_line_dec(_data: &Data, o: &Outputs, _line: Option<&Line>) -> Outputs {
-    o.clone()
-}
-
 /// The line counts if it is prominent and removing it helps on the fitting stretch and on the
 /// held-out stretch, both in noise units.
 fn mains_helps(data: &Data, o: &Outputs, line: &Line, fit: &[bool], heldout: &[bool]) -> bool {
@@ -405,7 +449,10 @@ fn mains_helps(data: &Data, o: &Outputs, line: &Line, fit: &[bool], heldout: &[b
         (1..4)
             .map(|c| {
                 let w = 1.0 / data.noise_full[c];
-                (0..data.full.len()).filter(|&k| mask[k]).map(|k| ((data.full.y[c][k] - m.channel(c)[k]) * w).powi(2)).sum::<f64>()
+                (0..data.full.len())
+                    .filter(|&k| mask[k])
+                    .map(|k| ((data.full.y[c][k] - m.channel(c)[k]) * w).powi(2))
+                    .sum::<f64>()
             })
             .sum()
     };
@@ -416,14 +463,22 @@ fn mains_helps(data: &Data, o: &Outputs, line: &Line, fit: &[bool], heldout: &[b
     bic_gain > MIN_BIC_GAIN && h0 - h1 > MIN_HELDOUT_GAIN.max(MIN_HELDOUT_SHARE * h0)
 }
 
-fn channel_localisation(data: &Data, base: &Outputs, residual: &[Vec<f64>; 4]) -> Vec<ChannelLocalisation> {
+fn channel_localisation(
+    data: &Data,
+    base: &Outputs,
+    residual: &[Vec<f64>; 4],
+) -> Vec<ChannelLocalisation> {
     let d = &data.fit;
     let load = &d.y[0];
     let load2: Vec<f64> = load.iter().map(|v| v * v).collect();
     let dload: Vec<f64> = (0..d.len())
         .map(|k| {
             let (a, b) = (k.saturating_sub(1), (k + 1).min(d.len() - 1));
-            if d.t_s[b] > d.t_s[a] { (load[b] - load[a]) / (d.t_s[b] - d.t_s[a]) } else { 0.0 }
+            if d.t_s[b] > d.t_s[a] {
+                (load[b] - load[a]) / (d.t_s[b] - d.t_s[a])
+            } else {
+                0.0
+            }
         })
         .collect();
     (0..4)
@@ -442,7 +497,12 @@ fn channel_localisation(data: &Data, base: &Outputs, residual: &[Vec<f64>; 4]) -
                 corr_temperature: d.temp_c.as_ref().map(|t| localise::correlation(r, t)),
                 corr_other_residuals: (0..4)
                     .filter(|&o| o != c)
-                    .map(|o| (CHANNELS[o].to_string(), localise::correlation(r, &residual[o])))
+                    .map(|o| {
+                        (
+                            CHANNELS[o].to_string(),
+                            localise::correlation(r, &residual[o]),
+                        )
+                    })
                     .collect(),
                 lag_estimate_s: localise::lag_estimate(&d.t_s, base.channel(c), r),
             }
@@ -455,6 +515,7 @@ fn baseline_params(base: &Candidate) -> Numbers {
     let mut n = Numbers::default();
     n.push("youngs_modulus_Pa", f[0].exp());
     n.push("force_exponent", standin::HERTZ_EXPONENT + f[1]);
+    n.push("force_exponent_curvature", f[9]);
     n.push("scale_fz", f[2]);
     n.push("scale_moment", f[3]);
     n.push("azimuth_shift_deg", f[4]);
@@ -465,12 +526,28 @@ fn baseline_params(base: &Candidate) -> Numbers {
 }
 
 /// The model without effect number `i` of `chosen`: the baseline or the other single.
-fn without<'c, 's, 'a>(chosen: &'c Candidate<'s, 'a>, i: usize, base: &'c Candidate<'s, 'a>, singles: &'c [Candidate<'s, 'a>]) -> &'c Candidate<'s, 'a> {
-    let rest: Vec<EffectKind> = chosen.kinds.iter().enumerate().filter(|(j, _)| *j != i).map(|(_, k)| *k).collect();
+fn without<'c, 's, 'a>(
+    chosen: &'c Candidate<'s, 'a>,
+    i: usize,
+    base: &'c Candidate<'s, 'a>,
+    singles: &'c [Candidate<'s, 'a>],
+) -> &'c Candidate<'s, 'a> {
+    let rest: Vec<EffectKind> = chosen
+        .kinds
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| *j != i)
+        .map(|(_, k)| *k)
+        .collect();
     singles.iter().find(|c| c.kinds == rest).unwrap_or(base)
 }
 
-fn effect_reports(chosen: &Candidate, base: &Candidate, singles: &[Candidate], data: &Data) -> Vec<EffectReport> {
+fn effect_reports(
+    chosen: &Candidate,
+    base: &Candidate,
+    singles: &[Candidate],
+    data: &Data,
+) -> Vec<EffectReport> {
     let model = &chosen.model;
     let full = &chosen.fitted.full;
     let mut r = Vec::new();
@@ -493,18 +570,34 @@ fn effect_reports(chosen: &Candidate, base: &Candidate, singles: &[Candidate], d
         }
         // A second Prony term joins the first as `tau2_s`, `fraction2`; the larger share leads.
         if let Some(first) = out.iter_mut().find(|e| e.name == kind.name()) {
-            let (mut a, mut b) = ((first.params.clone(), first.param_stderr.clone()), (params, errs));
+            let (mut a, mut b) = (
+                (first.params.clone(), first.param_stderr.clone()),
+                (params, errs),
+            );
             if b.0.get("fraction") > a.0.get("fraction") {
                 std::mem::swap(&mut a, &mut b);
             }
             for (src, dst) in [(&b.0, &mut a.0), (&b.1, &mut a.1)] {
                 for (k, v) in src.0.clone() {
-                    dst.push(&format!("{}2{}", k.trim_end_matches("_s"), if k.ends_with("_s") { "_s" } else { "" }), v);
+                    dst.push(
+                        &format!(
+                            "{}2{}",
+                            k.trim_end_matches("_s"),
+                            if k.ends_with("_s") { "_s" } else { "" }
+                        ),
+                        v,
+                    );
                 }
             }
             first.params = a.0;
             first.param_stderr = a.1;
-            first.evidence = super::evidence::sentence(kind, &first.params, base.bic - chosen.bic, base.heldout_chi2 / chosen.heldout_chi2.max(1e-300), data);
+            first.evidence = super::evidence::sentence(
+                kind,
+                &first.params,
+                base.bic - chosen.bic,
+                base.heldout_chi2 / chosen.heldout_chi2.max(1e-300),
+                data,
+            );
             let _ = (bic_gain, heldout_gain);
             continue;
         }
@@ -530,7 +623,10 @@ fn mains_report(line: &Line, data: &Data) -> EffectReport {
     let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
     let a = line.amplitude().max(1e-300);
     let mut errs = Numbers::default();
-    errs.push("freq_hz", (12.0f64).sqrt() * sigma / (std::f64::consts::TAU * a * span * (n / 3.0).sqrt()));
+    errs.push(
+        "freq_hz",
+        (12.0f64).sqrt() * sigma / (std::f64::consts::TAU * a * span * (n / 3.0).sqrt()),
+    );
     errs.push("amplitude_V", sigma * (2.0 / n).sqrt());
     let kind = EffectKind::MainsInterference;
     EffectReport {

@@ -55,8 +55,14 @@ pub struct Plan {
 /// The two-effect cases: viscoelastic relaxation with AC coupling (the paper's observations)
 /// twice, and three pairs with distinct signatures.
 const PAIRS: [(EffectKind, EffectKind); 5] = [
-    (EffectKind::ViscoelasticRelaxation, EffectKind::HighpassCoupling),
-    (EffectKind::ViscoelasticRelaxation, EffectKind::HighpassCoupling),
+    (
+        EffectKind::ViscoelasticRelaxation,
+        EffectKind::HighpassCoupling,
+    ),
+    (
+        EffectKind::ViscoelasticRelaxation,
+        EffectKind::HighpassCoupling,
+    ),
     (EffectKind::ThermalDrift, EffectKind::MainsInterference),
     (EffectKind::Hysteresis, EffectKind::Crosstalk),
     (EffectKind::Stiffening, EffectKind::TimeOffset),
@@ -75,11 +81,19 @@ impl Plan {
 
     /// Generate every case (in parallel, each from its own seed).
     pub fn generate(&self) -> Vec<Case> {
-        self.truths().into_par_iter().enumerate().map(|(id, kinds)| self.case(id, &kinds)).collect()
+        self.truths()
+            .into_par_iter()
+            .enumerate()
+            .map(|(id, kinds)| self.case(id, &kinds))
+            .collect()
     }
 
     fn case(&self, id: usize, kinds: &[EffectKind]) -> Case {
-        let mut g = Gaussian::new(self.seed.wrapping_mul(0x2545_F491_4F6C_DD1D).wrapping_add(id as u64 * 7919 + 1));
+        let mut g = Gaussian::new(
+            self.seed
+                .wrapping_mul(0x2545_F491_4F6C_DD1D)
+                .wrapping_add(id as u64 * 7919 + 1),
+        );
         let mut u = |a: f64, b: f64| a + (b - a) * g.uniform();
         let contact_angle_deg = u(12.0, 30.0);
         let azimuth_deg = u(20.0, 80.0);
@@ -87,22 +101,45 @@ impl Plan {
         let second = peak * u(0.5, 0.8);
         let modulus = u(0.7e5, 1.5e5);
         let low_snr = id % 4 == 3;
-        let volts_noise = if low_snr { u(8e-3, 12e-3) } else { u(1e-3, 3e-3) };
+        let volts_noise = if low_snr {
+            u(8e-3, 12e-3)
+        } else {
+            u(1e-3, 3e-3)
+        };
         let load_noise = if low_snr { 0.1 } else { 0.02 };
-        let fingertip = HertzContact { radius_mm: self.radius_mm, poisson: self.options.poisson, contact_angle_deg, azimuth_deg, lever_mm: self.options.lever_mm };
+        let fingertip = HertzContact {
+            radius_mm: self.radius_mm,
+            poisson: self.options.poisson,
+            contact_angle_deg,
+            azimuth_deg,
+            lever_mm: self.options.lever_mm,
+        };
         let front_end = self.front_end;
-        let test = CompressionTest { sample_rate_hz: self.sample_rate_hz, recovery_s: 45.0, ..Default::default() };
+        let test = CompressionTest {
+            sample_rate_hz: self.sample_rate_hz,
+            recovery_s: 45.0,
+            ..Default::default()
+        };
         let baseline = BaselineParams {
             youngs_modulus_pa: modulus,
             exponent_shift: u(-0.1, 0.1),
+            exponent_curvature: u(-0.05, 0.05),
             scale_fz: u(0.85, 1.15),
             scale_moment: u(0.85, 1.15),
             azimuth_shift_deg: u(-1.5, 1.5),
-            offset: [u(-0.05, 0.05), u(-0.02, 0.02), u(-0.02, 0.02), u(-0.02, 0.02)],
+            offset: [
+                u(-0.05, 0.05),
+                u(-0.02, 0.02),
+                u(-0.02, 0.02),
+                u(-0.02, 0.02),
+            ],
         };
         // A rail must clip in both cycles to be seen in the held-out one.
         let second_peak_output = peak_output_v(&fingertip, &front_end, &baseline, second);
-        let truth: Vec<Effect> = kinds.iter().map(|&k| k.with_params(&random_params(k, &mut u, second_peak_output))).collect();
+        let truth: Vec<Effect> = kinds
+            .iter()
+            .map(|&k| k.with_params(&random_params(k, &mut u, second_peak_output)))
+            .collect();
         let spec = SimSpec {
             fingertip: &fingertip,
             front_end,
@@ -113,29 +150,49 @@ impl Plan {
             test,
             peak_loads_n: vec![peak, second],
             effects: truth.clone(),
-            noise: Noise { load_n: load_noise, volts: [volts_noise; 3], temp_c: 0.02 },
+            noise: Noise {
+                load_n: load_noise,
+                volts: [volts_noise; 3],
+                temp_c: 0.02,
+            },
             seed: self.seed ^ (id as u64) << 20,
             ambient_c: 24.0,
             warm_up_rise_c: 6.0,
             source: "tactile prove".into(),
         };
-        Case { id, truth, low_snr, recording: simulate(&spec) }
+        Case {
+            id,
+            truth,
+            low_snr,
+            recording: simulate(&spec),
+        }
     }
 }
 
 /// The largest output magnitude of the noise-free baseline at `peak` (to place a rail).
-fn peak_output_v(fingertip: &HertzContact, front_end: &super::baseline::FrontEnd, base: &BaselineParams, peak: f64) -> f64 {
+fn peak_output_v(
+    fingertip: &HertzContact,
+    front_end: &super::baseline::FrontEnd,
+    base: &BaselineParams,
+    peak: f64,
+) -> f64 {
     use super::baseline::FingertipResponse;
     let e = base.youngs_modulus_pa;
     let rod = sim::compression::rod_at_load(|d| fingertip.unit_response(d).force_n * e, peak, 60.0);
     let drive = Drive::new(fingertip, vec![0.0], &[rod]);
     let v = front_end.volts(drive.unit[0].chip.map(|c| c * e));
     let scale = [base.scale_fz, base.scale_moment, base.scale_moment];
-    v.iter().zip(scale).fold(0.0f64, |m, (x, s)| m.max((x * s).abs()))
+    v.iter()
+        .zip(scale)
+        .fold(0.0f64, |m, (x, s)| m.max((x * s).abs()))
 }
 
 /// Physical ranges of each effect's parameters, catalogue order.
-fn random_params(kind: EffectKind, u: &mut impl FnMut(f64, f64) -> f64, peak_output_v: f64) -> Vec<f64> {
+fn random_params(
+    kind: EffectKind,
+    u: &mut impl FnMut(f64, f64) -> f64,
+    peak_output_v: f64,
+) -> Vec<f64> {
     let sign = |u: &mut dyn FnMut(f64, f64) -> f64| if u(0.0, 1.0) < 0.5 { -1.0 } else { 1.0 };
     use EffectKind::*;
     match kind {
@@ -147,7 +204,10 @@ fn random_params(kind: EffectKind, u: &mut impl FnMut(f64, f64) -> f64, peak_out
         Crosstalk => vec![sign(u) * u(5.0, 15.0)],
         AmplifierSaturation => vec![peak_output_v * u(0.6, 0.9)],
         TimeOffset => vec![sign(u) * u(0.03, 0.2)],
-        MainsInterference => vec![if u(0.0, 1.0) < 0.5 { 50.0 } else { 60.0 } + u(-0.1, 0.1), u(3e-3, 15e-3)],
+        MainsInterference => vec![
+            if u(0.0, 1.0) < 0.5 { 50.0 } else { 60.0 } + u(-0.1, 0.1),
+            u(3e-3, 15e-3),
+        ],
         BridgeNonlinearity => vec![sign(u) * u(0.05, 0.15)],
         ContactFriction => vec![u(0.04, 0.12)],
     }
@@ -166,9 +226,24 @@ pub fn run(cases: &[Case], opt: &Options) -> Vec<Score> {
 }
 
 fn score(case: &Case, report: Option<super::output::Report>) -> Score {
-    let truth: Vec<String> = case.truth.iter().map(|e| e.kind().name().to_string()).collect();
+    let truth: Vec<String> = case
+        .truth
+        .iter()
+        .map(|e| e.kind().name().to_string())
+        .collect();
     let Some(r) = report else {
-        return Score { id: case.id, truth, found: vec!["<error>".into()], correct: false, low_snr: case.low_snr, primary_errors: Vec::new(), heldout_before: f64::NAN, heldout_after: f64::NAN, seconds: f64::NAN, runner_up: None };
+        return Score {
+            id: case.id,
+            truth,
+            found: vec!["<error>".into()],
+            correct: false,
+            low_snr: case.low_snr,
+            primary_errors: Vec::new(),
+            heldout_before: f64::NAN,
+            heldout_after: f64::NAN,
+            seconds: f64::NAN,
+            runner_up: None,
+        };
     };
     let found: Vec<String> = r.effects.iter().map(|e| e.name.clone()).collect();
     let mut a = truth.clone();
@@ -181,12 +256,21 @@ fn score(case: &Case, report: Option<super::output::Report>) -> Score {
         .filter_map(|e| {
             let kind = e.kind();
             let primary = kind.param_names()[0];
-            let est = r.effects.iter().find(|x| x.name == kind.name())?.params.get(primary)?;
+            let est = r
+                .effects
+                .iter()
+                .find(|x| x.name == kind.name())?
+                .params
+                .get(primary)?;
             let truth = e.params()[0];
             Some((kind.name().to_string(), ((est - truth) / truth).abs()))
         })
         .collect();
-    let chosen_bic = r.candidates.iter().find(|c| c.accepted).map_or(f64::NAN, |c| c.bic);
+    let chosen_bic = r
+        .candidates
+        .iter()
+        .find(|c| c.accepted)
+        .map_or(f64::NAN, |c| c.bic);
     let runner_up = r
         .candidates
         .iter()
@@ -228,17 +312,26 @@ impl Summary {
         let mut primary = Vec::new();
         for s in scores {
             for t in &s.truth {
-                let e = s.primary_errors.iter().find(|(k, _)| k == t).map_or(f64::INFINITY, |(_, e)| *e);
+                let e = s
+                    .primary_errors
+                    .iter()
+                    .find(|(k, _)| k == t)
+                    .map_or(f64::INFINITY, |(_, e)| *e);
                 primary.push(e);
             }
         }
-        let with: Vec<f64> = scores.iter().filter(|s| !s.truth.is_empty()).map(|s| s.heldout_after / s.heldout_before).collect();
+        let with: Vec<f64> = scores
+            .iter()
+            .filter(|s| !s.truth.is_empty())
+            .map(|s| s.heldout_after / s.heldout_before)
+            .collect();
         Self {
             cases: scores.len(),
             correct_share: scores.iter().filter(|s| s.correct).count() as f64 / n,
             false_alarms: none.iter().filter(|s| !s.found.is_empty()).count(),
             no_effect_cases: none.len(),
-            primary_within_20: primary.iter().filter(|&&e| e <= 0.2).count() as f64 / primary.len().max(1) as f64,
+            primary_within_20: primary.iter().filter(|&&e| e <= 0.2).count() as f64
+                / primary.len().max(1) as f64,
             primary_cases: primary.len(),
             heldout_ratio_mean: with.iter().sum::<f64>() / with.len().max(1) as f64,
             mean_seconds: scores.iter().map(|s| s.seconds).sum::<f64>() / n,
@@ -246,7 +339,10 @@ impl Summary {
     }
 
     pub fn passes(&self) -> bool {
-        self.correct_share >= 0.9 && self.false_alarms == 0 && self.primary_within_20 >= 0.8 && self.heldout_ratio_mean <= 0.5
+        self.correct_share >= 0.9
+            && self.false_alarms == 0
+            && self.primary_within_20 >= 0.8
+            && self.heldout_ratio_mean <= 0.5
     }
 }
 
@@ -254,20 +350,34 @@ impl Summary {
 pub fn markdown(scores: &[Score], s: &Summary) -> String {
     let mut out = String::from("| case | hidden | found | right | low SNR | primary error | held-out RMSE before | after | s | best wrong single (BIC above chosen) |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for x in scores {
-        let errs: Vec<String> = x.primary_errors.iter().map(|(k, e)| format!("{k}: {:.1} %", 100.0 * e)).collect();
+        let errs: Vec<String> = x
+            .primary_errors
+            .iter()
+            .map(|(k, e)| format!("{k}: {:.1} %", 100.0 * e))
+            .collect();
         let _ = writeln!(
             out,
             "| {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.2} | {} |",
             x.id,
-            if x.truth.is_empty() { "-".into() } else { x.truth.join(" + ") },
-            if x.found.is_empty() { "-".into() } else { x.found.join(" + ") },
+            if x.truth.is_empty() {
+                "-".into()
+            } else {
+                x.truth.join(" + ")
+            },
+            if x.found.is_empty() {
+                "-".into()
+            } else {
+                x.found.join(" + ")
+            },
             if x.correct { "yes" } else { "**no**" },
             if x.low_snr { "yes" } else { "" },
             errs.join(", "),
             x.heldout_before,
             x.heldout_after,
             x.seconds,
-            x.runner_up.as_ref().map_or(String::new(), |(k, d)| format!("{k} (+{d:.0})"))
+            x.runner_up
+                .as_ref()
+                .map_or(String::new(), |(k, d)| format!("{k} (+{d:.0})"))
         );
     }
     let _ = writeln!(
@@ -283,8 +393,24 @@ pub fn markdown(scores: &[Score], s: &Summary) -> String {
 pub fn csv(scores: &[Score]) -> String {
     let mut out = String::from("case,hidden,found,correct,low_snr,primary_errors,heldout_rmse_before,heldout_rmse_after,seconds\n");
     for x in scores {
-        let errs: Vec<String> = x.primary_errors.iter().map(|(k, e)| format!("{k}={e:.4}")).collect();
-        let _ = writeln!(out, "{},{},{},{},{},{},{},{},{}", x.id, x.truth.join("+"), x.found.join("+"), x.correct, x.low_snr, errs.join(" "), x.heldout_before, x.heldout_after, x.seconds);
+        let errs: Vec<String> = x
+            .primary_errors
+            .iter()
+            .map(|(k, e)| format!("{k}={e:.4}"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{}",
+            x.id,
+            x.truth.join("+"),
+            x.found.join("+"),
+            x.correct,
+            x.low_snr,
+            errs.join(" "),
+            x.heldout_before,
+            x.heldout_after,
+            x.seconds
+        );
     }
     out
 }
@@ -293,18 +419,45 @@ pub fn csv(scores: &[Score]) -> String {
 /// where the effect set was wrong.
 pub fn summary_svg(scores: &[Score]) -> String {
     let (w, h, pad) = (900.0, 300.0, 40.0);
-    let vals: Vec<f64> = scores.iter().flat_map(|s| [s.heldout_before, s.heldout_after]).filter(|v| *v > 0.0 && v.is_finite()).collect();
-    let lo = vals.iter().cloned().fold(f64::INFINITY, f64::min).log10().floor();
-    let hi = vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max).log10().ceil().max(lo + 1.0);
+    let vals: Vec<f64> = scores
+        .iter()
+        .flat_map(|s| [s.heldout_before, s.heldout_after])
+        .filter(|v| *v > 0.0 && v.is_finite())
+        .collect();
+    let lo = vals
+        .iter()
+        .cloned()
+        .fold(f64::INFINITY, f64::min)
+        .log10()
+        .floor();
+    let hi = vals
+        .iter()
+        .cloned()
+        .fold(f64::NEG_INFINITY, f64::max)
+        .log10()
+        .ceil()
+        .max(lo + 1.0);
     let y = |v: f64| h - pad - (v.max(1e-300).log10() - lo) / (hi - lo) * (h - 2.0 * pad);
     let bw = (w - 2.0 * pad) / scores.len().max(1) as f64;
     let mut s = format!("<svg xmlns='http://www.w3.org/2000/svg' width='{w}' height='{h}' font-size='10'><text x='{pad}' y='15'>held-out RMSE per case (grey: baseline, blue: with the effects found; red dot: wrong effect set), log scale 1e{lo}..1e{hi}</text>");
     for (i, sc) in scores.iter().enumerate() {
         let x = pad + i as f64 * bw;
         let _ = write!(s, "<rect x='{:.1}' y='{:.1}' width='{:.1}' height='{:.1}' fill='#aaa'><title>{}: {}</title></rect>", x, y(sc.heldout_before), bw * 0.45, h - pad - y(sc.heldout_before), sc.id, sc.truth.join("+"));
-        let _ = write!(s, "<rect x='{:.1}' y='{:.1}' width='{:.1}' height='{:.1}' fill='#36c'/>", x + bw * 0.45, y(sc.heldout_after), bw * 0.45, h - pad - y(sc.heldout_after));
+        let _ = write!(
+            s,
+            "<rect x='{:.1}' y='{:.1}' width='{:.1}' height='{:.1}' fill='#36c'/>",
+            x + bw * 0.45,
+            y(sc.heldout_after),
+            bw * 0.45,
+            h - pad - y(sc.heldout_after)
+        );
         if !sc.correct {
-            let _ = write!(s, "<circle cx='{:.1}' cy='{:.1}' r='3' fill='red'/>", x + bw * 0.45, h - pad + 10.0);
+            let _ = write!(
+                s,
+                "<circle cx='{:.1}' cy='{:.1}' r='3' fill='red'/>",
+                x + bw * 0.45,
+                h - pad + 10.0
+            );
         }
     }
     s.push_str("</svg>");

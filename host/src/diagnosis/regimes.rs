@@ -41,7 +41,11 @@ pub fn detect(t_s: &[f64], rod_mm: &[f64]) -> (Vec<Regime>, Vec<Segment>) {
     let v: Vec<f64> = (0..n)
         .map(|k| {
             let (a, b) = (k.saturating_sub(2), (k + 2).min(n - 1));
-            if t_s[b] > t_s[a] { (rod_mm[b] - rod_mm[a]) / (t_s[b] - t_s[a]) } else { 0.0 }
+            if t_s[b] > t_s[a] {
+                (rod_mm[b] - rod_mm[a]) / (t_s[b] - t_s[a])
+            } else {
+                0.0
+            }
         })
         .collect();
     let threshold = 0.25 * typical_speed(&v);
@@ -73,7 +77,12 @@ pub fn detect(t_s: &[f64], rod_mm: &[f64]) -> (Vec<Regime>, Vec<Segment>) {
                 if r == Regime::Loading && segments.iter().any(|s| s.regime == Regime::Loading) {
                     cycle += 1;
                 }
-                segments.push(Segment { regime: r, start: k, end: k + 1, cycle });
+                segments.push(Segment {
+                    regime: r,
+                    start: k,
+                    end: k + 1,
+                    cycle,
+                });
             }
         }
     }
@@ -95,7 +104,10 @@ fn typical_speed(v: &[f64]) -> f64 {
 /// two or more (from its loading to the end), otherwise the release and the recovery after it.
 pub fn heldout_window(t_s: &[f64], segments: &[Segment]) -> (f64, f64) {
     let end = *t_s.last().unwrap_or(&0.0);
-    if let Some(s) = segments.iter().find(|s| s.cycle == 1 && s.regime == Regime::Loading) {
+    if let Some(s) = segments
+        .iter()
+        .find(|s| s.cycle == 1 && s.regime == Regime::Loading)
+    {
         return (t_s[s.start], end);
     }
     if let Some(s) = segments.iter().find(|s| s.regime == Regime::Release) {
@@ -112,11 +124,28 @@ mod tests {
 
     #[test]
     fn standard_test_regimes_in_order() {
-        let h = sim::compression::CompressionTest { sample_rate_hz: 50.0, ..Default::default() }.rod_history(&[10.0, 6.0]);
+        let h = sim::compression::CompressionTest {
+            sample_rate_hz: 50.0,
+            ..Default::default()
+        }
+        .rod_history(&[10.0, 6.0]);
         let (_, segs) = detect(&h.t_s, &h.rod_mm);
-        let order: Vec<(Regime, usize)> = segs.iter().filter(|s| s.end - s.start > 3).map(|s| (s.regime, s.cycle)).collect();
+        let order: Vec<(Regime, usize)> = segs
+            .iter()
+            .filter(|s| s.end - s.start > 3)
+            .map(|s| (s.regime, s.cycle))
+            .collect();
         use Regime::*;
-        assert_eq!(&order[..5], &[(Rest, 0), (Loading, 0), (Hold, 0), (Release, 0), (Recovery, 0)]);
+        assert_eq!(
+            &order[..5],
+            &[
+                (Rest, 0),
+                (Loading, 0),
+                (Hold, 0),
+                (Release, 0),
+                (Recovery, 0)
+            ]
+        );
         assert_eq!(order[5], (Loading, 1));
         let (a, _) = heldout_window(&h.t_s, &segs);
         assert!(a > 90.0 && a < 100.0, "{a}");

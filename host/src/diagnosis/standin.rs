@@ -38,12 +38,16 @@ impl FingertipResponse for HertzContact {
         let d_m = rod_mm.max(0.0) * 1e-3;
         let r_m = self.radius_mm * 1e-3;
         let n = HERTZ_EXPONENT;
-        let force_n = 4.0 / 3.0 / (1.0 - self.poisson * self.poisson) * r_m.powf(2.0 - n) * d_m.powf(n);
+        let force_n =
+            4.0 / 3.0 / (1.0 - self.poisson * self.poisson) * r_m.powf(2.0 - n) * d_m.powf(n);
         let (st, ct) = self.contact_angle_deg.to_radians().sin_cos();
         let (sp, cp) = self.azimuth_deg.to_radians().sin_cos();
         let share = CHIP_SHARE * force_n;
         let tangential_moment = share * st * self.lever_mm * 1e-3;
-        UnitResponse { force_n, chip: [share * ct, -tangential_moment * sp, tangential_moment * cp] }
+        UnitResponse {
+            force_n,
+            chip: [share * ct, -tangential_moment * sp, tangential_moment * cp],
+        }
     }
 }
 
@@ -55,7 +59,13 @@ mod tests {
     /// 4/3 * 1.3333e5 * 0.14142 * 1e-3 = 25.14 N.
     #[test]
     fn hertz_force_matches_the_closed_form() {
-        let h = HertzContact { radius_mm: 20.0, poisson: 0.5, contact_angle_deg: 0.0, azimuth_deg: 0.0, lever_mm: 1.0 };
+        let h = HertzContact {
+            radius_mm: 20.0,
+            poisson: 0.5,
+            contact_angle_deg: 0.0,
+            azimuth_deg: 0.0,
+            lever_mm: 1.0,
+        };
         let f = h.unit_response(10.0).force_n * 1e5;
         assert!((f - 25.141).abs() < 1e-2, "{f}");
     }
@@ -63,11 +73,21 @@ mod tests {
     /// Mx > My at azimuth 60 deg, moments vanish at theta = 0, Fz falls with cos(theta).
     #[test]
     fn tilt_decomposition() {
-        let h = HertzContact { radius_mm: 20.0, poisson: 0.49, contact_angle_deg: 20.0, azimuth_deg: 60.0, lever_mm: 1.0 };
+        let h = HertzContact {
+            radius_mm: 20.0,
+            poisson: 0.49,
+            contact_angle_deg: 20.0,
+            azimuth_deg: 60.0,
+            lever_mm: 1.0,
+        };
         let u = h.unit_response(10.0);
         assert!(u.chip[1].abs() > u.chip[2].abs());
         assert!((u.chip[1] / u.chip[2] + 60f64.to_radians().tan()).abs() < 1e-12);
-        let flat = HertzContact { contact_angle_deg: 0.0, ..h }.unit_response(10.0);
+        let flat = HertzContact {
+            contact_angle_deg: 0.0,
+            ..h
+        }
+        .unit_response(10.0);
         assert_eq!(flat.chip[1], 0.0);
         assert!((u.chip[0] / flat.chip[0] - 20f64.to_radians().cos()).abs() < 1e-12);
     }

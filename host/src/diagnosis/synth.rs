@@ -44,8 +44,13 @@ const MAX_ROD_MM: f64 = 60.0;
 
 /// Run the baseline (plus effects and noise) through the standard test.
 pub fn simulate(spec: &SimSpec) -> Recording {
-    let force_at = |d: f64| spec.fingertip.unit_response(d).force_n * spec.baseline.youngs_modulus_pa;
-    let turns: Vec<f64> = spec.peak_loads_n.iter().map(|&l| rod_at_load(force_at, l, MAX_ROD_MM)).collect();
+    let force_at =
+        |d: f64| spec.fingertip.unit_response(d).force_n * spec.baseline.youngs_modulus_pa;
+    let turns: Vec<f64> = spec
+        .peak_loads_n
+        .iter()
+        .map(|&l| rod_at_load(force_at, l, MAX_ROD_MM))
+        .collect();
     let history = spec.test.rod_history(&turns);
     let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm);
     let chain = Chain::new(spec.effects.clone());
@@ -53,11 +58,23 @@ pub fn simulate(spec: &SimSpec) -> Recording {
     let noise = spec.noise;
     let mut add_noise = |v: &mut [Vec<f64>; 3]| {
         for (b, ch) in v.iter_mut().enumerate() {
-            ch.iter_mut().for_each(|x| *x += noise.volts[b] * rng.normal());
+            ch.iter_mut()
+                .for_each(|x| *x += noise.volts[b] * rng.normal());
         }
     };
-    let out = evaluate(&drive, &spec.front_end, &spec.baseline, &chain, spec.contact_angle_deg, Some(&mut add_noise));
-    let load_n = out.load_n.iter().map(|f| f + noise.load_n * rng.normal()).collect();
+    let out = evaluate(
+        &drive,
+        &spec.front_end,
+        &spec.baseline,
+        &chain,
+        spec.contact_angle_deg,
+        Some(&mut add_noise),
+    );
+    let load_n = out
+        .load_n
+        .iter()
+        .map(|f| f + noise.load_n * rng.normal())
+        .collect();
     let warm_up = spec.effects.iter().find_map(|e| match e {
         Effect::ThermalDrift(d) => Some(*d),
         _ => None,
@@ -65,7 +82,11 @@ pub fn simulate(spec: &SimSpec) -> Recording {
     let temp_c = history
         .t_s
         .iter()
-        .map(|&t| spec.ambient_c + warm_up.map_or(0.0, |d| spec.warm_up_rise_c * d.warm_up(t)) + noise.temp_c * rng.normal())
+        .map(|&t| {
+            spec.ambient_c
+                + warm_up.map_or(0.0, |d| spec.warm_up_rise_c * d.warm_up(t))
+                + noise.temp_c * rng.normal()
+        })
         .collect();
     let [fz_v, mx_v, my_v] = out.volts;
     let fe = &spec.front_end;
@@ -84,7 +105,14 @@ pub fn simulate(spec: &SimSpec) -> Recording {
     };
     Recording {
         meta,
-        channels: Channels { t_s: history.t_s, rod_mm: history.rod_mm, load_n, fz_v, mx_v, my_v },
+        channels: Channels {
+            t_s: history.t_s,
+            rod_mm: history.rod_mm,
+            load_n,
+            fz_v,
+            mx_v,
+            my_v,
+        },
         temp_c: Some(temp_c),
         extra: Vec::new(),
     }
@@ -99,7 +127,10 @@ pub struct Gaussian {
 
 impl Gaussian {
     pub fn new(seed: u64) -> Self {
-        Self { state: seed, spare: None }
+        Self {
+            state: seed,
+            spare: None,
+        }
     }
 
     /// Uniform in (0, 1).
@@ -135,6 +166,9 @@ mod tests {
         let x: Vec<f64> = (0..100_000).map(|_| g.normal()).collect();
         let mean = x.iter().sum::<f64>() / x.len() as f64;
         let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / x.len() as f64;
-        assert!(mean.abs() < 0.01 && (var - 1.0).abs() < 0.02, "{mean} {var}");
+        assert!(
+            mean.abs() < 0.01 && (var - 1.0).abs() < 0.02,
+            "{mean} {var}"
+        );
     }
 }

@@ -8,7 +8,10 @@ use std::fmt;
 #[non_exhaustive]
 pub enum RecordingError {
     /// The file could not be opened or read.
-    Io { path: String, source: std::io::Error },
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
     /// The file has no header line (it is empty or holds metadata only).
     Empty,
     /// A line is not valid UTF-8.
@@ -16,7 +19,11 @@ pub enum RecordingError {
     /// A required metadata key is absent; `line` is the header line where metadata ended.
     MissingKey { line: usize, key: &'static str },
     /// A metadata value that must be a number is not one.
-    BadMetaValue { line: usize, key: String, value: String },
+    BadMetaValue {
+        line: usize,
+        key: String,
+        value: String,
+    },
     /// The `format` key names another format or version.
     WrongFormat { line: usize, value: String },
     /// A required column is absent from the header.
@@ -24,11 +31,23 @@ pub enum RecordingError {
     /// The header names a column twice.
     DuplicateColumn { line: usize, column: String },
     /// A data row has more or fewer fields than the header.
-    FieldCount { line: usize, expected: usize, found: usize },
+    FieldCount {
+        line: usize,
+        expected: usize,
+        found: usize,
+    },
     /// A data field is neither a decimal number nor empty/`nan`/`NaN`.
-    NotNumeric { line: usize, column: String, value: String },
+    NotNumeric {
+        line: usize,
+        column: String,
+        value: String,
+    },
     /// `t_s` went backwards.
-    DecreasingTime { line: usize, t_s: f64, previous_t_s: f64 },
+    DecreasingTime {
+        line: usize,
+        t_s: f64,
+        previous_t_s: f64,
+    },
 }
 
 impl fmt::Display for RecordingError {
@@ -39,7 +58,10 @@ impl fmt::Display for RecordingError {
             Empty => write!(f, "line 1: empty recording: no header line"),
             NotUtf8 { line } => write!(f, "line {line}: not valid UTF-8"),
             MissingKey { line, key } => {
-                write!(f, "line {line}: required metadata key `{key}` missing before the header")
+                write!(
+                    f,
+                    "line {line}: required metadata key `{key}` missing before the header"
+                )
             }
             BadMetaValue { line, key, value } => {
                 write!(f, "line {line}, field `{key}`: `{value}` is not a number")
@@ -50,18 +72,36 @@ impl fmt::Display for RecordingError {
                 super::FORMAT
             ),
             MissingColumn { line, column } => {
-                write!(f, "line {line}: required column `{column}` missing from the header")
+                write!(
+                    f,
+                    "line {line}: required column `{column}` missing from the header"
+                )
             }
             DuplicateColumn { line, column } => {
                 write!(f, "line {line}, field `{column}`: column named twice")
             }
-            FieldCount { line, expected, found } => {
+            FieldCount {
+                line,
+                expected,
+                found,
+            } => {
                 write!(f, "line {line}: {found} fields, the header has {expected}")
             }
-            NotNumeric { line, column, value } => {
-                write!(f, "line {line}, field `{column}`: `{value}` is not a number")
+            NotNumeric {
+                line,
+                column,
+                value,
+            } => {
+                write!(
+                    f,
+                    "line {line}, field `{column}`: `{value}` is not a number"
+                )
             }
-            DecreasingTime { line, t_s, previous_t_s } => write!(
+            DecreasingTime {
+                line,
+                t_s,
+                previous_t_s,
+            } => write!(
                 f,
                 "line {line}, field `t_s`: {t_s} is before the previous row's {previous_t_s}"
             ),

@@ -68,20 +68,31 @@ impl Meta {
     ) -> Result<Self, RecordingError> {
         let find = |key: &'static str| pairs.iter().rev().find(|(_, k, _)| k == key);
         let num = |key: &'static str| -> Result<f64, RecordingError> {
-            let (line, _, value) = find(key).ok_or(RecordingError::MissingKey { line: header_line, key })?;
+            let (line, _, value) = find(key).ok_or(RecordingError::MissingKey {
+                line: header_line,
+                key,
+            })?;
             parse_number(value).ok_or_else(|| RecordingError::BadMetaValue {
                 line: *line,
                 key: key.to_string(),
                 value: value.clone(),
             })
         };
-        let (fline, _, fvalue) =
-            find("format").ok_or(RecordingError::MissingKey { line: header_line, key: "format" })?;
+        let (fline, _, fvalue) = find("format").ok_or(RecordingError::MissingKey {
+            line: header_line,
+            key: "format",
+        })?;
         if fvalue != super::FORMAT {
-            return Err(RecordingError::WrongFormat { line: *fline, value: fvalue.clone() });
+            return Err(RecordingError::WrongFormat {
+                line: *fline,
+                value: fvalue.clone(),
+            });
         }
-        let rod_speed_mm_per_min =
-            if find("rod_speed_mm_per_min").is_some() { Some(num("rod_speed_mm_per_min")?) } else { None };
+        let rod_speed_mm_per_min = if find("rod_speed_mm_per_min").is_some() {
+            Some(num("rod_speed_mm_per_min")?)
+        } else {
+            None
+        };
         let meta = Meta {
             sample_rate_hz: num("sample_rate_hz")?,
             contact_angle_deg: num("contact_angle_deg")?,
@@ -95,7 +106,11 @@ impl Meta {
             source: find("source").map(|(_, _, v)| v.clone()),
             other: pairs
                 .iter()
-                .filter(|(_, k, _)| !REQUIRED_KEYS.contains(&k.as_str()) && k != "rod_speed_mm_per_min" && k != "source")
+                .filter(|(_, k, _)| {
+                    !REQUIRED_KEYS.contains(&k.as_str())
+                        && k != "rod_speed_mm_per_min"
+                        && k != "source"
+                })
                 .map(|(_, k, v)| (k.clone(), v.clone()))
                 .collect(),
         };

@@ -63,9 +63,16 @@ impl Channels {
 
     /// Whether row `i` is a gap (a required value missing).
     pub fn is_gap(&self, i: usize) -> bool {
-        [&self.t_s, &self.rod_mm, &self.load_n, &self.fz_v, &self.mx_v, &self.my_v]
-            .iter()
-            .any(|c| c[i].is_nan())
+        [
+            &self.t_s,
+            &self.rod_mm,
+            &self.load_n,
+            &self.fz_v,
+            &self.mx_v,
+            &self.my_v,
+        ]
+        .iter()
+        .any(|c| c[i].is_nan())
     }
 }
 
@@ -83,7 +90,12 @@ pub struct Recording {
 impl Recording {
     /// A recording with no rows yet.
     pub fn new(meta: Meta) -> Self {
-        Self { meta, channels: Channels::default(), temp_c: None, extra: Vec::new() }
+        Self {
+            meta,
+            channels: Channels::default(),
+            temp_c: None,
+            extra: Vec::new(),
+        }
     }
 
     /// Parse a recording from text already in memory.
@@ -93,7 +105,9 @@ impl Recording {
 
     /// The same recording without its gap rows (rows with a missing required value).
     pub fn without_gaps(&self) -> Recording {
-        let keep: Vec<usize> = (0..self.channels.len()).filter(|&i| !self.channels.is_gap(i)).collect();
+        let keep: Vec<usize> = (0..self.channels.len())
+            .filter(|&i| !self.channels.is_gap(i))
+            .collect();
         let pick = |v: &Vec<f64>| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
         let c = &self.channels;
         Recording {
@@ -107,7 +121,14 @@ impl Recording {
                 my_v: pick(&c.my_v),
             },
             temp_c: self.temp_c.as_ref().map(pick),
-            extra: self.extra.iter().map(|c| Column { name: c.name.clone(), values: pick(&c.values) }).collect(),
+            extra: self
+                .extra
+                .iter()
+                .map(|c| Column {
+                    name: c.name.clone(),
+                    values: pick(&c.values),
+                })
+                .collect(),
         }
     }
 
@@ -121,7 +142,14 @@ impl Recording {
             for (e, col) in extra.iter_mut().zip(&self.extra) {
                 *e = col.values[i];
             }
-            let row = [c.t_s[i], c.rod_mm[i], c.load_n[i], c.fz_v[i], c.mx_v[i], c.my_v[i]];
+            let row = [
+                c.t_s[i],
+                c.rod_mm[i],
+                c.load_n[i],
+                c.fz_v[i],
+                c.mx_v[i],
+                c.my_v[i],
+            ];
             w.write_row(&row, self.temp_c.as_ref().map(|t| t[i]), &extra)?;
         }
         w.flush()

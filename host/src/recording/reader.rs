@@ -8,7 +8,10 @@ use super::{Channels, Column, Meta, Recording, RecordingError, REQUIRED_COLUMNS,
 
 /// Read and validate the recording at `path`.
 pub fn read(path: &Path) -> Result<Recording, RecordingError> {
-    let io = |source| RecordingError::Io { path: path.display().to_string(), source };
+    let io = |source| RecordingError::Io {
+        path: path.display().to_string(),
+        source,
+    };
     let file = std::fs::File::open(path).map_err(io)?;
     read_from(std::io::BufReader::with_capacity(1 << 16, file))
 }
@@ -54,7 +57,10 @@ pub fn read_from<R: BufRead>(mut input: R) -> Result<Recording, RecordingError> 
         .iter()
         .zip(&names)
         .filter(|(s, _)| matches!(s, Slot::Extra(_)))
-        .map(|(_, n)| Column { name: n.clone(), values: Vec::new() })
+        .map(|(_, n)| Column {
+            name: n.clone(),
+            values: Vec::new(),
+        })
         .collect();
     let mut previous_t = f64::NEG_INFINITY;
     let mut row = [f64::NAN; 6];
@@ -83,11 +89,19 @@ pub fn read_from<R: BufRead>(mut input: R) -> Result<Recording, RecordingError> 
             }
         }
         if found != slots.len() {
-            return Err(RecordingError::FieldCount { line: line_no, expected: slots.len(), found });
+            return Err(RecordingError::FieldCount {
+                line: line_no,
+                expected: slots.len(),
+                found,
+            });
         }
         let t = row[0];
         if t < previous_t {
-            return Err(RecordingError::DecreasingTime { line: line_no, t_s: t, previous_t_s: previous_t });
+            return Err(RecordingError::DecreasingTime {
+                line: line_no,
+                t_s: t,
+                previous_t_s: previous_t,
+            });
         }
         if !t.is_nan() {
             previous_t = t;
@@ -115,7 +129,10 @@ fn next_line<'b, R: BufRead>(
     buf.clear();
     let n = input
         .read_until(b'\n', buf)
-        .map_err(|source| RecordingError::Io { path: "<input>".into(), source })?;
+        .map_err(|source| RecordingError::Io {
+            path: "<input>".into(),
+            source,
+        })?;
     if n == 0 {
         return Ok(None);
     }
@@ -124,17 +141,25 @@ fn next_line<'b, R: BufRead>(
     if *line_no == 1 {
         bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     }
-    while let Some(rest) = bytes.strip_suffix(b"\n").or_else(|| bytes.strip_suffix(b"\r")) {
+    while let Some(rest) = bytes
+        .strip_suffix(b"\n")
+        .or_else(|| bytes.strip_suffix(b"\r"))
+    {
         bytes = rest;
     }
-    std::str::from_utf8(bytes).map(Some).map_err(|_| RecordingError::NotUtf8 { line: *line_no })
+    std::str::from_utf8(bytes)
+        .map(Some)
+        .map_err(|_| RecordingError::NotUtf8 { line: *line_no })
 }
 
 fn parse_header(header: &str, line: usize) -> Result<(Vec<String>, Vec<Slot>), RecordingError> {
     let names: Vec<String> = header.split(',').map(|s| s.trim().to_string()).collect();
     for (i, n) in names.iter().enumerate() {
         if names[..i].contains(n) {
-            return Err(RecordingError::DuplicateColumn { line, column: n.clone() });
+            return Err(RecordingError::DuplicateColumn {
+                line,
+                column: n.clone(),
+            });
         }
     }
     for column in REQUIRED_COLUMNS {

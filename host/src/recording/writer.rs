@@ -27,15 +27,29 @@ impl<W: Write> RecordingWriter<W> {
         }
         header.extend_from_slice(extra);
         writeln!(out, "{}", header.join(","))?;
-        Ok(Self { out, with_temp, n_extra: extra.len(), line: String::with_capacity(128) })
+        Ok(Self {
+            out,
+            with_temp,
+            n_extra: extra.len(),
+            line: String::with_capacity(128),
+        })
     }
 
     /// Write one row: `required` = t_s, rod_mm, load_N, fz_V, mx_V, my_V; `temp_c` only if the
     /// writer was created with the temperature column; `extra` one value per extra column.
     /// `NaN` is written as an empty field (missing).
-    pub fn write_row(&mut self, required: &[f64; 6], temp_c: Option<f64>, extra: &[f64]) -> std::io::Result<()> {
+    pub fn write_row(
+        &mut self,
+        required: &[f64; 6],
+        temp_c: Option<f64>,
+        extra: &[f64],
+    ) -> std::io::Result<()> {
         use std::fmt::Write as _;
-        assert_eq!(extra.len(), self.n_extra, "extra values must match the extra columns");
+        assert_eq!(
+            extra.len(),
+            self.n_extra,
+            "extra values must match the extra columns"
+        );
         self.line.clear();
         let temp = self.with_temp.then(|| temp_c.unwrap_or(f64::NAN));
         for (i, v) in required.iter().chain(temp.iter()).chain(extra).enumerate() {

@@ -50,7 +50,10 @@ mod tests {
         f.apply(20.0, &mut m);
         assert!((m[100] - (1.0 - share)).abs() < 1e-12, "lags on loading");
         assert_eq!(m[103], m[100], "sticks after the reversal");
-        assert!((m[101 + 80] - 0.2 * (1.0 + share)).abs() < 1e-12, "slides above the demand");
+        assert!(
+            (m[101 + 80] - 0.2 * (1.0 + share)).abs() < 1e-12,
+            "slides above the demand"
+        );
         assert_eq!(m[201], 0.0);
     }
 }

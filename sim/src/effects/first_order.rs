@@ -30,10 +30,14 @@ mod tests {
     #[test]
     fn step_response_decays_with_tau() {
         let t: Vec<f64> = (0..=2000).map(|k| k as f64 * 1e-3).collect();
-        let x: Vec<f64> = t.iter().map(|&t| if t >= 0.0005 { 1.0 } else { 0.0 }).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|&t| if t >= 0.0005 { 1.0 } else { 0.0 })
+            .collect();
         let h = highpass_state(&t, &x, 0.5);
         // One sample ramp then exponential decay: h(1.0 s) = e^{-(1.0-0.001)/0.5} approximately.
-        let expect = (-(1.0 - 0.001) / 0.5f64).exp() * (0.5 / 0.001) * (1.0 - (-0.001f64 / 0.5).exp());
+        let expect =
+            (-(1.0 - 0.001) / 0.5f64).exp() * (0.5 / 0.001) * (1.0 - (-0.001f64 / 0.5).exp());
         assert!((h[1000] - expect).abs() < 1e-9, "{} vs {expect}", h[1000]);
     }
 

@@ -33,10 +33,26 @@ mod tests {
     fn adds_a_line_at_mains_frequency() {
         let t: Vec<f64> = (0..1000).map(|k| k as f64 * 1e-3).collect();
         let mut x = vec![0.0; t.len()];
-        MainsInterference { freq_hz: 50.0, amplitude_v: 0.01 }.apply(&t, &mut x);
+        MainsInterference {
+            freq_hz: 50.0,
+            amplitude_v: 0.01,
+        }
+        .apply(&t, &mut x);
         // Fourier coefficient at 50 Hz over whole periods recovers the amplitude.
-        let b: f64 = t.iter().zip(&x).map(|(t, x)| x * (std::f64::consts::TAU * 50.0 * t).sin()).sum::<f64>() * 2.0 / 1000.0;
-        let off: f64 = t.iter().zip(&x).map(|(t, x)| x * (std::f64::consts::TAU * 70.0 * t).sin()).sum::<f64>() * 2.0 / 1000.0;
+        let b: f64 = t
+            .iter()
+            .zip(&x)
+            .map(|(t, x)| x * (std::f64::consts::TAU * 50.0 * t).sin())
+            .sum::<f64>()
+            * 2.0
+            / 1000.0;
+        let off: f64 = t
+            .iter()
+            .zip(&x)
+            .map(|(t, x)| x * (std::f64::consts::TAU * 70.0 * t).sin())
+            .sum::<f64>()
+            * 2.0
+            / 1000.0;
         assert!((b - 0.01).abs() < 1e-9 && off.abs() < 1e-9);
     }
 }

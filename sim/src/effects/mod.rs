@@ -117,19 +117,38 @@ impl EffectKind {
 
     /// The effect with parameters `p` in `param_names` order.
     pub fn with_params(self, p: &[f64]) -> Effect {
-        assert_eq!(p.len(), self.param_names().len(), "{} takes {} parameters", self.name(), self.param_names().len());
+        assert_eq!(
+            p.len(),
+            self.param_names().len(),
+            "{} takes {} parameters",
+            self.name(),
+            self.param_names().len()
+        );
         use EffectKind as K;
         match self {
-            K::ViscoelasticRelaxation => Effect::ViscoelasticRelaxation(ViscoelasticRelaxation { tau_s: p[0], fraction: p[1] }),
+            K::ViscoelasticRelaxation => Effect::ViscoelasticRelaxation(ViscoelasticRelaxation {
+                tau_s: p[0],
+                fraction: p[1],
+            }),
             K::Hysteresis => Effect::Hysteresis(Hysteresis { width: p[0] }),
             K::HighpassCoupling => Effect::HighpassCoupling(HighpassCoupling { tau_s: p[0] }),
-            K::ThermalDrift => Effect::ThermalDrift(ThermalDrift { amplitude_v: p[0], tau_s: p[1] }),
+            K::ThermalDrift => Effect::ThermalDrift(ThermalDrift {
+                amplitude_v: p[0],
+                tau_s: p[1],
+            }),
             K::Stiffening => Effect::Stiffening(Stiffening { exponent: p[0] }),
             K::Crosstalk => Effect::Crosstalk(Crosstalk { angle_deg: p[0] }),
-            K::AmplifierSaturation => Effect::AmplifierSaturation(AmplifierSaturation { limit_v: p[0] }),
+            K::AmplifierSaturation => {
+                Effect::AmplifierSaturation(AmplifierSaturation { limit_v: p[0] })
+            }
             K::TimeOffset => Effect::TimeOffset(TimeOffset { lag_s: p[0] }),
-            K::MainsInterference => Effect::MainsInterference(MainsInterference { freq_hz: p[0], amplitude_v: p[1] }),
-            K::BridgeNonlinearity => Effect::BridgeNonlinearity(BridgeNonlinearity { quadratic: p[0] }),
+            K::MainsInterference => Effect::MainsInterference(MainsInterference {
+                freq_hz: p[0],
+                amplitude_v: p[1],
+            }),
+            K::BridgeNonlinearity => {
+                Effect::BridgeNonlinearity(BridgeNonlinearity { quadratic: p[0] })
+            }
             K::ContactFriction => Effect::ContactFriction(ContactFriction { mu: p[0] }),
         }
     }
@@ -189,16 +208,33 @@ impl Effect {
     /// Parse `name:key=value,key=value` (every parameter given), as on the command line.
     pub fn from_spec(spec: &str) -> Result<Effect, String> {
         let (name, rest) = spec.split_once(':').unwrap_or((spec, ""));
-        let kind = EffectKind::from_name(name.trim()).ok_or_else(|| format!("unknown effect `{name}`"))?;
+        let kind =
+            EffectKind::from_name(name.trim()).ok_or_else(|| format!("unknown effect `{name}`"))?;
         let mut values = vec![f64::NAN; kind.param_names().len()];
         for pair in rest.split(',').filter(|s| !s.trim().is_empty()) {
-            let (k, v) = pair.split_once('=').ok_or_else(|| format!("`{pair}`: expected key=value"))?;
-            let i = kind.param_names().iter().position(|n| *n == k.trim())
-                .ok_or_else(|| format!("{name} has no parameter `{k}` (has {:?})", kind.param_names()))?;
-            values[i] = v.trim().parse::<f64>().map_err(|_| format!("`{v}` is not a number"))?;
+            let (k, v) = pair
+                .split_once('=')
+                .ok_or_else(|| format!("`{pair}`: expected key=value"))?;
+            let i = kind
+                .param_names()
+                .iter()
+                .position(|n| *n == k.trim())
+                .ok_or_else(|| {
+                    format!(
+                        "{name} has no parameter `{k}` (has {:?})",
+                        kind.param_names()
+                    )
+                })?;
+            values[i] = v
+                .trim()
+                .parse::<f64>()
+                .map_err(|_| format!("`{v}` is not a number"))?;
         }
         if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(format!("{name}: parameter `{}` missing", kind.param_names()[i]));
+            return Err(format!(
+                "{name}: parameter `{}` missing",
+                kind.param_names()[i]
+            ));
         }
         Ok(kind.with_params(&values))
     }
@@ -220,7 +256,13 @@ impl Chain {
     }
 
     /// The gel and load path, on the load (N) and the chip loads [Fz, Mx, My].
-    pub fn apply_mechanical(&self, t_s: &[f64], load: &mut [f64], chip: &mut [Vec<f64>; 3], contact_angle_deg: f64) {
+    pub fn apply_mechanical(
+        &self,
+        t_s: &[f64],
+        load: &mut [f64],
+        chip: &mut [Vec<f64>; 3],
+        contact_angle_deg: f64,
+    ) {
         for e in self.each(EffectKind::ViscoelasticRelaxation) {
             if let Effect::ViscoelasticRelaxation(v) = e {
                 v.apply(t_s, load);
@@ -318,9 +360,20 @@ mod tests {
     #[test]
     fn every_kind_round_trips_through_its_spec() {
         for kind in EffectKind::ALL {
-            let p: Vec<f64> = (0..kind.param_names().len()).map(|i| 0.5 + i as f64).collect();
+            let p: Vec<f64> = (0..kind.param_names().len())
+                .map(|i| 0.5 + i as f64)
+                .collect();
             let e = kind.with_params(&p);
-            let spec = format!("{}:{}", kind.name(), kind.param_names().iter().zip(&p).map(|(n, v)| format!("{n}={v}")).collect::<Vec<_>>().join(","));
+            let spec = format!(
+                "{}:{}",
+                kind.name(),
+                kind.param_names()
+                    .iter()
+                    .zip(&p)
+                    .map(|(n, v)| format!("{n}={v}"))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            );
             assert_eq!(Effect::from_spec(&spec).unwrap(), e);
             assert_eq!(e.params(), p);
         }
@@ -332,7 +385,11 @@ mod tests {
     fn empty_chain_is_identity() {
         let t = vec![0.0, 1.0, 2.0];
         let mut load = vec![0.0, 1.0, 0.5];
-        let mut chip = [vec![0.0, 1.0, 0.5], vec![0.0, -1.0, -0.5], vec![0.0, 2.0, 1.0]];
+        let mut chip = [
+            vec![0.0, 1.0, 0.5],
+            vec![0.0, -1.0, -0.5],
+            vec![0.0, 2.0, 1.0],
+        ];
         let (l0, c0) = (load.clone(), chip.clone());
         let chain = Chain::default();
         chain.apply_mechanical(&t, &mut load, &mut chip, 20.0);

@@ -31,7 +31,11 @@ mod tests {
     fn moves_the_baseline_at_rest() {
         let t: Vec<f64> = (0..=600).map(|k| k as f64 * 0.1).collect();
         let mut x = vec![0.0; t.len()];
-        ThermalDrift { amplitude_v: 0.05, tau_s: 20.0 }.apply(&t, &mut x);
+        ThermalDrift {
+            amplitude_v: 0.05,
+            tau_s: 20.0,
+        }
+        .apply(&t, &mut x);
         assert!((x[200] - 0.05 * (1.0 - (-1.0f64).exp())).abs() < 1e-12);
         assert!(x.windows(2).all(|w| w[1] >= w[0]));
     }

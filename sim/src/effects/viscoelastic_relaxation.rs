@@ -32,8 +32,15 @@ mod tests {
     #[test]
     fn relaxes_under_hold_and_creeps_back_after_release() {
         let t: Vec<f64> = (0..=20_000).map(|k| k as f64 * 1e-3).collect();
-        let mut x: Vec<f64> = t.iter().map(|&t| if (1.0..10.0).contains(&t) { 1.0 } else { 0.0 }).collect();
-        ViscoelasticRelaxation { tau_s: 2.0, fraction: 0.3 }.apply(&t, &mut x);
+        let mut x: Vec<f64> = t
+            .iter()
+            .map(|&t| if (1.0..10.0).contains(&t) { 1.0 } else { 0.0 })
+            .collect();
+        ViscoelasticRelaxation {
+            tau_s: 2.0,
+            fraction: 0.3,
+        }
+        .apply(&t, &mut x);
         assert!((x[1010] - 1.0).abs() < 0.01, "instantaneous {}", x[1010]);
         let at = |t: f64| 0.7 + 0.3 * (-(t - 1.0) / 2.0f64).exp();
         assert!((x[3000] - at(3.0)).abs() < 2e-3);
