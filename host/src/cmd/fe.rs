@@ -165,3 +165,40 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Debug, Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    fn hw() -> hardware::Fingertip {
+        hardware::Params::load_default().expect("hardware/").fingertip
+    }
+
+    #[test]
+    fn defaults_come_from_the_toml_and_flags_override_them() {
+        let hw = hw();
+        let (c, peak) = config(&Cli::parse_from(["fe"]).args, &hw).unwrap();
+        assert_eq!((c.youngs_modulus_pa, c.poisson, c.radius_mm), (hw.youngs_modulus_pa, hw.poisson, hw.radius_mm));
+        assert_eq!(peak, hw.test.peak_load_n);
+        assert_eq!(c.friction_mu, 0.0);
+        let (c, _) = config(&Cli::parse_from(["fe", "--poisson", "0.45", "--friction"]).args, &hw).unwrap();
+        assert_eq!((c.poisson, c.friction_mu), (0.45, hw.friction_mu));
+    }
+
+    #[test]
+    fn out_of_range_values_name_the_flag() {
+        let hw = hw();
+        for (flag, value) in [("--poisson", "0.5"), ("--contact-angle", "75"), ("--mesh-size", "0.01"), ("--peak-load", "-1")] {
+            let err = config(&Cli::parse_from(["fe", flag, value]).args, &hw).unwrap_err();
+            assert!(err.to_string().starts_with(flag), "{err}");
+            assert_eq!(err.exit_code(), exit::USAGE);
+        }
+    }
+}
