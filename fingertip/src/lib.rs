@@ -36,7 +36,7 @@
 //!
 //! Scaling: with nu and the geometry fixed, every stress in the model (deviatoric, nodal
 //! pressure, contact penalty) is proportional to E, so the force–travel curve scales exactly
-//! linearly with E (`tests/scaling.rs`). A curve at one modulus therefore calibrates E by a
+//! linearly with E (`tests/verification.rs`, `response_scales_linearly_with_youngs_modulus`). A curve at one modulus therefore calibrates E by a
 //! single factor.
 
 pub mod assembly;

@@ -25,22 +25,26 @@ fn base(material: Material, mesh_size_mm: f64) -> Config {
 }
 
 /// Hertz limit: a rigid flat (rod radius 2R, larger than any contact radius) on the linear
-/// elastic hemisphere, F = 4/3 E/(1 - nu^2) sqrt(R) d^{3/2}, within 5 % for d/R <= 0.02.
+/// elastic hemisphere, F_H = 4/3 E/(1 - nu^2) sqrt(R) d^{3/2}.
 ///
-/// Bonded-base effect: Hertz treats the sphere as a half-space near the contact; the real body
-/// is a hemisphere whose base is clamped at a distance R below the contact. The far field adds a
-/// compliance (and the clamp removes some) of relative size O(a/R), a = sqrt(R d) the contact
-/// radius: at d/R = 0.02, a/R = 0.14, so a few per cent either way; the clamp dominates for a
-/// nearly incompressible gel (the base cannot bulge), making the hemisphere slightly stiffer
-/// than Hertz, more so as d/R grows. The mesh is refined at the pole by shrinking the chip
-/// inclusion (the pole cap inherits the chip's lateral spacing).
+/// Bonded-base effect: Hertz treats the sphere as a half-space, whose points at depth R under
+/// the contact still move by the Boussinesq far field u_z(R) = P (1 + nu)(3 - 2 nu)/(2 pi E R).
+/// The hemisphere's base is bonded there, so that share of the approach is missing: the local
+/// (Hertz) approach is d_H = d + u_z(R), i.e. d_H = d (1 + c sqrt(d/R)) to first order with
+/// c = (4/3)(1 + nu)(3 - 2 nu) / (2 pi (1 - nu^2)) (0.84 at nu = 0.49), and
+/// F = F_H(d) (1 + c sqrt(d/R))^{3/2}. It vanishes only like sqrt(d/R): +6 % at d/R = 0.0025,
+/// +13 % at 0.01, so the raw Hertz error does not fall below 5 % in this range; the test
+/// asserts the corrected law within 5 % and prints both. The mesh is refined at the pole by
+/// shrinking the chip inclusion (the cap inherits the chip's lateral spacing).
 #[test]
 #[ignore]
 fn hertz_limit_at_small_indentation() {
     let mut c = base(Material::Linear, 2.0);
     c.inclusion_half_width_mm = 0.3;
     c.inclusion_height_mm = 0.3;
-    let e_star = c.youngs_modulus_pa / (1.0 - c.poisson * c.poisson);
+    let nu = c.poisson;
+    let e_star = c.youngs_modulus_pa / (1.0 - nu * nu);
+    let bonded = 4.0 / 3.0 * (1.0 + nu) * (3.0 - 2.0 * nu) / (2.0 * std::f64::consts::PI * (1.0 - nu * nu));
     let r = c.radius_mm * 1e-3;
     let mut ft = Fingertip::new(c).unwrap();
     println!("{:?}", ft.quality());
@@ -49,17 +53,23 @@ fn hertz_limit_at_small_indentation() {
         let p = ft.step_to(d_over_r * 20.0, 1.0).unwrap();
         let d = d_over_r * r;
         let hertz = 4.0 / 3.0 * e_star * r.sqrt() * d.powf(1.5);
-        let err = p.force_n / hertz - 1.0;
-        println!("d/R {d_over_r:.4}: F {:.5} N, Hertz {hertz:.5} N, error {:+.2} %, {} contact nodes", p.force_n, 100.0 * err, p.contact_nodes);
-        if d_over_r >= 0.005 {
-            worst = worst.max(err.abs());
-        }
+        let corrected = hertz * (1.0 + bonded * d_over_r.sqrt()).powf(1.5);
+        let (raw, err) = (p.force_n / hertz - 1.0, p.force_n / corrected - 1.0);
+        println!(
+            "d/R {d_over_r:.4}: F {:.5} N, Hertz {hertz:.5} N ({:+.2} %), bonded-base Hertz {corrected:.5} N ({:+.2} %), {} contact nodes",
+            p.force_n,
+            100.0 * raw,
+            100.0 * err,
+            p.contact_nodes
+        );
+        worst = worst.max(err.abs());
     }
-    assert!(worst < 0.05, "Hertz error {worst}");
+    assert!(worst < 0.05, "bonded-base Hertz error {worst}");
 }
 
 /// Mesh convergence of the travel at 60 N (neo-Hookean, platen): three densities in ratio
-/// sqrt 2, observed order p = ln((d1 - d2)/(d2 - d3)) / ln(sqrt 2).
+/// sqrt 2, observed order p = ln((d1 - d2)/(d2 - d3)) / ln(sqrt 2). The inclusion is 4 mm so
+/// that every mesh size (including the chip's, 0.3 h) scales with h: a uniform refinement.
 #[test]
 #[ignore]
 fn mesh_convergence_of_the_60n_indentation() {
@@ -68,6 +78,8 @@ fn mesh_convergence_of_the_60n_indentation() {
     for &h in &sizes {
         let mut c = base(Material::NeoHookean, h);
         c.rod_radius_mm = 20.0;
+        c.inclusion_half_width_mm = 4.0;
+        c.inclusion_height_mm = 4.0;
         let curve = fingertip::compress(&c, 60.0).unwrap();
         let last = *curve.points.last().unwrap();
         // Travel at exactly 60 N by log-log interpolation of the last two points.

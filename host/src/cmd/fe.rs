@@ -27,34 +27,34 @@ pub enum MaterialArg {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Inclination theta_p of the rod from the fingertip axis, degrees [0, 60] (default: toml).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub contact_angle: Option<f64>,
     /// Azimuth phi of the tilt plane from the chip's x axis, degrees [-360, 360] (default: toml).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     pub azimuth: Option<f64>,
     /// Stop when the force along the rod reaches this, N (default: toml).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub peak_load: Option<f64>,
     /// Young's modulus of the gel, Pa (default: toml).
-    #[arg(long, value_name = "PA")]
+    #[arg(long, value_name = "PA", allow_negative_numbers = true)]
     pub youngs_modulus: Option<f64>,
     /// Poisson's ratio of the gel, [0, 0.4999] (default: toml).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub poisson: Option<f64>,
     /// Hemisphere radius, mm (default: toml).
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
     pub radius: Option<f64>,
     /// Constitutive law.
     #[arg(long, value_enum, default_value_t = MaterialArg::NeoHookean)]
     pub material: MaterialArg,
     /// Nominal element size, mm (finer at the chip and under the rod).
-    #[arg(long, value_name = "MM", default_value_t = 5.0)]
+    #[arg(long, value_name = "MM", default_value_t = 5.0, allow_negative_numbers = true)]
     pub mesh_size: f64,
     /// Rod radius, mm (default: toml).
-    #[arg(long, value_name = "MM")]
+    #[arg(long, value_name = "MM", allow_negative_numbers = true)]
     pub rod_radius: Option<f64>,
     /// Coulomb friction between rod and gel; `--friction` alone takes the toml's value.
-    #[arg(long, value_name = "MU", num_args = 0..=1)]
+    #[arg(long, value_name = "MU", num_args = 0..=1, allow_negative_numbers = true)]
     pub friction: Option<Option<f64>>,
     /// Minimum number of load steps to the peak.
     #[arg(long, default_value_t = 40)]
@@ -164,4 +164,41 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Debug, Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    fn hw() -> hardware::Fingertip {
+        hardware::Params::load_default().expect("hardware/").fingertip
+    }
+
+    #[test]
+    fn defaults_come_from_the_toml_and_flags_override_them() {
+        let hw = hw();
+        let (c, peak) = config(&Cli::parse_from(["fe"]).args, &hw).unwrap();
+        assert_eq!((c.youngs_modulus_pa, c.poisson, c.radius_mm), (hw.youngs_modulus_pa, hw.poisson, hw.radius_mm));
+        assert_eq!(peak, hw.test.peak_load_n);
+        assert_eq!(c.friction_mu, 0.0);
+        let (c, _) = config(&Cli::parse_from(["fe", "--poisson", "0.45", "--friction"]).args, &hw).unwrap();
+        assert_eq!((c.poisson, c.friction_mu), (0.45, hw.friction_mu));
+    }
+
+    #[test]
+    fn out_of_range_values_name_the_flag() {
+        let hw = hw();
+        for (flag, value) in [("--poisson", "0.5"), ("--contact-angle", "75"), ("--mesh-size", "0.01"), ("--peak-load", "-1"), ("--azimuth", "-400")] {
+            let err = config(&Cli::parse_from(["fe", flag, value]).args, &hw).unwrap_err();
+            assert!(err.to_string().starts_with(flag), "{err}");
+            assert_eq!(err.exit_code(), exit::USAGE);
+        }
+    }
 }
