@@ -7,9 +7,13 @@
 /// Reflected CRC-32C polynomial.
 const POLY: u32 = 0x82F6_3B78;
 
-/// `TABLES[0]` is the classic byte table; `TABLES[k][b]` is the CRC of byte `b` followed by `k`
-/// zero bytes, so the four bytes of a word are looked up independently.
-pub(crate) static TABLES: [[u32; 256]; 4] = tables();
+/// `T0` is the classic byte table; `Tk[b]` is the CRC of byte `b` followed by `k` zero bytes, so
+/// the four bytes of a word are looked up independently. Four statics rather than one 2-D array:
+/// each gets its own base register in the loop, so a lookup is one extract and one load.
+static T0: [u32; 256] = tables()[0];
+static T1: [u32; 256] = tables()[1];
+static T2: [u32; 256] = tables()[2];
+static T3: [u32; 256] = tables()[3];
 
 const fn tables() -> [[u32; 256]; 4] {
     let mut t = [[0u32; 256]; 4];
@@ -39,23 +43,28 @@ const fn tables() -> [[u32; 256]; 4] {
 
 /// Running CRC register (before the final xor) after absorbing the little-endian word `w`.
 #[inline(always)]
-pub(crate) fn step_word(crc: u32, w: u32) -> u32 {
+fn step_word(crc: u32, w: u32) -> u32 {
     let x = crc ^ w;
-    TABLES[3][(x & 0xFF) as usize]
-        ^ TABLES[2][((x >> 8) & 0xFF) as usize]
-        ^ TABLES[1][((x >> 16) & 0xFF) as usize]
-        ^ TABLES[0][(x >> 24) as usize]
+    T3[(x & 0xFF) as usize]
+        ^ T2[((x >> 8) & 0xFF) as usize]
+        ^ T1[((x >> 16) & 0xFF) as usize]
+        ^ T0[(x >> 24) as usize]
 }
 
 /// Running CRC register after absorbing one byte.
 #[inline(always)]
-pub(crate) fn step_byte(crc: u32, b: u8) -> u32 {
-    (crc >> 8) ^ TABLES[0][((crc ^ u32::from(b)) & 0xFF) as usize]
+fn step_byte(crc: u32, b: u8) -> u32 {
+    (crc >> 8) ^ T0[((crc ^ u32::from(b)) & 0xFF) as usize]
 }
 
 /// CRC-32C of `bytes`.
 pub fn crc32c(bytes: &[u8]) -> u32 {
-    let mut crc = !0u32;
+    !update(!0, bytes)
+}
+
+/// The running CRC register after absorbing `bytes`, four at a time.
+#[inline]
+pub(crate) fn update(mut crc: u32, bytes: &[u8]) -> u32 {
     let mut words = bytes.chunks_exact(4);
     for w in &mut words {
         crc = step_word(crc, u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
@@ -63,7 +72,7 @@ pub fn crc32c(bytes: &[u8]) -> u32 {
     for &b in words.remainder() {
         crc = step_byte(crc, b);
     }
-    !crc
+    crc
 }
 
 #[cfg(test)]
@@ -73,9 +82,15 @@ mod tests {
     #[test]
     fn check_value_and_agreement_with_the_crc_crate() {
         assert_eq!(crc32c(b"123456789"), 0xE306_9283);
-        let data: Vec<u8> = (0..300u32).map(|i| (i.wrapping_mul(151) ^ (i >> 3)) as u8).collect();
+        let data: Vec<u8> = (0..300u32)
+            .map(|i| (i.wrapping_mul(151) ^ (i >> 3)) as u8)
+            .collect();
         for len in 0..data.len() {
-            assert_eq!(crc32c(&data[..len]), crate::CRC.checksum(&data[..len]), "len {len}");
+            assert_eq!(
+                crc32c(&data[..len]),
+                crate::CRC.checksum(&data[..len]),
+                "len {len}"
+            );
         }
     }
 }

@@ -9,9 +9,8 @@
 //! field-by-field writer on random frames). COBS here relies on a frame shorter than 254 bytes
 //! (one COBS block), which every sample frame is.
 
-use crate::crc32c::{step_byte, step_word};
 use crate::message::{kind, Code, Status, SAMPLE_HEADER_LEN, SAMPLE_LEN};
-use crate::{sample_frame_wire_len, CRC_LEN, MAX_BATCH};
+use crate::{sample_frame_wire_len, EncodeError, CRC_LEN, MAX_BATCH};
 
 /// Largest sample frame on the wire, delimiter included (16 samples: 168 bytes).
 pub const SAMPLE_FRAME_MAX_WIRE: usize = sample_frame_wire_len(MAX_BATCH);
@@ -19,7 +18,10 @@ pub const SAMPLE_FRAME_MAX_WIRE: usize = sample_frame_wire_len(MAX_BATCH);
 /// A buffer that holds one encoded sample frame of up to [`MAX_BATCH`] samples.
 pub type SampleFrameBuf = [u8; SAMPLE_FRAME_MAX_WIRE];
 
-const _: () = assert!(SAMPLE_FRAME_MAX_WIRE - 1 < 255, "COBS in one block needs < 254 bytes");
+const _: () = assert!(
+    SAMPLE_FRAME_MAX_WIRE - 1 < 255,
+    "COBS in one block needs < 254 bytes"
+);
 
 /// Where the body starts in the buffer: after the COBS code byte.
 const BODY_AT: usize = 1;
@@ -98,6 +100,29 @@ impl SampleFrameEncoder {
         let body_len = SAMPLE_HEADER_LEN + n * SAMPLE_LEN;
         crc_and_cobs(buf, body_len)
     }
+
+    /// As [`Self::finish`], but the COBS pass writes the frame into `out` (at least
+    /// [`Self::wire_len`] bytes, e.g. a transmit buffer's free space) instead of over `buf`: the
+    /// one copy the frame needs anyway on its way out, folded into the encoding. Returns the wire
+    /// length (0 for an empty frame), or `BufferTooSmall`; the encoder is emptied either way.
+    pub fn finish_into(
+        &mut self,
+        buf: &mut SampleFrameBuf,
+        header: &SampleHeader,
+        out: &mut [u8],
+    ) -> Result<usize, EncodeError> {
+        let n = self.len();
+        self.len = 0;
+        if n == 0 {
+            return Ok(0);
+        }
+        let wire_len = sample_frame_wire_len(n);
+        let out = out.get_mut(..wire_len).ok_or(EncodeError::BufferTooSmall)?;
+        write_header(buf, header, n as u8);
+        let end = append_crc(buf, SAMPLE_HEADER_LEN + n * SAMPLE_LEN);
+        cobs_copy(&buf[..end], out);
+        Ok(wire_len)
+    }
 }
 
 /// The 18 header bytes, SPEC.md order: type, seq, t_us, status (5), temp (i24), n.
@@ -121,22 +146,82 @@ fn zero_bytes(v: u32) -> u32 {
 
 /// CRC-32C over the body at `buf[1..1 + body_len]`, appended little-endian, then COBS over body
 /// and CRC in place (code byte at `buf[0]`) and the delimiter. Returns the wire length.
-///
-/// One pass over the body's whole words does both: each word feeds the CRC and is checked for
-/// zero bytes, which become COBS codes (the distance from the previous code byte). A leaf function
-/// on purpose: inlined into the device core the loop would run out of registers.
 #[inline(never)]
 fn crc_and_cobs(buf: &mut SampleFrameBuf, body_len: usize) -> usize {
-    let payload_end = BODY_AT + body_len + CRC_LEN;
-    let end = payload_end.min(SAMPLE_FRAME_MAX_WIRE - 1);
-    let body_end = end - CRC_LEN;
-    let mut crc = !0u32;
-    // Index of the open COBS code byte: the last zero seen, or the leading byte.
+    let end = append_crc(buf, body_len);
+    cobs_in_place(buf, end);
+    buf[end] = 0;
+    end + 1
+}
+
+/// CRC-32C of the body at `buf[1..1 + body_len]` written after it; returns the end of the CRC.
+#[inline(never)]
+fn append_crc(buf: &mut SampleFrameBuf, body_len: usize) -> usize {
+    // `min` only tells the compiler the bound (body_len ≤ 162 already), so no index is checked.
+    let body_end = (BODY_AT + body_len).min(SAMPLE_FRAME_MAX_WIRE - 1 - CRC_LEN);
+    let end = body_end + CRC_LEN;
+    let crc = !crate::crc32c::update(!0, &buf[BODY_AT..body_end]);
+    buf[body_end..end].copy_from_slice(&crc.to_le_bytes());
+    end
+}
+
+/// COBS of `src[1..]` (shorter than 254 bytes; `src[0]` is the unused code-byte slot) into `out`
+/// (exactly `src.len() + 1` bytes: code byte, data, delimiter). A word at a time: each word is
+/// stored whole, then its zero bytes are overwritten with codes; an all-zero word (common in a
+/// tared signal at rest) is written in one go.
+#[inline(never)]
+fn cobs_copy(src: &[u8], out: &mut [u8]) {
+    let end = src.len();
+    let Some(out) = out.get_mut(..end + 1) else {
+        return;
+    };
     let mut code_at = 0usize;
     let mut j = BODY_AT;
-    while j + 4 <= body_end {
+    while j + 4 <= end {
+        let w: [u8; 4] = src[j..j + 4].try_into().unwrap_or([1; 4]);
+        let v = u32::from_le_bytes(w);
+        if v == 0 {
+            // Four zeros (a tared channel at rest): close the open block, three one-byte blocks,
+            // and the fourth zero's slot becomes the open code byte.
+            out[code_at] = (j - code_at) as u8;
+            out[j..j + 4].copy_from_slice(&[1, 1, 1, 0]);
+            code_at = j + 3;
+            j += 4;
+            continue;
+        }
+        out[j..j + 4].copy_from_slice(&w);
+        let mut zeros = zero_bytes(v);
+        while zeros != 0 {
+            let at = j + (zeros.trailing_zeros() / 8) as usize;
+            out[code_at] = (at - code_at) as u8;
+            code_at = at;
+            zeros &= zeros - 1;
+        }
+        j += 4;
+    }
+    while j < end {
+        let b = src[j];
+        out[j] = b;
+        if b == 0 {
+            out[code_at] = (j - code_at) as u8;
+            code_at = j;
+        }
+        j += 1;
+    }
+    out[code_at] = (end - code_at) as u8;
+    out[end] = 0;
+}
+
+/// COBS of `buf[1..end]` in place, `end` < 255: every zero byte, and the leading code byte
+/// `buf[0]`, becomes the distance to the next zero byte (or to `end`). A word at a time: zero-free
+/// words, the usual case, cost a load and a test.
+#[inline(always)]
+fn cobs_in_place(buf: &mut SampleFrameBuf, end: usize) {
+    let end = end.min(SAMPLE_FRAME_MAX_WIRE - 1);
+    let mut code_at = 0usize;
+    let mut j = BODY_AT;
+    while j + 4 <= end {
         let v = u32::from_le_bytes([buf[j], buf[j + 1], buf[j + 2], buf[j + 3]]);
-        crc = step_word(crc, v);
         let mut zeros = zero_bytes(v);
         while zeros != 0 {
             let at = j + (zeros.trailing_zeros() / 8) as usize;
@@ -146,19 +231,14 @@ fn crc_and_cobs(buf: &mut SampleFrameBuf, body_len: usize) -> usize {
         }
         j += 4;
     }
-    for k in j..body_end {
-        crc = step_byte(crc, buf[k]);
-    }
-    buf[body_end..end].copy_from_slice(&(!crc).to_le_bytes());
-    for k in j..end {
-        if buf[k] == 0 {
-            buf[code_at] = (k - code_at) as u8;
-            code_at = k;
+    while j < end {
+        if buf[j] == 0 {
+            buf[code_at] = (j - code_at) as u8;
+            code_at = j;
         }
+        j += 1;
     }
     buf[code_at] = (end - code_at) as u8;
-    buf[end] = 0;
-    end + 1
 }
 
 #[cfg(test)]
@@ -169,7 +249,9 @@ mod tests {
     /// The field-by-field path: `Message::encode_body`, the `crc` crate, the `cobs` crate.
     fn reference(frame: &SampleFrame) -> Vec<u8> {
         let mut body = vec![0u8; 256];
-        let n = Message::Sample(frame.clone()).encode_body(&mut body).unwrap();
+        let n = Message::Sample(frame.clone())
+            .encode_body(&mut body)
+            .unwrap();
         body.truncate(n);
         body.extend_from_slice(&CRC.checksum(&body).to_le_bytes());
         let mut out = vec![0u8; MAX_FRAME];
@@ -195,7 +277,7 @@ mod tests {
             let mut next = || xorshift(&mut state);
             // Zero bytes everywhere now and then, so COBS sees single zeros and runs of them.
             let zero_every = [0, 2, 3, 5, 11][round % 5];
-            let mut code = |x: u32| {
+            let code = |x: u32| {
                 if round % 13 == 0 || (zero_every != 0 && x % zero_every == 0) {
                     0
                 } else {
@@ -204,8 +286,12 @@ mod tests {
             };
             let status = Status {
                 saturated: (next() & 0x0F) as u8,
-                null_state: [NullState::Off, NullState::Searching, NullState::Nulled, NullState::Failed]
-                    [round % 4],
+                null_state: [
+                    NullState::Off,
+                    NullState::Searching,
+                    NullState::Nulled,
+                    NullState::Failed,
+                ][round % 4],
                 tare_active: next() & 1 == 1,
                 drift_tracking: next() & 1 == 1,
                 sample_overrun: next() & 1 == 1,
@@ -227,9 +313,16 @@ mod tests {
                 assert!(enc.push(&mut buf, ch));
             }
             assert_eq!(enc.wire_len(), sample_frame_wire_len(n));
-            let len = enc.finish(&mut buf, &header);
+            let expected = reference(&frame);
+            if round % 2 == 0 {
+                let len = enc.finish(&mut buf, &header);
+                assert_eq!(&buf[..len], &expected[..], "round {round}");
+            } else {
+                let mut out = [0x5Au8; MAX_FRAME];
+                let len = enc.finish_into(&mut buf, &header, &mut out[..]).unwrap();
+                assert_eq!(&out[..len], &expected[..], "round {round}");
+            }
             assert!(enc.is_empty());
-            assert_eq!(&buf[..len], &reference(&frame)[..], "round {round}");
         }
     }
 
@@ -237,7 +330,12 @@ mod tests {
     fn full_frame_refuses_a_sample_and_empty_frame_encodes_to_nothing() {
         let mut enc = SampleFrameEncoder::new();
         let mut buf = [0u8; SAMPLE_FRAME_MAX_WIRE];
-        let header = SampleHeader { seq: 1, t_us: 2, status: Status::default(), temp: 3 };
+        let header = SampleHeader {
+            seq: 1,
+            t_us: 2,
+            status: Status::default(),
+            temp: 3,
+        };
         assert_eq!(enc.finish(&mut buf, &header), 0);
         for _ in 0..MAX_BATCH {
             assert!(enc.push(&mut buf, [-1, 0, 1]));

@@ -234,7 +234,13 @@ mod target {
             streaming: true,
         };
         let (t_a, bytes, dropped) = streaming_run(&mut cp.SYST, full);
-        let (t_drift, _, _) = streaming_run(&mut cp.SYST, Path { drift: true, ..full });
+        let (t_drift, _, _) = streaming_run(
+            &mut cp.SYST,
+            Path {
+                drift: true,
+                ..full
+            },
+        );
         let (t_d, _, _) = streaming_run(
             &mut cp.SYST,
             Path {

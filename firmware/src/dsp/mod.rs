@@ -32,12 +32,20 @@ pub enum FilterError {
 
 /// The filters of the three bridge channels as the protocol's `FilterConfig` describes them: the
 /// smoother (unless alpha = 1), then the Butterworth low-pass (unless order 0).
+///
+/// Laid out for the per-sample step: each section's five coefficients and its six state values
+/// (s1 of channels 0..2, then s2 of channels 0..2) are contiguous arrays, read and written whole
+/// (the FPU's multiple-register loads and stores), and the section count is a plain number, so
+/// the step is straight-line code for each of the three possible cascades.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FilterBank {
     alpha: Option<f32>,
     smoothed: [f32; CHANNELS],
     butterworth: Option<Butterworth>,
-    state: [[butterworth::State; CHANNELS]; butterworth::MAX_SECTIONS],
+    /// Sections in use (0, 1 or 2) and their coefficients b0, b1, b2, a1, a2.
+    sections: usize,
+    coef: [[f32; 5]; butterworth::MAX_SECTIONS],
+    state: [[f32; 2 * CHANNELS]; butterworth::MAX_SECTIONS],
     primed: bool,
 }
 
@@ -47,7 +55,9 @@ impl FilterBank {
         alpha: None,
         smoothed: [0.0; CHANNELS],
         butterworth: None,
-        state: [[[0.0; 2]; CHANNELS]; butterworth::MAX_SECTIONS],
+        sections: 0,
+        coef: [[0.0; 5]; butterworth::MAX_SECTIONS],
+        state: [[0.0; 2 * CHANNELS]; butterworth::MAX_SECTIONS],
         primed: false,
     };
 
@@ -65,16 +75,29 @@ impl FilterBank {
             ),
             _ => return Err(FilterError::OrderUnsupported),
         };
-        Ok(Self {
+        let mut bank = Self {
             alpha: (alpha < 1.0).then_some(alpha),
             butterworth,
             ..Self::NONE
-        })
+        };
+        if let Some(bw) = &butterworth {
+            bank.sections = bw.sections().len();
+            for (c, section) in bank.coef.iter_mut().zip(bw.sections()) {
+                *c = [
+                    section.b[0],
+                    section.b[1],
+                    section.b[2],
+                    section.a[0],
+                    section.a[1],
+                ];
+            }
+        }
+        Ok(bank)
     }
 
     /// Whether the bank leaves samples unchanged (smoother and low-pass both off).
     pub fn is_pass_through(&self) -> bool {
-        self.alpha.is_none() && self.butterworth.is_none()
+        self.alpha.is_none() && self.sections == 0
     }
 
     /// Filter one sample of each channel.
@@ -90,22 +113,25 @@ impl FilterBank {
                 *xi = *y;
             }
         }
-        if let Some(bw) = &self.butterworth {
-            for (section, states) in bw.sections().iter().zip(self.state.iter_mut()) {
-                for (s, xi) in states.iter_mut().zip(x.iter_mut()) {
-                    *xi = section.step(s, *xi);
-                }
+        match self.sections {
+            0 => x,
+            1 => section3(&self.coef[0], &mut self.state[0], x),
+            _ => {
+                let [c0, c1] = &self.coef;
+                let [s0, s1] = &mut self.state;
+                section3(c1, s1, section3(c0, s0, x))
             }
         }
-        x
     }
 
     fn prime(&mut self, x: [f32; CHANNELS]) {
         self.smoothed = x;
         if let Some(bw) = &self.butterworth {
-            for (section, states) in bw.sections().iter().zip(self.state.iter_mut()) {
-                for (s, xi) in states.iter_mut().zip(x.iter()) {
-                    *s = section.primed(*xi);
+            for (section, state) in bw.sections().iter().zip(self.state.iter_mut()) {
+                for (ch, &xi) in x.iter().enumerate() {
+                    let [s1, s2] = section.primed(xi);
+                    state[ch] = s1;
+                    state[CHANNELS + ch] = s2;
                 }
             }
         }
@@ -116,6 +142,25 @@ impl FilterBank {
     pub fn reset(&mut self) {
         self.primed = false;
     }
+}
+
+/// One section on the three channels, transposed direct form II exactly as [`Biquad::step`]
+/// (same operations in the same order, so the same f32 results), coefficients and state taken
+/// and stored whole.
+#[inline(always)]
+fn section3(c: &[f32; 5], s: &mut [f32; 2 * CHANNELS], x: [f32; CHANNELS]) -> [f32; CHANNELS] {
+    let [b0, b1, b2, a1, a2] = *c;
+    let [p0, p1, p2, q0, q1, q2] = *s;
+    let y = [b0 * x[0] + p0, b0 * x[1] + p1, b0 * x[2] + p2];
+    *s = [
+        b1 * x[0] - a1 * y[0] + q0,
+        b1 * x[1] - a1 * y[1] + q1,
+        b1 * x[2] - a1 * y[2] + q2,
+        b2 * x[0] - a2 * y[0],
+        b2 * x[1] - a2 * y[1],
+        b2 * x[2] - a2 * y[2],
+    ];
+    y
 }
 
 #[cfg(test)]
