@@ -15,7 +15,7 @@ use protocol::{
 };
 
 use crate::ads131m04::Osr;
-use crate::dsp::FilterBank;
+use crate::dsp::{round_to_code, FilterBank};
 use crate::offset::{AutoNull, DriftTracker, NullState, NullStep, Tare};
 use crate::stream::{FrameBuilder, RawSample, TxBuffer};
 pub use config::{DeviceConfig, FW_VERSION};
@@ -415,15 +415,6 @@ impl Device {
             config_epoch: self.epoch,
         }
     }
-}
-
-/// Nearest code, halves away from zero, clamped to the 24-bit range. `as` converts with the FPU
-/// (VCVT, saturating) where libm's roundf would be a software routine on the per-sample path;
-/// below 2^23 the ± 0.5 is exact in f32, and larger values are clamped anyway.
-#[inline]
-fn round_to_code(y: f32) -> i32 {
-    let r = if y >= 0.0 { y + 0.5 } else { y - 0.5 };
-    (r as i32).clamp(CODE_MIN, CODE_MAX)
 }
 
 #[cfg(test)]

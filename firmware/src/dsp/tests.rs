@@ -271,3 +271,22 @@ fn priming_starts_at_the_first_sample() {
     let mut s = Single::build(&smoother(0.1), 1000.0).unwrap();
     assert_eq!(s.step(7.0), 7.0);
 }
+
+#[test]
+fn round_to_code_is_nearest_ties_to_even_and_clamped() {
+    use super::round_to_code;
+    use protocol::{CODE_MAX, CODE_MIN};
+    let cases = [
+        (2.5, 2),
+        (3.5, 4),
+        (-2.5, -2),
+        (-2.6, -3),
+        (0.49, 0),
+        (1.0e9, CODE_MAX),
+        (-1.0e9, CODE_MIN),
+        (f32::NAN, 0),
+    ];
+    for (y, code) in cases {
+        assert_eq!(round_to_code(y), code, "{y}");
+    }
+}
