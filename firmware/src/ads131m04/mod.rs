@@ -199,12 +199,19 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     /// Read the latest conversion with a NULL frame (response = STATUS). Checks the frame CRC and
     /// reports a refused input CRC from the device.
     pub fn read(&mut self) -> Result<Conversion, SPI, DRDY> {
-        let n = FRAME_WORDS * self.word.bytes();
-        let mut rx = [0u8; MAX_FRAME_BYTES];
-        self.spi
-            .transfer(&mut rx[..n], &self.null_frame[..n])
-            .map_err(Error::Spi)?;
-        let frame = self.parse(&rx[..n])?;
+        // One path per word length, each with its frame length fixed at compile time: no length
+        // arithmetic, no slicing checks, and the CRC and decoding unroll and inline.
+        let frame = match self.word {
+            WordLength::Bits24 => self.read_frame::<3, { FRAME_WORDS * 3 }>()?,
+            WordLength::Bits16 => self.read_frame::<2, { FRAME_WORDS * 2 }>()?,
+            word => {
+                let mut rx = [0u8; MAX_FRAME_BYTES];
+                self.spi
+                    .transfer(&mut rx, &self.null_frame)
+                    .map_err(Error::Spi)?;
+                parse_words::<4, SPI, DRDY>(&rx, word)?
+            }
+        };
         let status = Status(frame.response);
         if status.input_crc_error() {
             return Err(Error::InputCrc);
@@ -213,6 +220,17 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             status,
             codes: frame.codes,
         })
+    }
+
+    /// Clock one NULL frame of `N` = 6 words of `WB` bytes and parse it.
+    #[inline(always)]
+    fn read_frame<const WB: usize, const N: usize>(&mut self) -> Result<Frame, SPI, DRDY> {
+        let mut rx = [0u8; N];
+        // N ≤ MAX_FRAME_BYTES for every instance, so the compiler drops the range check.
+        self.spi
+            .transfer(&mut rx, &self.null_frame[..N])
+            .map_err(Error::Spi)?;
+        parse_words_inline::<WB, SPI, DRDY>(&rx, self.word)
     }
 
     fn simple_command(&mut self, command: u16) -> Result<(), SPI, DRDY> {
@@ -285,6 +303,15 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
 /// Check the CRC word of a frame of `WB`-byte words and decode its response and data words.
 #[inline]
 fn parse_words<const WB: usize, SPI: SpiDevice, DRDY: InputPin>(
+    rx: &[u8],
+    word: WordLength,
+) -> Result<Frame, SPI, DRDY> {
+    parse_words_inline::<WB, SPI, DRDY>(rx, word)
+}
+
+/// [`parse_words`], always inlined: the data read's copy.
+#[inline(always)]
+fn parse_words_inline<const WB: usize, SPI: SpiDevice, DRDY: InputPin>(
     rx: &[u8],
     word: WordLength,
 ) -> Result<Frame, SPI, DRDY> {
