@@ -329,7 +329,17 @@ fn parse_words_inline<const WB: usize, SPI: SpiDevice, DRDY: InputPin>(
         return Err(Error::Crc { computed, received });
     }
     let response = u16::from_be_bytes([frame[0], frame[1]]);
-    let codes = core::array::from_fn(|ch| word.decode(&frame[(ch + 1) * WB..(ch + 2) * WB]));
+    let codes = if WB == 3 {
+        // The word length is known here: a 24-bit code is the top three bytes of a big-endian
+        // 32-bit load (the fourth byte, from the next word, is shifted out), the same value as
+        // `WordLength::Bits24.decode` without the run-time match.
+        let code = |at: usize| {
+            i32::from_be_bytes([frame[at], frame[at + 1], frame[at + 2], frame[at + 3]]) >> 8
+        };
+        [code(WB), code(2 * WB), code(3 * WB), code(4 * WB)]
+    } else {
+        core::array::from_fn(|ch| word.decode(&frame[(ch + 1) * WB..(ch + 2) * WB]))
+    };
     Ok(Frame { response, codes })
 }
 
