@@ -190,6 +190,24 @@ mod target {
             "butterworth asm section bit-identical to Biquad::step",
             identical,
         );
+        let config = FilterConfig {
+            smoother_alpha: 1.0,
+            butterworth_order: 4,
+            cutoff_hz: 37.0,
+        };
+        let mut codes = FilterBank::build(&config, 1000.0).unwrap();
+        let mut floats = FilterBank::build(&config, 1000.0).unwrap();
+        let mut same = true;
+        for (i, &xi) in x.iter().enumerate() {
+            let c = (xi * 6.0e6) as i32;
+            let sample = [c, -c, protocol::CODE_MAX - i as i32];
+            let want = floats.step(sample.map(|v| v as f32)).map(round_to_code);
+            same &= codes.step_codes(sample) == want;
+        }
+        check(
+            "filter on codes (one asm block) equals step then round_to_code",
+            same,
+        );
         let cases = [
             (2.5, 2),
             (3.5, 4),

@@ -15,7 +15,7 @@ use protocol::{
 };
 
 use crate::ads131m04::Osr;
-use crate::dsp::{round_to_code, FilterBank};
+use crate::dsp::FilterBank;
 use crate::offset::{AutoNull, DriftTracker, NullState, NullStep, Tare};
 use crate::stream::{FrameBuilder, RawSample, TxBuffer};
 pub use config::{DeviceConfig, FW_VERSION};
@@ -237,9 +237,8 @@ impl Device {
                 ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)),
             };
         }
-        let y = self.filters.step(corrected.map(|c| c as f32));
         Sample {
-            ch: y.map(round_to_code),
+            ch: self.filters.step_codes(corrected),
         }
     }
 

@@ -126,6 +126,19 @@ impl FilterBank {
         x
     }
 
+    /// Filter one sample of 24-bit codes and round the result to codes ([`round_to_code`]): the
+    /// same result as `step` on the codes as f32, rounded. The device's path. With the common
+    /// setting (order 4, no smoother) on the Cortex-M4F, conversion, both sections and rounding
+    /// run as one block of assembly with every value kept in FPU registers.
+    #[inline]
+    pub fn step_codes(&mut self, x: [i32; CHANNELS]) -> [i32; CHANNELS] {
+        if self.primed && self.alpha.is_none() && self.sections == 2 {
+            return cascade2_codes(&self.coef, &mut self.state, x)
+                .map(|c| c.clamp(protocol::CODE_MIN, protocol::CODE_MAX));
+        }
+        self.step(x.map(|c| c as f32)).map(round_to_code)
+    }
+
     fn prime(&mut self, x: [f32; CHANNELS]) {
         self.smoothed = x;
         if let Some(bw) = &self.butterworth {
@@ -213,6 +226,114 @@ fn section3(c: &[f32; 5], s: &mut [f32; 2 * CHANNELS], v: &mut [f32; CHANNELS]) 
             options(nostack, preserves_flags),
         );
     }
+}
+
+/// Two sections on codes, rounded (not yet clamped): portable version, [`section3`] twice.
+#[cfg(not(all(target_arch = "arm", target_os = "none")))]
+#[inline(always)]
+fn cascade2_codes(
+    c: &[[f32; 5]; 2],
+    s: &mut [[f32; 2 * CHANNELS]; 2],
+    x: [i32; CHANNELS],
+) -> [i32; CHANNELS] {
+    let mut v = x.map(|c| c as f32);
+    let [s0, s1] = s;
+    section3(&c[0], s0, &mut v);
+    section3(&c[1], s1, &mut v);
+    v.map(|y| libm::rintf(y) as i32)
+}
+
+/// Two sections on codes, rounded (not yet clamped), on the Cortex-M4F: the codes are converted
+/// in FPU registers, the ten coefficients and twelve state values arrive with one VLDM each, the
+/// first section's output feeds the second without leaving the registers, and VCVTR rounds (to
+/// nearest, ties to even). The same operations in the same order as [`section3`] twice and
+/// [`round_to_code`], so the same results (checked on target by the self-test).
+#[cfg(all(target_arch = "arm", target_os = "none"))]
+#[inline(always)]
+fn cascade2_codes(
+    c: &[[f32; 5]; 2],
+    s: &mut [[f32; 2 * CHANNELS]; 2],
+    x: [i32; CHANNELS],
+) -> [i32; CHANNELS] {
+    let (y0, y1, y2): (i32, i32, i32);
+    // SAFETY: reads the 10 floats of `c`, reads then writes the 12 floats of `s` (exclusively
+    // borrowed); the state pointer register is declared as modified, every FPU register written
+    // is declared as clobbered.
+    unsafe {
+        core::arch::asm!(
+            "vmov s0, {x0}",
+            "vmov s1, {x1}",
+            "vmov s2, {x2}",
+            "vcvt.f32.s32 s0, s0",
+            "vcvt.f32.s32 s1, s1",
+            "vcvt.f32.s32 s2, s2",
+            // b0 b1 b2 a1 a2 of section 0 in s3..s7, of section 1 in s8..s12
+            "vldmia {c}, {{s3-s12}}",
+            // p0..p2 q0..q2 of section 0 in s13..s18, of section 1 in s19..s24
+            "vldmia {s}, {{s13-s24}}",
+            // section 0: y = p + b0·x (s13..s15)
+            "vmla.f32 s13, s3, s0",
+            "vmla.f32 s14, s3, s1",
+            "vmla.f32 s15, s3, s2",
+            // p' = (q + b1·x) − a1·y (s16..s18)
+            "vmla.f32 s16, s4, s0",
+            "vmla.f32 s17, s4, s1",
+            "vmla.f32 s18, s4, s2",
+            "vmls.f32 s16, s6, s13",
+            "vmls.f32 s17, s6, s14",
+            "vmls.f32 s18, s6, s15",
+            // q' = b2·x − a2·y (s25..s27)
+            "vmul.f32 s25, s5, s0",
+            "vmul.f32 s26, s5, s1",
+            "vmul.f32 s27, s5, s2",
+            "vmls.f32 s25, s7, s13",
+            "vmls.f32 s26, s7, s14",
+            "vmls.f32 s27, s7, s15",
+            // section 1 on y: y' = p + b0·y (s19..s21)
+            "vmla.f32 s19, s8, s13",
+            "vmla.f32 s20, s8, s14",
+            "vmla.f32 s21, s8, s15",
+            // p' = (q + b1·y) − a1·y' (s22..s24)
+            "vmla.f32 s22, s9, s13",
+            "vmla.f32 s23, s9, s14",
+            "vmla.f32 s24, s9, s15",
+            "vmls.f32 s22, s11, s19",
+            "vmls.f32 s23, s11, s20",
+            "vmls.f32 s24, s11, s21",
+            // q' = b2·y − a2·y' (s28..s30)
+            "vmul.f32 s28, s10, s13",
+            "vmul.f32 s29, s10, s14",
+            "vmul.f32 s30, s10, s15",
+            "vmls.f32 s28, s12, s19",
+            "vmls.f32 s29, s12, s20",
+            "vmls.f32 s30, s12, s21",
+            // new state, in the layout it was read in
+            "vstmia {s}!, {{s16-s18}}",
+            "vstmia {s}!, {{s25-s27}}",
+            "vstmia {s}!, {{s22-s24}}",
+            "vstmia {s}!, {{s28-s30}}",
+            // round to nearest (FPSCR default) and back to core registers
+            "vcvtr.s32.f32 s19, s19",
+            "vcvtr.s32.f32 s20, s20",
+            "vcvtr.s32.f32 s21, s21",
+            "vmov {x0}, s19",
+            "vmov {x1}, s20",
+            "vmov {x2}, s21",
+            c = in(reg) c.as_ptr(),
+            s = inout(reg) s.as_mut_ptr() => _,
+            x0 = inout(reg) x[0] => y0,
+            x1 = inout(reg) x[1] => y1,
+            x2 = inout(reg) x[2] => y2,
+            out("s0") _, out("s1") _, out("s2") _, out("s3") _, out("s4") _, out("s5") _,
+            out("s6") _, out("s7") _, out("s8") _, out("s9") _, out("s10") _, out("s11") _,
+            out("s12") _, out("s13") _, out("s14") _, out("s15") _, out("s16") _, out("s17") _,
+            out("s18") _, out("s19") _, out("s20") _, out("s21") _, out("s22") _, out("s23") _,
+            out("s24") _, out("s25") _, out("s26") _, out("s27") _, out("s28") _, out("s29") _,
+            out("s30") _,
+            options(nostack, preserves_flags),
+        );
+    }
+    [y0, y1, y2]
 }
 
 /// Nearest 24-bit code to a filter output, ties to even (the FPU's default rounding), clamped to
