@@ -300,18 +300,19 @@ fn cascade2_codes(
             "vmls.f32 s22, s11, s19",
             "vmls.f32 s23, s11, s20",
             "vmls.f32 s24, s11, s21",
-            // q' = b2·y − a2·y' (s28..s30)
-            "vmul.f32 s28, s10, s13",
-            "vmul.f32 s29, s10, s14",
-            "vmul.f32 s30, s10, s15",
-            "vmls.f32 s28, s12, s19",
-            "vmls.f32 s29, s12, s20",
-            "vmls.f32 s30, s12, s21",
+            // q' = b2·y − a2·y' (s0..s2: the input is no longer needed; s28 and up stay free
+            // for the compiler, which keeps constants there)
+            "vmul.f32 s0, s10, s13",
+            "vmul.f32 s1, s10, s14",
+            "vmul.f32 s2, s10, s15",
+            "vmls.f32 s0, s12, s19",
+            "vmls.f32 s1, s12, s20",
+            "vmls.f32 s2, s12, s21",
             // new state, in the layout it was read in
             "vstmia {s}!, {{s16-s18}}",
             "vstmia {s}!, {{s25-s27}}",
             "vstmia {s}!, {{s22-s24}}",
-            "vstmia {s}!, {{s28-s30}}",
+            "vstmia {s}!, {{s0-s2}}",
             // round to nearest (FPSCR default) and back to core registers
             "vcvtr.s32.f32 s19, s19",
             "vcvtr.s32.f32 s20, s20",
@@ -328,8 +329,7 @@ fn cascade2_codes(
             out("s6") _, out("s7") _, out("s8") _, out("s9") _, out("s10") _, out("s11") _,
             out("s12") _, out("s13") _, out("s14") _, out("s15") _, out("s16") _, out("s17") _,
             out("s18") _, out("s19") _, out("s20") _, out("s21") _, out("s22") _, out("s23") _,
-            out("s24") _, out("s25") _, out("s26") _, out("s27") _, out("s28") _, out("s29") _,
-            out("s30") _,
+            out("s24") _, out("s25") _, out("s26") _, out("s27") _,
             options(nostack, preserves_flags),
         );
     }
