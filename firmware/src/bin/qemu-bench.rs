@@ -13,7 +13,11 @@
 //!   Q  C plus the queue push and pop;
 //!   E  Q plus the device core with streaming off and no filter: offset cut and bookkeeping;
 //!   D  E with the two biquads on: D − E is the filters' share, A − D the framing's.
-//! Firmware instructions per sample = (A − B) / N; C − B is the driver's share.
+//! Firmware instructions per sample = (A − B) / N; C − B is the driver's share. The other shares
+//! are differences between separately compiled loops, each scheduled differently by the
+//! compiler, so they are approximate (within ~15 instructions); the total A − B is exact.
+//! For a per-function profile of run A, run QEMU with `-d in_asm,exec,nochain` and weigh each
+//! translated block's instruction count by its executions.
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(not(target_os = "none"))]
