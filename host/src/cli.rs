@@ -50,7 +50,11 @@ pub mod exit {
     pub const NO_INPUT: u8 = 66;
     pub const UNAVAILABLE: u8 = 69;
     pub const IO: u8 = 74;
+    /// An output file could not be created or written.
+    pub const CANT_CREATE: u8 = 73;
     pub const NO_PERM: u8 = 77;
+    /// The device answered but refused or spoke another protocol version.
+    pub const PROTOCOL: u8 = 76;
 }
 
 /// Something that knows which exit code it deserves. Error types of the library implement
@@ -68,6 +72,22 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
     let line = err.chain().map(|e| e.to_string()).collect::<Vec<_>>().join(": ");
     eprintln!("tactile: error: {line}");
     ExitCode::from(exit_code(err))
+}
+
+/// Print a clap outcome: `--help` and `--version` go to stdout with success; a bad flag or value
+/// goes to stderr with [`exit::USAGE`], like every other error of ours, not clap's own 2.
+pub fn report_usage(err: &clap::Error) -> ExitCode {
+    if !err.use_stderr() {
+        // Printing help into a closed pipe is not an error either.
+        let _ = err.print();
+        return ExitCode::SUCCESS;
+    }
+    // One line, like every other error: clap's own first line names the flag and the value.
+    let text = err.render().to_string();
+    let line = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("invalid arguments");
+    let line = line.trim_start_matches("error: ");
+    eprintln!("tactile: error: {line} (see --help)");
+    ExitCode::from(exit::USAGE)
 }
 
 fn is_broken_pipe(err: &anyhow::Error) -> bool {

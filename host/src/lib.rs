@@ -3,3 +3,8 @@
 pub mod calibration;
 pub mod cli;
 pub mod cmd;
+pub mod decode;
+pub mod device;
+pub mod live;
+pub mod logger;
+pub mod plot;

@@ -1,8 +1,20 @@
-//! `tactile info`.
+//! `tactile info`: the sensor's identity and configuration.
 
+use super::common::{print_info, PortArg};
+
+/// Print a sensor's info frame (identity, rate, gains, filter, calibration, tare, null state)
+/// and the round-trip time of a ping.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    #[command(flatten)]
+    pub port: PortArg,
+}
 
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`tactile info` is not available in this build yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let dev = args.port.open()?;
+    let info = dev.get_info()?;
+    let rtt = dev.ping()?;
+    print_info(&dev.port().display().to_string(), &info);
+    println!("ping             {:.2} ms", rtt.as_secs_f64() * 1e3);
+    Ok(())
 }

@@ -1,8 +1,301 @@
-//! `tactile log`.
+//! `tactile log`: record one or several sensors to the recording CSV and an MCAP file.
 
+use std::cell::RefCell;
+use std::path::PathBuf;
+use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant, SystemTime};
+
+use anyhow::Context;
+
+use super::common::{finite, positive_seconds};
+use crate::device::{Device, Event, OpenOptions, PortSpec, Scale};
+use crate::live::{Dashboard, SensorView};
+use crate::logger::csv::per_sensor_path;
+use crate::logger::mcap_io::McapSink;
+use crate::logger::reference::{merge_file, Align};
+use crate::logger::{metadata, Recorder, Setup};
+
+/// Record sensors until --duration has passed or Ctrl-C: the recording CSV
+/// (shared/contracts/recording-v1.md, plus seq, both timestamps, gap marks and loads) and an
+/// MCAP file (raw frames, decoded samples, gaps; opens in Foxglove). Files are flushed four
+/// times a second, so a crash loses at most the last quarter second. An unplugged sensor is
+/// reopened when it returns, and the outage is marked in both files.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Serial port(s): device path or serial:<USB serial number>; repeat for several sensors.
+    #[arg(long, short = 'p', value_name = "PORT", required = true)]
+    pub port: Vec<String>,
+    /// Output CSV; with several sensors, one file per sensor named after it.
+    #[arg(long, short = 'o', default_value = "recording.csv")]
+    pub out: PathBuf,
+    /// MCAP output (default: the CSV path with .mcap).
+    #[arg(long)]
+    pub mcap: Option<PathBuf>,
+    /// Do not write an MCAP file.
+    #[arg(long, conflicts_with = "mcap")]
+    pub no_mcap: bool,
+    /// Stop after this many seconds (default: run until Ctrl-C).
+    #[arg(long, short = 'd', value_parser = positive_seconds, value_name = "SECONDS")]
+    pub duration: Option<f64>,
+    /// Set this sample rate (Hz) before starting.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=64_000))]
+    pub rate: Option<u32>,
+    /// Contact angle theta_p of the load axis in degrees (default: hardware/fingertip.toml).
+    #[arg(long, value_parser = finite)]
+    pub contact_angle_deg: Option<f64>,
+    /// Azimuth phi of the tilt plane in degrees (default: hardware/fingertip.toml).
+    #[arg(long, value_parser = finite)]
+    pub azimuth_deg: Option<f64>,
+    /// A test machine's CSV export (time, rod position, load) merged into rod_mm and load_N at
+    /// the end.
+    #[arg(long, value_name = "CSV")]
+    pub reference: Option<PathBuf>,
+    /// How to align the reference: by timestamps or by cross-correlation of load with Fz.
+    #[arg(long, value_enum, default_value = "time", requires = "reference")]
+    pub align: AlignArg,
+    /// Reference time minus recording time, s (with --align time).
+    #[arg(long, default_value_t = 0.0, value_parser = finite, requires = "reference")]
+    pub reference_offset_s: f64,
+    /// Largest lag searched by --align xcorr, s.
+    #[arg(long, default_value_t = 30.0, value_parser = positive_seconds)]
+    pub max_lag_s: f64,
+    /// Give up on a vanished sensor after this many seconds.
+    #[arg(long, default_value_t = 30.0, value_parser = positive_seconds, value_name = "SECONDS")]
+    pub reconnect_for: f64,
+    /// Fail as soon as a sensor vanishes instead of waiting for it.
+    #[arg(long)]
+    pub no_reconnect: bool,
+    /// Show the live terminal dashboard instead of the status line (q quits).
+    #[arg(long)]
+    pub live: bool,
+    /// No status line.
+    #[arg(long, short = 'q')]
+    pub quiet: bool,
+}
 
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("`tactile log` is not available in this build yet")
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum AlignArg {
+    Time,
+    Xcorr,
+}
+
+struct Sensor {
+    dev: Device,
+    rec: Recorder,
+    view: SensorView,
+    ended: bool,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let s2 = stop.clone();
+    // A second Ctrl-C falls through to the default (the files are flushed often anyway).
+    let _ = ctrlc::set_handler(move || s2.store(true, Ordering::Relaxed));
+    let start = SystemTime::now();
+    let (mut sensors, mcap) = open_all(&args, start)?;
+    let deadline = args
+        .duration
+        .map(|d| Instant::now() + Duration::from_secs_f64(d));
+    let mut dash = if args.live {
+        Some(Dashboard::enter()?)
+    } else {
+        None
+    };
+    let result = pump(
+        &mut sensors,
+        &stop,
+        deadline,
+        dash.as_mut(),
+        args.quiet || args.live,
+    );
+    drop(dash);
+    let finished = finish_files(&mut sensors, mcap);
+    let mut gone = None;
+    for s in sensors {
+        if s.ended {
+            gone = gone.or(s.dev.gone_error());
+        }
+        s.dev.close();
+    }
+    result?;
+    finished?;
+    if let Some(reference) = &args.reference {
+        let align = match args.align {
+            AlignArg::Time => Align::Time {
+                offset_s: args.reference_offset_s,
+            },
+            AlignArg::Xcorr => Align::Xcorr {
+                max_lag_s: args.max_lag_s,
+            },
+        };
+        for path in csv_paths(&args) {
+            let off = merge_file(&path, reference, align)?;
+            eprintln!("{}: reference merged (offset {off:.3} s)", path.display());
+        }
+    }
+    match gone {
+        Some(e) => Err(e.into()),
+        None => Ok(()),
+    }
+}
+
+fn csv_paths(args: &Args) -> Vec<PathBuf> {
+    let several = args.port.len() > 1;
+    args.port
+        .iter()
+        .map(|p| per_sensor_path(&args.out, &PortSpec::parse(p).label(), several))
+        .collect()
+}
+
+type SharedSink = Rc<RefCell<McapSink>>;
+
+fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Option<SharedSink>)> {
+    let opts = OpenOptions {
+        reconnect: !args.no_reconnect,
+        reconnect_for: Duration::from_secs_f64(args.reconnect_for),
+        ..OpenOptions::default()
+    };
+    let mut setup = Setup::from_hardware(String::new()).context("hardware parameters")?;
+    if let Some(a) = args.contact_angle_deg {
+        setup.contact_angle_deg = a;
+    }
+    if let Some(a) = args.azimuth_deg {
+        setup.azimuth_deg = a;
+    }
+    // Open every sensor before creating any file: a wrong port leaves nothing behind.
+    let mut devices = Vec::new();
+    for port in &args.port {
+        let spec = PortSpec::parse(port);
+        let dev = Device::open(&spec, opts.clone())?;
+        if let Some(hz) = args.rate {
+            dev.set_rate(hz)?;
+        }
+        let info = dev.get_info()?;
+        devices.push((spec, dev, info));
+    }
+    let mcap = match (&args.mcap, args.no_mcap) {
+        (_, true) => None,
+        (Some(p), false) => Some(p.clone()),
+        (None, false) => Some(args.out.with_extension("mcap")),
+    };
+    let mcap = mcap
+        .map(|p| McapSink::create(&p))
+        .transpose()?
+        .map(|m| Rc::new(RefCell::new(m)));
+    let mut sensors = Vec::new();
+    for ((spec, dev, info), csv) in devices.into_iter().zip(csv_paths(args)) {
+        setup.source = format!("tactile log {}", dev.port().display());
+        let mut rec = Recorder::create(&csv, &info, &setup, start)?;
+        if let Some(m) = &mcap {
+            let ch = m
+                .borrow_mut()
+                .add_sensor(&spec.label(), &metadata(&info, &setup, start))?;
+            rec = rec.with_mcap((m.clone(), ch));
+            rec.on_event(&Event::Info(info.clone()))?;
+        }
+        let view = SensorView::new(spec.label(), Scale::from_info(&info), info.sample_rate_hz);
+        sensors.push(Sensor {
+            dev,
+            rec,
+            view,
+            ended: false,
+        });
+    }
+    for s in &sensors {
+        s.dev.start()?;
+    }
+    Ok((sensors, mcap))
+}
+
+/// Move events from the devices to the files until the deadline, Ctrl-C, `q` in the dashboard,
+/// or every sensor is gone.
+fn pump(
+    sensors: &mut [Sensor],
+    stop: &AtomicBool,
+    deadline: Option<Instant>,
+    mut dash: Option<&mut Dashboard>,
+    quiet: bool,
+) -> anyhow::Result<()> {
+    let mut last_status = Instant::now();
+    let t0 = Instant::now();
+    loop {
+        let mut idle = true;
+        for s in sensors.iter_mut() {
+            loop {
+                match s.dev.events().try_recv() {
+                    Ok(ev) => {
+                        idle = false;
+                        s.view.on_event(&ev);
+                        s.rec.on_event(&ev)?;
+                    }
+                    Err(std::sync::mpsc::TryRecvError::Empty) => break,
+                    Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                        s.ended = true;
+                        break;
+                    }
+                }
+            }
+            s.rec.maybe_flush()?;
+        }
+        let all_ended = sensors.iter().all(|s| s.ended);
+        if stop.load(Ordering::Relaxed)
+            || deadline.is_some_and(|d| Instant::now() >= d)
+            || all_ended
+        {
+            return Ok(());
+        }
+        if let Some(d) = dash.as_deref_mut() {
+            let counters: Vec<_> = sensors.iter().map(|s| s.dev.counters()).collect();
+            let views: Vec<&SensorView> = sensors.iter().map(|s| &s.view).collect();
+            if d.draw(&views, &counters, t0.elapsed())? {
+                return Ok(());
+            }
+        } else if !quiet && last_status.elapsed() >= Duration::from_secs(1) {
+            last_status = Instant::now();
+            eprintln!("{}", status_line(sensors, t0.elapsed()));
+        }
+        if idle {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+}
+
+fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
+    let mut line = format!("{:7.1} s", elapsed.as_secs_f64());
+    for s in sensors {
+        let c = s.dev.counters();
+        let state = if s.dev.is_connected() {
+            ""
+        } else {
+            " DISCONNECTED"
+        };
+        line.push_str(&format!(
+            " | {}{state}: {:.0} S/s, {} rows, lost {} dropped {} crc {} reconnects {}",
+            s.view.label,
+            s.view.rate_hz(),
+            s.rec.rows,
+            c.lost_on_link,
+            c.dropped_by_device,
+            c.crc_errors,
+            c.reconnects
+        ));
+    }
+    line
+}
+
+/// Flush every CSV and write the MCAP summary (the recorders let go of the writer first).
+fn finish_files(sensors: &mut [Sensor], mcap: Option<SharedSink>) -> anyhow::Result<()> {
+    for s in sensors.iter_mut() {
+        s.rec.flush()?;
+        s.rec.detach_mcap();
+    }
+    if let Some(m) = mcap {
+        match Rc::try_unwrap(m) {
+            Ok(sink) => sink.into_inner().finish()?,
+            Err(_) => anyhow::bail!("internal: MCAP writer still shared"),
+        }
+    }
+    Ok(())
 }

@@ -1,6 +1,7 @@
 //! One module per subcommand: its `Args` (clap) and `run`.
 
 pub mod chip;
+pub mod common;
 pub mod config;
 pub mod diagnose;
 pub mod fe;
@@ -40,6 +41,12 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     }
     if let Some(e) = cause.downcast_ref::<crate::calibration::CalibrationError>() {
         return Some(crate::cli::ExitStatus::exit_code(e));
+    }
+    if let Some(e) = cause.downcast_ref::<crate::device::DeviceError>() {
+        return Some(e.exit_code());
+    }
+    if let Some(e) = cause.downcast_ref::<crate::logger::FileError>() {
+        return Some(e.exit_code());
     }
     None
 }

@@ -1,0 +1,258 @@
+//! Merging a test machine's export (time, rod position, load) into a recording: the
+//! contract's `rod_mm` and `load_N` columns. Aligned either by timestamps (the machine's time
+//! zero is the recording's, plus an optional offset) or by the lag that maximises the
+//! cross-correlation of the machine's load with the sensor's Fz.
+
+use std::path::Path;
+
+use super::csv::{read_recording, CsvSink, Recording};
+use super::FileError;
+
+/// A test machine's export: time in s, rod travel in mm, load in N.
+#[derive(Debug, Clone, Default)]
+pub struct Reference {
+    pub t_s: Vec<f64>,
+    pub rod_mm: Vec<f64>,
+    pub load_n: Vec<f64>,
+}
+
+const TIME_NAMES: [&str; 4] = ["t_s", "time_s", "time", "t"];
+const ROD_NAMES: [&str; 5] = [
+    "rod_mm",
+    "position_mm",
+    "displacement_mm",
+    "rod",
+    "position",
+];
+const LOAD_NAMES: [&str; 5] = ["load_N", "force_N", "load", "force", "load_n"];
+
+fn find(columns: &[String], names: &[&str]) -> Option<usize> {
+    columns
+        .iter()
+        .position(|c| names.iter().any(|n| c.eq_ignore_ascii_case(n)))
+}
+
+/// Read a machine export: `#` lines skipped, one header naming a time, a rod-position and a
+/// load column (common spellings accepted), then numeric rows with increasing time.
+pub fn read_reference(path: &Path) -> Result<Reference, FileError> {
+    let text = std::fs::read_to_string(path).map_err(|e| FileError::open(path, e))?;
+    let bad = |line, field: &str, why: String| FileError::Malformed {
+        path: path.to_path_buf(),
+        line,
+        field: field.into(),
+        why,
+    };
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty());
+    let (hline, header) = lines
+        .next()
+        .ok_or_else(|| bad(1, "(header)", "no header line".into()))?;
+    let columns: Vec<String> = header.split(',').map(|c| c.trim().to_owned()).collect();
+    let need = |names: &[&str], what: &str| {
+        find(&columns, names)
+            .ok_or_else(|| bad(hline, what, format!("no column named one of {names:?}")))
+    };
+    let (ti, ri, li) = (
+        need(&TIME_NAMES, "time")?,
+        need(&ROD_NAMES, "rod position")?,
+        need(&LOAD_NAMES, "load")?,
+    );
+    let mut r = Reference::default();
+    for (n, line) in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let get = |i: usize| -> Result<f64, FileError> {
+            let s = f.get(i).map(|s| s.trim()).unwrap_or("");
+            s.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(n, &columns[i], format!("not a number: {s:?}")))
+        };
+        let t = get(ti)?;
+        if r.t_s.last().is_some_and(|last| t <= *last) {
+            return Err(bad(n, &columns[ti], "time does not increase".into()));
+        }
+        r.t_s.push(t);
+        r.rod_mm.push(get(ri)?);
+        r.load_n.push(get(li)?);
+    }
+    if r.t_s.len() < 2 {
+        return Err(bad(hline, "(rows)", "fewer than two rows".into()));
+    }
+    Ok(r)
+}
+
+/// Linear interpolation of `y(x)` at `at`; `None` outside the sampled range.
+pub fn interpolate(x: &[f64], y: &[f64], at: f64) -> Option<f64> {
+    if x.is_empty() || at < x[0] || at > x[x.len() - 1] || at.is_nan() {
+        return None;
+    }
+    let i = x.partition_point(|v| *v <= at).clamp(1, x.len() - 1);
+    let (x0, x1, y0, y1) = (x[i - 1], x[i], y[i - 1], y[i]);
+    Some(if x1 > x0 {
+        y0 + (y1 - y0) * (at - x0) / (x1 - x0)
+    } else {
+        y0
+    })
+}
+
+/// How to align the machine's clock with the recording's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Align {
+    /// Machine time = recording `t_s` + offset.
+    Time { offset_s: f64 },
+    /// Search the offset within ±`max_lag_s` that best correlates load with Fz.
+    Xcorr { max_lag_s: f64 },
+}
+
+/// Grid step of the cross-correlation search.
+const XCORR_STEP_S: f64 = 0.01;
+
+/// The offset (machine time − recording time) that maximises the normalised correlation of
+/// the machine load with the sensor signal `s(t)`.
+pub fn xcorr_offset(t: &[f64], s: &[f64], reference: &Reference, max_lag_s: f64) -> Option<f64> {
+    let ok: Vec<(f64, f64)> = t
+        .iter()
+        .zip(s)
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .map(|(a, b)| (*a, *b))
+        .collect();
+    let (t0, t1) = (ok.first()?.0, ok.last()?.0);
+    let (ts, ss): (Vec<f64>, Vec<f64>) = ok.into_iter().unzip();
+    let n = ((t1 - t0) / XCORR_STEP_S) as usize;
+    let grid: Vec<f64> = (0..n)
+        .filter_map(|i| interpolate(&ts, &ss, t0 + i as f64 * XCORR_STEP_S))
+        .collect();
+    let lags = (max_lag_s / XCORR_STEP_S) as i64;
+    let mut best: Option<(f64, f64)> = None;
+    for k in -lags..=lags {
+        let off = k as f64 * XCORR_STEP_S;
+        let pairs: Vec<(f64, f64)> = grid
+            .iter()
+            .enumerate()
+            .filter_map(|(i, v)| {
+                interpolate(
+                    &reference.t_s,
+                    &reference.load_n,
+                    t0 + i as f64 * XCORR_STEP_S + off,
+                )
+                .map(|r| (*v, r))
+            })
+            .collect();
+        if pairs.len() < 10 {
+            continue;
+        }
+        let c = correlation(&pairs);
+        if best.is_none_or(|(b, _)| c > b) {
+            best = Some((c, off));
+        }
+    }
+    best.map(|(_, off)| off)
+}
+
+fn correlation(pairs: &[(f64, f64)]) -> f64 {
+    let n = pairs.len() as f64;
+    let (ma, mb) = pairs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (x, y) in pairs {
+        sab += (x - ma) * (y - mb);
+        saa += (x - ma) * (x - ma);
+        sbb += (y - mb) * (y - mb);
+    }
+    if saa > 0.0 && sbb > 0.0 {
+        sab / (saa * sbb).sqrt()
+    } else {
+        f64::NEG_INFINITY
+    }
+}
+
+/// Fill `rod_mm` and `load_N` of `rec` from `reference`; returns the offset used.
+pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
+    let col = |n: &str| rec.column(n);
+    let (Some(ti), Some(ri), Some(li)) = (col("t_s"), col("rod_mm"), col("load_N")) else {
+        return 0.0;
+    };
+    let offset = match align {
+        Align::Time { offset_s } => offset_s,
+        Align::Xcorr { max_lag_s } => {
+            let signal = rec
+                .values("fz_N")
+                .or_else(|| rec.values("fz_V"))
+                .unwrap_or_default();
+            let t = rec.values("t_s").unwrap_or_default();
+            xcorr_offset(&t, &signal, reference, max_lag_s).unwrap_or(0.0)
+        }
+    };
+    for row in &mut rec.rows {
+        let at = row[ti] + offset;
+        // A gap row stays a gap: every sensor value is missing there.
+        if row.iter().skip(3).take(3).all(|v| v.is_nan()) {
+            continue;
+        }
+        row[ri] = interpolate(&reference.t_s, &reference.rod_mm, at).unwrap_or(f64::NAN);
+        row[li] = interpolate(&reference.t_s, &reference.load_n, at).unwrap_or(f64::NAN);
+    }
+    offset
+}
+
+/// Rewrite the recording at `path` with the reference merged in (written beside it, then
+/// renamed over it, so a crash never leaves a half-merged file).
+pub fn merge_file(path: &Path, reference_path: &Path, align: Align) -> Result<f64, FileError> {
+    let reference = read_reference(reference_path)?;
+    let mut rec = read_recording(path)?;
+    let offset = merge(&mut rec, &reference, align);
+    rec.meta.push((
+        "reference".into(),
+        format!("{} (offset {offset} s)", reference_path.display()),
+    ));
+    let tmp = path.with_extension("merging");
+    write_recording(&tmp, &rec)?;
+    std::fs::rename(&tmp, path).map_err(|e| FileError::write(path, e))?;
+    Ok(offset)
+}
+
+/// Write a whole recording.
+pub fn write_recording(path: &Path, rec: &Recording) -> Result<(), FileError> {
+    let file = std::fs::File::create(path).map_err(|e| FileError::write(path, e))?;
+    let cols: Vec<&str> = rec.columns.iter().map(String::as_str).collect();
+    let mut w = CsvSink::new(std::io::BufWriter::new(file), &rec.meta, &cols)
+        .map_err(|e| FileError::write(path, e))?;
+    for r in &rec.rows {
+        let vals: Vec<Option<f64>> = r.iter().map(|v| v.is_finite().then_some(*v)).collect();
+        w.row(&vals).map_err(|e| FileError::write(path, e))?;
+    }
+    w.flush().map_err(|e| FileError::write(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xcorr_finds_a_known_shift() {
+        // Sensor sees a load pulse at t = 5 s; the machine logged it at t = 7.3 s.
+        let pulse = |t: f64| (-(t - 5.0).powi(2)).exp();
+        let t: Vec<f64> = (0..1000).map(|i| i as f64 * 0.01).collect();
+        let s: Vec<f64> = t.iter().map(|t| pulse(*t)).collect();
+        let rt: Vec<f64> = (0..1500).map(|i| i as f64 * 0.01).collect();
+        let r = Reference {
+            load_n: rt.iter().map(|t| 60.0 * pulse(t - 2.3)).collect(),
+            rod_mm: rt.clone(),
+            t_s: rt,
+        };
+        let off = xcorr_offset(&t, &s, &r, 4.0).unwrap();
+        assert!((off - 2.3).abs() < 0.011, "offset {off}");
+    }
+
+    #[test]
+    fn interpolation_is_linear_and_bounded() {
+        let x = [0.0, 1.0, 3.0];
+        let y = [0.0, 10.0, 30.0];
+        assert_eq!(interpolate(&x, &y, 2.0), Some(20.0));
+        assert_eq!(interpolate(&x, &y, 3.5), None);
+    }
+}

@@ -1,0 +1,263 @@
+//! Re-decoding a capture into a recording CSV through the same decoder, tracker and recorder
+//! as live logging: an MCAP file written by `tactile log` (complete, or recovered after a
+//! crash) or a raw byte capture of the serial line.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use protocol::{Info, Message, Outcome};
+
+use super::mcap_io::{recover, StoredMessage, RAW_ENCODING};
+use super::{FileError, Recorder, Setup};
+use crate::decode::FastDecoder;
+use crate::device::{Event, Frame, Gap, GapKind, Step, Tracker};
+
+/// What a replay found.
+#[derive(Debug, Default, Clone)]
+pub struct ReplaySummary {
+    pub frames: u64,
+    pub rows: u64,
+    pub crc_errors: u64,
+    pub malformed: u64,
+    pub overflows: u64,
+    pub gaps: u64,
+    /// Why the input ended early (an MCAP whose writer was killed), if it did.
+    pub truncated: Option<String>,
+}
+
+/// The MCAP magic at the start of every MCAP file.
+const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
+
+/// Turns decoded frames into recorder events.
+struct Replayer<'a> {
+    out: Option<&'a Path>,
+    setup: &'a Setup,
+    info: Option<Info>,
+    rec: Option<Recorder>,
+    tracker: Tracker,
+    summary: ReplaySummary,
+    error: Option<FileError>,
+    input: PathBuf,
+}
+
+impl Replayer<'_> {
+    fn on_outcome(&mut self, outcome: Outcome, raw: &[u8], host_time: Option<SystemTime>) {
+        if self.error.is_some() {
+            return;
+        }
+        let r = match outcome {
+            Outcome::Message(Message::Info(i)) => {
+                let ev = Event::Info(i.clone());
+                self.info = Some(i);
+                self.rec.as_mut().map_or(Ok(()), |r| r.on_event(&ev))
+            }
+            Outcome::Message(Message::Sample(f)) => self.on_sample(f, raw, host_time),
+            Outcome::Message(_) => Ok(()),
+            Outcome::CrcError => {
+                self.summary.crc_errors += 1;
+                Ok(())
+            }
+            Outcome::Malformed(_) => {
+                self.summary.malformed += 1;
+                Ok(())
+            }
+            Outcome::Overflow => {
+                self.summary.overflows += 1;
+                Ok(())
+            }
+        };
+        if let Err(e) = r {
+            self.error = Some(e);
+        }
+    }
+
+    fn on_sample(
+        &mut self,
+        f: protocol::SampleFrame,
+        raw: &[u8],
+        host_time: Option<SystemTime>,
+    ) -> Result<(), FileError> {
+        let Step::Keep {
+            gap,
+            t_device_us,
+            session,
+        } = self.tracker.step(f.seq, f.t_us, f.status.dropped)
+        else {
+            return Ok(());
+        };
+        // A raw capture has no host clock: the device clock stands in for it.
+        let host_time = host_time.unwrap_or(UNIX_EPOCH + Duration::from_micros(t_device_us));
+        if self.rec.is_none() {
+            let info = self.info.as_ref().ok_or_else(|| FileError::Capture {
+                path: self.input.clone(),
+                why: "no info frame before the first sample frame: cannot convert codes to volts"
+                    .into(),
+            })?;
+            self.rec = Some(match self.out {
+                Some(path) => Recorder::create(path, info, self.setup, host_time)?,
+                None => Recorder::create_on(
+                    Box::new(std::io::stdout()),
+                    Path::new("stdout"),
+                    info,
+                    self.setup,
+                    host_time,
+                )?,
+            });
+        }
+        let rec = self.rec.as_mut().expect("created above");
+        if let Some(kind) = gap {
+            self.summary.gaps += 1;
+            rec.on_event(&Event::Gap(Gap {
+                kind,
+                host_time,
+                session,
+            }))?;
+        }
+        self.summary.frames += 1;
+        let seq = f.seq;
+        rec.on_event(&Event::Frame(Frame {
+            seq,
+            t_device_us,
+            host_time,
+            session,
+            frame: f,
+            raw: raw.to_vec(),
+        }))
+    }
+
+    fn on_gap_json(&mut self, data: &[u8], host_time: SystemTime) -> Result<(), FileError> {
+        let v: serde_json::Value =
+            serde_json::from_slice(data).map_err(|e| FileError::Capture {
+                path: self.input.clone(),
+                why: format!("gap message: {e}"),
+            })?;
+        let missing = v
+            .get("missing")
+            .and_then(|m| m.as_f64())
+            .filter(|m| *m >= 0.0)
+            .map(|m| m as u64);
+        let kind = match v.get("kind").and_then(|k| k.as_str()) {
+            Some("disconnected") => GapKind::Disconnected,
+            Some("reconnected") => {
+                self.tracker.new_session();
+                GapKind::Reconnected {
+                    downtime: Duration::ZERO,
+                    missing,
+                }
+            }
+            // Sequence gaps, restarts and queue drops are found again from the frames themselves.
+            _ => return Ok(()),
+        };
+        self.summary.gaps += 1;
+        let session = self.tracker.session();
+        match self.rec.as_mut() {
+            Some(r) => r.on_event(&Event::Gap(Gap {
+                kind,
+                host_time,
+                session,
+            })),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Replay `input` into the CSV `out` (stdout if `None`). `sensor` picks one sensor of a
+/// multi-sensor MCAP.
+pub fn replay(
+    input: &Path,
+    out: Option<&Path>,
+    setup: &Setup,
+    sensor: Option<&str>,
+) -> Result<ReplaySummary, FileError> {
+    let head = {
+        use std::io::Read;
+        let mut f = std::fs::File::open(input).map_err(|e| FileError::open(input, e))?;
+        let mut h = [0u8; 8];
+        let n = f.read(&mut h).map_err(|e| FileError::open(input, e))?;
+        h[..n].to_vec()
+    };
+    let mut r = Replayer {
+        out,
+        setup,
+        info: None,
+        rec: None,
+        tracker: Tracker::default(),
+        summary: ReplaySummary::default(),
+        error: None,
+        input: input.to_path_buf(),
+    };
+    let mut decoder = FastDecoder::new();
+    if head == MCAP_MAGIC {
+        let rec = recover(input)?;
+        r.summary.truncated = rec.truncated.clone();
+        let topic = pick_topic(input, &rec.messages, sensor)?;
+        let base = topic.trim_end_matches("/raw").to_owned();
+        for m in &rec.messages {
+            let t = UNIX_EPOCH + Duration::from_nanos(m.publish_ns);
+            if *m.topic == *topic {
+                let mut framed = m.data.clone();
+                framed.push(0);
+                decoder.feed(&framed, |j| r.on_outcome(j.outcome, j.raw, Some(t)));
+            } else if *m.topic == format!("{base}/gap") {
+                r.on_gap_json(&m.data, t)?;
+            }
+        }
+    } else {
+        let bytes = std::fs::read(input).map_err(|e| FileError::open(input, e))?;
+        for chunk in bytes.chunks(64 * 1024) {
+            decoder.feed(chunk, |j| r.on_outcome(j.outcome, j.raw, None));
+        }
+        if r.info.is_none()
+            && r.summary.frames == 0
+            && r.summary.crc_errors + r.summary.malformed + r.summary.overflows == 0
+        {
+            return Err(FileError::Capture {
+                path: input.into(),
+                why: "no frame found: not a tactile capture".into(),
+            });
+        }
+    }
+    if let Some(e) = r.error {
+        return Err(e);
+    }
+    let mut rec = r.rec.ok_or_else(|| FileError::Capture {
+        path: input.into(),
+        why: "no sample frame in the capture".into(),
+    })?;
+    rec.flush()?;
+    r.summary.rows = rec.rows;
+    Ok(r.summary)
+}
+
+fn pick_topic(
+    input: &Path,
+    messages: &[StoredMessage],
+    sensor: Option<&str>,
+) -> Result<String, FileError> {
+    let mut topics: Vec<&str> = messages
+        .iter()
+        .filter(|m| &*m.encoding == RAW_ENCODING)
+        .map(|m| &*m.topic)
+        .collect();
+    topics.dedup();
+    topics.sort_unstable();
+    topics.dedup();
+    let chosen: Vec<&&str> = topics
+        .iter()
+        .filter(|t| sensor.is_none_or(|s| t.contains(s)))
+        .collect();
+    match chosen.as_slice() {
+        [one] => Ok((**one).to_owned()),
+        [] => Err(FileError::Capture {
+            path: input.into(),
+            why: "no raw tactile frames in this MCAP".into(),
+        }),
+        many => Err(FileError::Capture {
+            path: input.into(),
+            why: format!(
+                "several sensors ({}); choose one with --sensor",
+                many.iter().map(|t| **t).collect::<Vec<_>>().join(", ")
+            ),
+        }),
+    }
+}

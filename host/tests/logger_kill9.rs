@@ -1,0 +1,95 @@
+//! `tactile log` killed with SIGKILL: the CSV holds whole rows up to the last flush (at most
+//! a second before the kill), every one true to the emulator, and the MCAP file, which never
+//! got its summary, is recovered up to its last complete chunk and replays to the same data.
+
+use std::process::Command;
+use std::time::{Duration, SystemTime};
+
+use host::device::Scale;
+use host::logger::csv::read_recording;
+use host::logger::mcap_io::recover;
+use host::logger::unix_s;
+use tests::check::{scratch, verify};
+use tests::emu::{info_for, EmuConfig, Emulator};
+
+#[test]
+fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {
+    let dir = scratch("kill9");
+    let cfg = EmuConfig::new(dir.join("tactile0"));
+    let _emu = Emulator::spawn(cfg.clone()).unwrap();
+    let csv = dir.join("rec.csv");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tactile"))
+        .args(["log", "-q", "-p"])
+        .arg(&cfg.link)
+        .arg("-o")
+        .arg(&csv)
+        .args(["--duration", "60"])
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2500));
+    child.kill().unwrap(); // SIGKILL
+    let killed_at = unix_s(SystemTime::now());
+    child.wait().unwrap();
+
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.ends_with('\n'),
+        "torn last row: {:?}",
+        text.lines().last()
+    );
+    let rec = read_recording(&csv).expect("every row complete and valid");
+    let scale = Scale::from_info(&info_for(&cfg));
+    let v = verify(
+        &rec,
+        usize::from(cfg.batch),
+        cfg.rate_hz,
+        scale.volts_per_code[0],
+    )
+    .unwrap();
+    let t_host = rec.values("t_host_s").unwrap();
+    let last = t_host
+        .iter()
+        .copied()
+        .filter(|t| t.is_finite())
+        .fold(f64::NAN, f64::max);
+    assert!(
+        killed_at - last <= 1.0,
+        "the CSV ends {:.3} s before the kill",
+        killed_at - last
+    );
+    assert!(v.samples > 500);
+
+    let mcap = dir.join("rec.mcap");
+    let r = recover(&mcap).unwrap();
+    assert!(!r.messages.is_empty());
+    let last_mcap_ns = r.messages.iter().map(|m| m.publish_ns).max().unwrap();
+    assert!(
+        killed_at - last_mcap_ns as f64 * 1e-9 <= 1.0,
+        "MCAP ends too early"
+    );
+    let out = dir.join("replayed.csv");
+    let st = Command::new(env!("CARGO_BIN_EXE_tactile"))
+        .arg("replay")
+        .arg(&mcap)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let again = read_recording(&out).unwrap();
+    let v2 = verify(
+        &again,
+        usize::from(cfg.batch),
+        cfg.rate_hz,
+        scale.volts_per_code[0],
+    )
+    .unwrap();
+    assert_eq!(v2.first_seq, v.first_seq);
+    assert!(
+        v2.samples + 1000 >= v.samples,
+        "MCAP recovered {} samples, CSV has {}",
+        v2.samples,
+        v.samples
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,119 @@
+//! Checks of a logged recording against the emulator's deterministic truth.
+
+use std::path::PathBuf;
+
+use host::logger::csv::Recording;
+use host::logger::gap_code;
+
+use crate::emu::truth_sample;
+
+/// A fresh scratch directory under the system temp dir.
+pub fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tactile-{name}-{}-{}", std::process::id(), nanos()));
+    std::fs::create_dir_all(&d).expect("create scratch dir");
+    d
+}
+
+fn nanos() -> u128 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos())
+}
+
+/// A gap that does not say how many frames it cost.
+const UNKNOWN: u64 = u64::MAX;
+
+/// What [`verify`] found.
+#[derive(Debug, Default, Clone, PartialEq)]
+pub struct Verified {
+    pub samples: usize,
+    pub frames: usize,
+    /// (gap code, missing frames) of every gap row, in order.
+    pub gaps: Vec<(u32, Option<u64>)>,
+    pub first_seq: u32,
+    pub last_seq: u32,
+}
+
+/// Every data row must carry exactly the emulator's sample for its sequence and position in
+/// the frame; consecutive frames must follow each other by sequence unless a gap row between
+/// them accounts for every missing frame. Volts are converted back to codes with the
+/// emulator's ADC scale (`volts_per_code`).
+pub fn verify(
+    rec: &Recording,
+    batch: usize,
+    rate_hz: u32,
+    volts_per_code: f64,
+) -> Result<Verified, String> {
+    let col = |n: &str| rec.column(n).ok_or(format!("no column {n}"));
+    let (seq_c, gap_c, miss_c) = (col("seq")?, col("gap")?, col("missing")?);
+    let ch = [col("fz_V")?, col("mx_V")?, col("my_V")?];
+    let mut v = Verified::default();
+    let mut prev: Option<(u32, usize)> = None;
+    let mut allowance: Option<u64> = None;
+    for (i, row) in rec.rows.iter().enumerate() {
+        let gap = row[gap_c];
+        if gap != gap_code::NONE {
+            let missing = row[miss_c].is_finite().then(|| row[miss_c] as u64);
+            v.gaps.push((gap as u32, missing));
+            // A sequence gap adds its missing frames; a reconnection states exactly how many
+            // frames the outage cost (None: the device restarted, any jump is accounted for).
+            allowance = Some(match missing {
+                Some(m) if gap == gap_code::SEQUENCE => allowance.unwrap_or(0).saturating_add(m),
+                Some(m) if gap == gap_code::RECONNECTED => m,
+                _ => UNKNOWN,
+            });
+            continue;
+        }
+        let seq = row[seq_c] as u32;
+        let k = match prev {
+            Some((s, k)) if s == seq => k + 1,
+            _ => 0,
+        };
+        if k >= batch {
+            return Err(format!(
+                "row {i}: sample {k} of frame {seq}: more than {batch} (duplicate?)"
+            ));
+        }
+        if k == 0 {
+            if let Some((s, kp)) = prev {
+                if kp + 1 != batch {
+                    return Err(format!("row {i}: frame {s} has {} samples", kp + 1));
+                }
+                let jump = u64::from(seq.wrapping_sub(s));
+                let ok = jump == 1
+                    || allowance.is_some_and(|a| jump >= 1 && (a == UNKNOWN || jump - 1 == a));
+                if !ok {
+                    return Err(format!(
+                        "row {i}: frame {seq} follows {s} without a gap row accounting for it"
+                    ));
+                }
+                if let Some(a) = allowance {
+                    if a != UNKNOWN && jump - 1 != a {
+                        return Err(format!(
+                            "row {i}: gap says {a} frames missing, sequence says {}",
+                            jump - 1
+                        ));
+                    }
+                }
+            } else {
+                v.first_seq = seq;
+            }
+            allowance = None;
+            v.frames += 1;
+        }
+        let truth = truth_sample(u64::from(seq) * batch as u64 + k as u64, rate_hz);
+        for c in 0..3 {
+            let code = (row[ch[c]] / volts_per_code).round() as i32;
+            if code != truth.ch[c] {
+                return Err(format!(
+                    "row {i}: frame {seq} sample {k} channel {c}: {code} != truth {}",
+                    truth.ch[c]
+                ));
+            }
+        }
+        prev = Some((seq, k));
+        v.last_seq = seq;
+        v.samples += 1;
+    }
+    Ok(v)
+}

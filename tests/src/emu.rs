@@ -1,0 +1,479 @@
+//! A sensor emulator on a pseudo-terminal, for host tests until the HIL work runs the real
+//! firmware: it streams sample frames of a deterministic signal (so a test knows the truth of
+//! every sample by its sequence number), answers every command of `protocol/SPEC.md` with an
+//! ack or a nack, and can be killed, cut mid-frame and restarted on the same stable path, as a
+//! USB-serial device node disappears and reappears.
+//!
+//! The device clock runs from a fixed `epoch`: frame `seq` is due `seq · batch / rate` seconds
+//! after it, whether or not the emulator is running, so a restarted emulator continues the
+//! sequence and the frames of an outage are genuinely missing, as with a device that kept
+//! running while its cable was out.
+
+use std::fs::File;
+use std::io::{self, Read, Write};
+use std::os::fd::{FromRawFd, OwnedFd};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant, SystemTime};
+
+use protocol::{
+    opcode, Accumulator, Command, FilterConfig, Info, Message, NackCode, NullState, Outcome, Reply,
+    Request, Sample, SampleFrame, Status,
+};
+
+/// The emulated device's configuration. The analog values are the emulator's own test values
+/// (not hardware parameters): they only need to be self-consistent with its info frame.
+#[derive(Debug, Clone)]
+pub struct EmuConfig {
+    /// The stable path (a symlink re-pointed to each new pty).
+    pub link: PathBuf,
+    pub rate_hz: u32,
+    pub batch: u8,
+    /// Origin of the device clock; frame sequence and time are derived from it.
+    pub epoch: SystemTime,
+    /// Stream without waiting for a start command.
+    pub autostart: bool,
+    pub chip_serial: u32,
+    /// Write half of a frame, then stop, after this long.
+    pub cut_mid_frame_after: Option<Duration>,
+}
+
+impl EmuConfig {
+    pub fn new(link: impl Into<PathBuf>) -> Self {
+        Self {
+            link: link.into(),
+            rate_hz: 1000,
+            batch: 10,
+            epoch: SystemTime::now(),
+            autostart: false,
+            chip_serial: 0x7AC7_11E0,
+            cut_mid_frame_after: None,
+        }
+    }
+}
+
+/// The sample with global index `n` (frame `seq` holds `n = seq·batch + k`): three sines of
+/// different frequencies and amplitudes so that channel mix-ups show.
+pub fn truth_sample(n: u64, rate_hz: u32) -> Sample {
+    let t = n as f64 / f64::from(rate_hz);
+    let tau = std::f64::consts::TAU;
+    Sample {
+        ch: [
+            (2.0e6 * (tau * 0.5 * t).sin()).round() as i32 + 100_000,
+            (1.0e6 * (tau * 1.3 * t).sin()).round() as i32,
+            (5.0e5 * (tau * 0.7 * t).cos()).round() as i32,
+        ],
+    }
+}
+
+/// The temperature code sent with frame `seq`.
+pub fn truth_temp(seq: u32) -> i32 {
+    1_000_000 + (seq % 1000) as i32
+}
+
+/// Device time of frame `seq` (µs since the epoch, wrapping like the real u32 counter).
+pub fn frame_time_us(seq: u64, batch: u8, rate_hz: u32) -> u32 {
+    (seq * u64::from(batch) * 1_000_000 / u64::from(rate_hz)) as u32
+}
+
+/// The complete frame `seq` as the emulator sends it (status aside).
+pub fn truth_frame(seq: u32, batch: u8, rate_hz: u32, status: Status) -> SampleFrame {
+    let mut f = SampleFrame::new(
+        seq,
+        frame_time_us(u64::from(seq), batch, rate_hz),
+        status,
+        truth_temp(seq),
+    );
+    for k in 0..u64::from(batch) {
+        let _ = f.push(truth_sample(u64::from(seq) * u64::from(batch) + k, rate_hz));
+    }
+    f
+}
+
+/// What the emulator did, for tests.
+#[derive(Debug, Default)]
+pub struct EmuStats {
+    pub frames_sent: AtomicU64,
+    /// Sequence of the last frame written completely, +1 (0: none yet).
+    pub last_seq_plus_one: AtomicU64,
+    pub requests: AtomicU64,
+}
+
+/// A running emulator.
+pub struct Emulator {
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<io::Result<()>>>,
+    pub slave: PathBuf,
+    pub stats: Arc<EmuStats>,
+}
+
+impl Emulator {
+    /// Open a pty, point `cfg.link` at it and start answering.
+    pub fn spawn(cfg: EmuConfig) -> io::Result<Self> {
+        let (master, slave_fd, slave) = open_pty()?;
+        relink(&cfg.link, &slave)?;
+        let stop = Arc::new(AtomicBool::new(false));
+        let stats = Arc::new(EmuStats::default());
+        let (s2, st2) = (stop.clone(), stats.clone());
+        let thread = std::thread::Builder::new()
+            .name("tactile-emu".into())
+            .spawn(move || {
+                let _keep_slave_open = slave_fd;
+                Device::new(cfg, File::from(master), st2).run(&s2)
+            })?;
+        Ok(Self {
+            stop,
+            thread: Some(thread),
+            slave,
+            stats,
+        })
+    }
+
+    /// Stop abruptly and close the pty (the host sees the device vanish).
+    pub fn kill(mut self) {
+        self.halt();
+    }
+
+    /// Wait until the emulator stops by itself (after a cut mid-frame).
+    pub fn wait(mut self) -> io::Result<()> {
+        self.thread
+            .take()
+            .map_or(Ok(()), |t| t.join().unwrap_or(Ok(())))
+    }
+
+    fn halt(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Emulator {
+    fn drop(&mut self) {
+        self.halt();
+    }
+}
+
+/// A pty whose other end nobody answers: a serial device that is not a tactile sensor. Keep
+/// both fds for as long as the device should exist.
+pub fn silent_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
+    open_pty()
+}
+
+fn open_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
+    let (mut m, mut s) = (0, 0);
+    // SAFETY: openpty writes two fds into the given ints; null name/termios/winsize are allowed.
+    let r = unsafe {
+        libc::openpty(
+            &mut m,
+            &mut s,
+            std::ptr::null_mut(),
+            std::ptr::null(),
+            std::ptr::null(),
+        )
+    };
+    if r != 0 {
+        return Err(io::Error::last_os_error());
+    }
+    // SAFETY: both fds were just returned by openpty and are owned by nobody else.
+    let (master, slave) = unsafe { (OwnedFd::from_raw_fd(m), OwnedFd::from_raw_fd(s)) };
+    // SAFETY: termios is plain data; tcgetattr fills it from a valid fd.
+    unsafe {
+        let mut t: libc::termios = std::mem::zeroed();
+        if libc::tcgetattr(s, &mut t) == 0 {
+            libc::cfmakeraw(&mut t);
+            libc::tcsetattr(s, libc::TCSANOW, &t);
+        }
+        let flags = libc::fcntl(m, libc::F_GETFL);
+        libc::fcntl(m, libc::F_SETFL, flags | libc::O_NONBLOCK);
+        // Child processes (the logger under test) must not inherit the pty: a killed emulator
+        // has to close it for real.
+        libc::fcntl(m, libc::F_SETFD, libc::FD_CLOEXEC);
+        libc::fcntl(s, libc::F_SETFD, libc::FD_CLOEXEC);
+    }
+    let mut name = [0 as libc::c_char; 256];
+    // SAFETY: the buffer is 256 bytes and its length is passed.
+    let r = unsafe { libc::ttyname_r(s, name.as_mut_ptr(), name.len()) };
+    if r != 0 {
+        return Err(io::Error::from_raw_os_error(r));
+    }
+    // SAFETY: ttyname_r wrote a NUL-terminated string into the buffer.
+    let path = unsafe { std::ffi::CStr::from_ptr(name.as_ptr()) };
+    Ok((
+        master,
+        slave,
+        PathBuf::from(path.to_string_lossy().into_owned()),
+    ))
+}
+
+/// Atomically (re)point `link` at `target`.
+fn relink(link: &Path, target: &Path) -> io::Result<()> {
+    let tmp = link.with_extension("relink");
+    let _ = std::fs::remove_file(&tmp);
+    std::os::unix::fs::symlink(target, &tmp)?;
+    std::fs::rename(&tmp, link)
+}
+
+/// The info frame the emulator sends for `cfg` (at power-up, before any command).
+pub fn info_for(cfg: &EmuConfig) -> Info {
+    Info {
+        protocol_version: protocol::PROTOCOL_VERSION,
+        fw_version: [0, 1, 0],
+        chip_serial: cfg.chip_serial,
+        sample_rate_hz: cfg.rate_hz,
+        batch: cfg.batch,
+        pga_gain: [1, 1, 1, 1],
+        vref_mv: 1200,
+        amp_gain: [3000.0, 1000.0, 1000.0],
+        excitation_v: 3.3,
+        filter: FilterConfig::NONE,
+        calibration: [[100.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]],
+        dac_codes: [2048; 4],
+        tare: [0; 3],
+        drift: [0; 3],
+        null_state: NullState::Off,
+        drift_tracking: false,
+        streaming: cfg.autostart,
+        config_epoch: 0,
+    }
+}
+
+/// Largest backlog of unsent bytes before the emulated device drops whole frames, like a
+/// firmware TX queue that the link cannot drain.
+const TX_QUEUE_BYTES: usize = 16 * 1024;
+
+struct Device {
+    cfg: EmuConfig,
+    port: File,
+    stats: Arc<EmuStats>,
+    info: Info,
+    streaming: bool,
+    next_seq: Option<u64>,
+    dropped: u16,
+    tx: Vec<u8>,
+    acc: Accumulator,
+}
+
+impl Device {
+    fn new(cfg: EmuConfig, port: File, stats: Arc<EmuStats>) -> Self {
+        let info = info_for(&cfg);
+        let streaming = cfg.autostart;
+        Self {
+            cfg,
+            port,
+            stats,
+            info,
+            streaming,
+            next_seq: None,
+            dropped: 0,
+            tx: Vec::new(),
+            acc: Accumulator::new(),
+        }
+    }
+
+    fn run(mut self, stop: &AtomicBool) -> io::Result<()> {
+        let started = Instant::now();
+        self.queue(&[0]);
+        let mut buf = [0u8; 1024];
+        while !stop.load(Ordering::Relaxed) {
+            match self.port.read(&mut buf) {
+                Ok(n) => self.on_bytes(&buf[..n]),
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
+                // EIO: no slave open right now; keep the clock running.
+                Err(_) => {}
+            }
+            if let Some(after) = self.cfg.cut_mid_frame_after {
+                if started.elapsed() >= after {
+                    return self.cut_mid_frame();
+                }
+            }
+            self.produce();
+            self.drain();
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        Ok(())
+    }
+
+    /// Write every complete queued byte, then half of one more frame, and stop.
+    fn cut_mid_frame(&mut self) -> io::Result<()> {
+        while !self.tx.is_empty() {
+            self.drain();
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let seq = self.due_seq();
+        let f = truth_frame(seq as u32, self.cfg.batch, self.cfg.rate_hz, self.status());
+        let wire = protocol::encode_vec(&Message::Sample(f)).map_err(io::Error::other)?;
+        self.port.write_all(&wire[..wire.len() / 2])
+    }
+
+    fn due_seq(&self) -> u64 {
+        let elapsed = SystemTime::now()
+            .duration_since(self.cfg.epoch)
+            .unwrap_or_default();
+        let frame_s = f64::from(self.cfg.batch) / f64::from(self.cfg.rate_hz);
+        (elapsed.as_secs_f64() / frame_s) as u64
+    }
+
+    fn status(&self) -> Status {
+        Status {
+            config_epoch: self.info.config_epoch,
+            dropped: self.dropped,
+            ..Status::default()
+        }
+    }
+
+    fn produce(&mut self) {
+        let due = self.due_seq();
+        let mut next = self.next_seq.unwrap_or(due);
+        if !self.streaming {
+            self.next_seq = Some(due);
+            return;
+        }
+        while next < due {
+            if self.tx.len() > TX_QUEUE_BYTES {
+                self.dropped = self.dropped.saturating_add(1);
+            } else {
+                let f = truth_frame(next as u32, self.cfg.batch, self.cfg.rate_hz, self.status());
+                self.dropped = 0;
+                if let Ok(w) = protocol::encode_vec(&Message::Sample(f)) {
+                    self.tx.extend_from_slice(&w);
+                }
+                self.stats.frames_sent.fetch_add(1, Ordering::Relaxed);
+                self.stats
+                    .last_seq_plus_one
+                    .store(next + 1, Ordering::Relaxed);
+            }
+            next += 1;
+        }
+        self.next_seq = Some(next);
+    }
+
+    fn drain(&mut self) {
+        while !self.tx.is_empty() {
+            match self.port.write(&self.tx) {
+                Ok(0) => return,
+                Ok(n) => {
+                    self.tx.drain(..n);
+                }
+                Err(_) => return,
+            }
+        }
+    }
+
+    fn queue(&mut self, bytes: &[u8]) {
+        self.tx.extend_from_slice(bytes);
+    }
+
+    fn send(&mut self, msg: &Message) {
+        if let Ok(w) = protocol::encode_vec(msg) {
+            self.queue(&w);
+        }
+    }
+
+    fn on_bytes(&mut self, bytes: &[u8]) {
+        let outcomes: Vec<Outcome> = self.acc.feed(bytes).collect();
+        for o in outcomes {
+            match o {
+                Outcome::Message(Message::Request(r)) => self.on_request(r),
+                Outcome::Malformed(protocol::Malformed::BadRequest { tag, opcode, code }) => {
+                    self.send(&Message::Reply(Reply::Nack { tag, opcode, code }));
+                }
+                // A frame that fails its CRC is not answered (SPEC.md): the host retries.
+                _ => {}
+            }
+        }
+    }
+
+    fn on_request(&mut self, r: Request) {
+        self.stats.requests.fetch_add(1, Ordering::Relaxed);
+        let op = r.command.opcode();
+        let tag = r.tag;
+        match self.execute(r.command) {
+            Ok(()) if op == opcode::PING => {
+                if let Command::Ping { nonce } = r.command {
+                    self.send(&Message::Reply(Reply::Pong { tag, nonce }));
+                }
+            }
+            Ok(()) => {
+                self.send(&Message::Reply(Reply::Ack { tag, opcode: op }));
+                if op == opcode::GET_INFO {
+                    let info = Message::Info(self.info.clone());
+                    self.send(&info);
+                }
+            }
+            Err(code) => self.send(&Message::Reply(Reply::Nack {
+                tag,
+                opcode: op,
+                code,
+            })),
+        }
+    }
+
+    /// Apply a command with the device rules of SPEC.md.
+    fn execute(&mut self, c: Command) -> Result<(), NackCode> {
+        let changed = match c {
+            Command::Start => {
+                self.streaming = true;
+                false
+            }
+            Command::Stop => {
+                self.streaming = false;
+                false
+            }
+            Command::SetRate { hz } => {
+                if ![250, 500, 1000, 2000, 4000, 8000].contains(&hz) {
+                    return Err(NackCode::OutOfRange);
+                }
+                self.cfg.rate_hz = hz;
+                self.info.sample_rate_hz = hz;
+                true
+            }
+            Command::SetFilter(f) => {
+                let alpha_ok = f.smoother_alpha > 0.0 && f.smoother_alpha <= 1.0;
+                let order_ok = matches!(f.butterworth_order, 0 | 2 | 4);
+                let cutoff_ok = f.butterworth_order == 0
+                    || (f.cutoff_hz > 0.0 && f.cutoff_hz < 0.45 * self.cfg.rate_hz as f32);
+                if !(alpha_ok && order_ok && cutoff_ok) {
+                    return Err(NackCode::OutOfRange);
+                }
+                self.info.filter = f;
+                true
+            }
+            Command::Tare { samples } => {
+                if samples == 0 {
+                    return Err(NackCode::OutOfRange);
+                }
+                if !self.streaming {
+                    return Err(NackCode::InvalidState);
+                }
+                true
+            }
+            Command::ClearTare | Command::AutoNull => true,
+            Command::GetInfo | Command::Ping { .. } => false,
+            Command::SetCalibration(m) => {
+                self.info.calibration = m;
+                true
+            }
+            Command::SetDriftTracking { enabled } => {
+                self.info.drift_tracking = enabled;
+                true
+            }
+            Command::SetBatch { samples } => {
+                if !(1..=16).contains(&samples) {
+                    return Err(NackCode::OutOfRange);
+                }
+                // The frame clock is defined by the batch; keep it fixed in this emulator.
+                return Err(NackCode::InvalidState);
+            }
+            _ => return Err(NackCode::UnknownCommand),
+        };
+        if changed {
+            self.info.config_epoch = self.info.config_epoch.wrapping_add(1);
+        }
+        self.info.streaming = self.streaming;
+        Ok(())
+    }
+}
