@@ -1,7 +1,7 @@
 //! The receiving side: a fixed-size accumulator that collects bytes up to each 0x00 delimiter,
 //! checks and decodes the frame, and resynchronises at the next delimiter after anything bad.
 
-use crate::{Malformed, Message, CRC, CRC_LEN, MAX_ENCODED};
+use crate::{crc32c, Malformed, Message, CRC_LEN, MAX_ENCODED};
 
 /// What one delimited frame turned out to be. Nothing here is a panic: bad bytes are outcomes.
 #[derive(Debug, Clone, PartialEq)]
@@ -106,7 +106,7 @@ fn judge(frame: &mut [u8]) -> Outcome {
     let (body, crc) = frame[..decoded].split_at(body_len);
     let mut crc_bytes = [0u8; CRC_LEN];
     crc_bytes.copy_from_slice(crc);
-    if CRC.checksum(body) != u32::from_le_bytes(crc_bytes) {
+    if crc32c(body) != u32::from_le_bytes(crc_bytes) {
         return Outcome::CrcError;
     }
     match Message::decode_body(body) {

@@ -74,13 +74,19 @@ pub struct Status {
 pub const STATUS_LEN: usize = 5;
 
 impl Status {
-    fn encode(&self, w: &mut Writer<'_>) -> bool {
+    /// The five status bytes of a sample frame: saturated, flags, config_epoch, dropped (LE).
+    pub fn to_bytes(&self) -> [u8; STATUS_LEN] {
         let flags = (self.null_state as u8)
             | (u8::from(self.tare_active) << 2)
             | (u8::from(self.drift_tracking) << 3)
             | (u8::from(self.sample_overrun) << 4)
             | (u8::from(self.adc_error) << 5);
-        w.u8(self.saturated & 0x0F) && w.u8(flags) && w.u8(self.config_epoch) && w.u16(self.dropped)
+        let [d0, d1] = self.dropped.to_le_bytes();
+        [self.saturated & 0x0F, flags, self.config_epoch, d0, d1]
+    }
+
+    fn encode(&self, w: &mut Writer<'_>) -> bool {
+        w.bytes(&self.to_bytes())
     }
 
     fn decode(r: &mut Reader<'_>) -> Result<Self, Malformed> {

@@ -199,12 +199,19 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     /// Read the latest conversion with a NULL frame (response = STATUS). Checks the frame CRC and
     /// reports a refused input CRC from the device.
     pub fn read(&mut self) -> Result<Conversion, SPI, DRDY> {
-        let n = FRAME_WORDS * self.word.bytes();
-        let mut rx = [0u8; MAX_FRAME_BYTES];
-        self.spi
-            .transfer(&mut rx[..n], &self.null_frame[..n])
-            .map_err(Error::Spi)?;
-        let frame = self.parse(&rx[..n])?;
+        // One path per word length, each with its frame length fixed at compile time: no length
+        // arithmetic, no slicing checks, and the CRC and decoding unroll and inline.
+        let frame = match self.word {
+            WordLength::Bits24 => self.read_frame::<3, { FRAME_WORDS * 3 }>()?,
+            WordLength::Bits16 => self.read_frame::<2, { FRAME_WORDS * 2 }>()?,
+            word => {
+                let mut rx = [0u8; MAX_FRAME_BYTES];
+                self.spi
+                    .transfer(&mut rx, &self.null_frame)
+                    .map_err(Error::Spi)?;
+                parse_words::<4, SPI, DRDY>(&rx, word)?
+            }
+        };
         let status = Status(frame.response);
         if status.input_crc_error() {
             return Err(Error::InputCrc);
@@ -213,6 +220,17 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             status,
             codes: frame.codes,
         })
+    }
+
+    /// Clock one NULL frame of `N` = 6 words of `WB` bytes and parse it.
+    #[inline(always)]
+    fn read_frame<const WB: usize, const N: usize>(&mut self) -> Result<Frame, SPI, DRDY> {
+        let mut rx = [0u8; N];
+        // N ≤ MAX_FRAME_BYTES for every instance, so the compiler drops the range check.
+        self.spi
+            .transfer(&mut rx, &self.null_frame[..N])
+            .map_err(Error::Spi)?;
+        parse_words_inline::<WB, SPI, DRDY>(&rx, self.word)
     }
 
     fn simple_command(&mut self, command: u16) -> Result<(), SPI, DRDY> {
@@ -288,6 +306,15 @@ fn parse_words<const WB: usize, SPI: SpiDevice, DRDY: InputPin>(
     rx: &[u8],
     word: WordLength,
 ) -> Result<Frame, SPI, DRDY> {
+    parse_words_inline::<WB, SPI, DRDY>(rx, word)
+}
+
+/// [`parse_words`], always inlined: the data read's copy.
+#[inline(always)]
+fn parse_words_inline<const WB: usize, SPI: SpiDevice, DRDY: InputPin>(
+    rx: &[u8],
+    word: WordLength,
+) -> Result<Frame, SPI, DRDY> {
     let Some(frame) = rx.get(..FRAME_WORDS * WB) else {
         // Shorter than a frame: cannot happen (the caller clocks whole frames); report it as a
         // CRC failure rather than panic.
@@ -302,7 +329,17 @@ fn parse_words<const WB: usize, SPI: SpiDevice, DRDY: InputPin>(
         return Err(Error::Crc { computed, received });
     }
     let response = u16::from_be_bytes([frame[0], frame[1]]);
-    let codes = core::array::from_fn(|ch| word.decode(&frame[(ch + 1) * WB..(ch + 2) * WB]));
+    let codes = if WB == 3 {
+        // The word length is known here: a 24-bit code is the top three bytes of a big-endian
+        // 32-bit load (the fourth byte, from the next word, is shifted out), the same value as
+        // `WordLength::Bits24.decode` without the run-time match.
+        let code = |at: usize| {
+            i32::from_be_bytes([frame[at], frame[at + 1], frame[at + 2], frame[at + 3]]) >> 8
+        };
+        [code(WB), code(2 * WB), code(3 * WB), code(4 * WB)]
+    } else {
+        core::array::from_fn(|ch| word.decode(&frame[(ch + 1) * WB..(ch + 2) * WB]))
+    };
     Ok(Frame { response, codes })
 }
 

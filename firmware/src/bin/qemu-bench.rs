@@ -10,7 +10,14 @@
 //!   A  C plus the firmware's streaming path: queue push and pop, offset cut (tare and drift
 //!      tracking on), 3 channels × two Butterworth biquads, batching, protocol encoding with
 //!      CRC-32C and COBS into the transmit buffer, and draining it (to a sink, not the UART).
-//! Firmware instructions per sample = (A − B) / N; C − B is the driver's share.
+//!   Q  C plus the queue push and pop;
+//!   E  Q plus the device core with streaming off and no filter: offset cut and bookkeeping;
+//!   D  E with the two biquads on: D − E is the filters' share, A − D the framing's.
+//! Firmware instructions per sample = (A − B) / N; C − B is the driver's share. The other shares
+//! are differences between separately compiled loops, each scheduled differently by the
+//! compiler, so they are approximate (within ~15 instructions); the total A − B is exact.
+//! For a per-function profile of run A, run QEMU with `-d in_asm,exec,nochain` and weigh each
+//! translated block's instruction count by its executions.
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(not(target_os = "none"))]
@@ -104,9 +111,17 @@ mod target {
         dev.on_rx(&wire[..n]);
     }
 
-    /// Run A: N conversions through driver, queue and device core; returns (ticks, wire bytes,
-    /// frames dropped).
-    fn streaming_run(syst: &mut SYST, drift: bool) -> (u32, usize, u32) {
+    /// What a device-core run switches on.
+    #[derive(Clone, Copy)]
+    struct Path {
+        drift: bool,
+        biquads: bool,
+        streaming: bool,
+    }
+
+    /// Runs A, D and E: N conversions through driver, queue and device core; returns (ticks, wire
+    /// bytes, frames dropped).
+    fn streaming_run(syst: &mut SYST, path: Path) -> (u32, usize, u32) {
         let chip_a = chip();
         let (spi_a, drdy_a) = handles(&chip_a);
         let mut adc_a = Ads131m04::new(spi_a, drdy_a);
@@ -121,13 +136,20 @@ mod target {
             &mut dev,
             Command::SetFilter(FilterConfig {
                 smoother_alpha: 1.0,
-                butterworth_order: 4,
+                butterworth_order: if path.biquads { 4 } else { 0 },
                 cutoff_hz: 50.0,
             }),
         );
         request(&mut dev, Command::Tare { samples: 32 });
-        request(&mut dev, Command::SetDriftTracking { enabled: drift });
-        request(&mut dev, Command::Start);
+        request(
+            &mut dev,
+            Command::SetDriftTracking {
+                enabled: path.drift,
+            },
+        );
+        if path.streaming {
+            request(&mut dev, Command::Start);
+        }
         let mut index = 0u32;
         let mut sent = 0usize;
         let mut run = |count: u32, dev: &mut Device, sent: &mut usize| {
@@ -186,9 +208,58 @@ mod target {
             }
         });
 
-        // A: the whole streaming path, with the default offset cut (tare) and with drift tracking.
-        let (t_a, bytes, dropped) = streaming_run(&mut cp.SYST, false);
-        let (t_drift, _, _) = streaming_run(&mut cp.SYST, true);
+        // Q: the driver and the acquisition queue.
+        let chip_q = chip();
+        let (spi_q, drdy_q) = handles(&chip_q);
+        let mut adc_q = Ads131m04::new(spi_q, drdy_q);
+        adc_q.init(&ADC_CONFIG).unwrap();
+        let mut queue = SampleQueue::new();
+        let (mut producer, mut consumer) = queue.split();
+        let t_q = ticks(&mut cp.SYST, || {
+            for index in 0..N {
+                chip_q.borrow_mut().convert();
+                let conv = adc_q.read().unwrap();
+                let _ = producer.enqueue(RawSample {
+                    index,
+                    codes: conv.codes,
+                    read_error: false,
+                });
+                while let Some(raw) = consumer.dequeue() {
+                    sum = sum.wrapping_add(raw.codes[1]);
+                }
+            }
+        });
+
+        // A: the whole streaming path, with the default offset cut (tare) and with drift tracking;
+        // E and D: the device core without framing, without and with the filters.
+        let full = Path {
+            drift: false,
+            biquads: true,
+            streaming: true,
+        };
+        let (t_a, bytes, dropped) = streaming_run(&mut cp.SYST, full);
+        let (t_drift, _, _) = streaming_run(
+            &mut cp.SYST,
+            Path {
+                drift: true,
+                ..full
+            },
+        );
+        let (t_d, _, _) = streaming_run(
+            &mut cp.SYST,
+            Path {
+                streaming: false,
+                ..full
+            },
+        );
+        let (t_e, _, _) = streaming_run(
+            &mut cp.SYST,
+            Path {
+                streaming: false,
+                biquads: false,
+                ..full
+            },
+        );
 
         let per_sample = |t: u32| (t as f32) * per_tick as f32 / N as f32;
         let firmware = per_sample(t_a) - per_sample(t_b);
@@ -211,6 +282,14 @@ mod target {
         hprintln!(
             "queue, offset cut, 2 biquads x 3 ch, framing, CRC-32C, COBS: {} instructions/sample",
             firmware - driver
+        );
+        hprintln!(
+            "  of which queue push + pop: {}; offset cut and device bookkeeping: {}; \
+             2 biquads x 3 ch: {}; framing, CRC-32C, COBS: {}",
+            per_sample(t_q) - per_sample(t_c),
+            per_sample(t_e) - per_sample(t_q),
+            per_sample(t_d) - per_sample(t_e),
+            per_sample(t_a) - per_sample(t_d)
         );
         hprintln!(
             "with drift tracking on (off by default): {} instructions/sample",

@@ -25,7 +25,7 @@ mod target {
     use cortex_m_rt::{entry, exception};
     use cortex_m_semihosting::{debug, hprintln};
     use critical_section::Mutex;
-    use firmware::dsp::FilterBank;
+    use firmware::dsp::{round_to_code, Butterworth, FilterBank};
     use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue, QUEUE_LEN};
     use panic_probe as _;
     use protocol::FilterConfig;
@@ -149,6 +149,80 @@ mod target {
         };
         let refused = FilterBank::build(&config, 1000.0).is_err();
         check("cut-off at 0.45 fs refused", refused);
+        asm_paths_match_the_portable_code(&x);
+    }
+
+    /// The bank's three-channel section is hand-written VLDM/VMLA/VSTM on this core; it must give
+    /// the very bits of the portable single-channel `Biquad::step` cascade, on every channel.
+    /// `round_to_code` uses VCVTR here: nearest, ties to even, clamped to 24 bits.
+    fn asm_paths_match_the_portable_code(x: &[f32]) {
+        let mut bank = FilterBank::build(
+            &FilterConfig {
+                smoother_alpha: 1.0,
+                butterworth_order: 4,
+                cutoff_hz: 37.0,
+            },
+            1000.0,
+        )
+        .unwrap();
+        let design = Butterworth::design(4, 0.037).unwrap();
+        let prime = |k: usize| {
+            let section = &design.sections()[k];
+            [
+                section.primed(x[0]),
+                section.primed(-x[0]),
+                section.primed(2.0 * x[0]),
+            ]
+        };
+        let mut states = [prime(0), prime(1)];
+        let mut identical = true;
+        for &xi in x {
+            let got = bank.step([xi, -xi, 2.0 * xi]);
+            let mut want = [xi, -xi, 2.0 * xi];
+            for (section, st) in design.sections().iter().zip(states.iter_mut()) {
+                for ch in 0..3 {
+                    want[ch] = section.step(&mut st[ch], want[ch]);
+                }
+            }
+            identical &= got.map(f32::to_bits) == want.map(f32::to_bits);
+        }
+        check(
+            "butterworth asm section bit-identical to Biquad::step",
+            identical,
+        );
+        let config = FilterConfig {
+            smoother_alpha: 1.0,
+            butterworth_order: 4,
+            cutoff_hz: 37.0,
+        };
+        let mut codes = FilterBank::build(&config, 1000.0).unwrap();
+        let mut floats = FilterBank::build(&config, 1000.0).unwrap();
+        let mut same = true;
+        for (i, &xi) in x.iter().enumerate() {
+            let c = (xi * 6.0e6) as i32;
+            let sample = [c, -c, protocol::CODE_MAX - i as i32];
+            let want = floats.step(sample.map(|v| v as f32)).map(round_to_code);
+            same &= codes.step_codes(sample) == want;
+        }
+        check(
+            "filter on codes (one asm block) equals step then round_to_code",
+            same,
+        );
+        let cases = [
+            (2.5, 2),
+            (3.5, 4),
+            (-2.5, -2),
+            (-2.6, -3),
+            (0.49, 0),
+            (1.0e9, protocol::CODE_MAX),
+            (-1.0e9, protocol::CODE_MIN),
+            (f32::NAN, 0),
+        ];
+        let rounded = cases.iter().all(|&(y, code)| round_to_code(y) == code);
+        check(
+            "round_to_code: nearest, ties to even, clamped, NaN 0",
+            rounded,
+        );
     }
 
     // --- queue under interrupt pressure ---------------------------------------------------------

@@ -107,6 +107,7 @@ impl Device {
             FilterBank::build(&self.filter_config, hz as f32).map_err(|_| NackCode::OutOfRange)?;
         hw.set_osr(osr).map_err(|_| NackCode::Hardware)?;
         self.osr = osr;
+        self.fold_time();
         self.period_ns = self.period_ns_for(osr);
         self.filters = filters;
         self.bump();

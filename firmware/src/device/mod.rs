@@ -81,7 +81,11 @@ pub struct Device {
     /// Frames dropped since the last frame that made it into the transmit buffer.
     dropped: u16,
     period_ns: u64,
-    elapsed_ns: u64,
+    /// Device time of conversion `base_index`; a later conversion's time is this plus a period per
+    /// index step, worked out only when needed (frame open, rate change) so the per-sample path
+    /// does no 64-bit arithmetic.
+    base_ns: u64,
+    base_index: u32,
     last_index: Option<u32>,
     pending: Deque<Request, PENDING_REQUESTS>,
     replies: Deque<Reply, PENDING_REPLIES>,
@@ -113,7 +117,8 @@ impl Device {
             adc_error: false,
             dropped: 0,
             period_ns: 0,
-            elapsed_ns: 0,
+            base_ns: 0,
+            base_index: 0,
             last_index: None,
             pending: Deque::new(),
             replies: Deque::new(),
@@ -188,12 +193,14 @@ impl Device {
     pub fn on_sample(&mut self, raw: &RawSample, hw: &mut impl Frontend) {
         // Device time follows the conversion index, so conversions lost before the queue still
         // advance it; the first conversion is t = 0.
-        if let Some(last) = self.last_index {
-            let steps = raw.index.wrapping_sub(last).max(1);
-            if steps > 1 {
-                self.overrun = true;
+        match self.last_index {
+            Some(last) => {
+                let steps = raw.index.wrapping_sub(last);
+                if steps != 1 {
+                    self.index_gap(steps);
+                }
             }
-            self.elapsed_ns += self.period_ns * u64::from(steps);
+            None => self.base_index = raw.index,
         }
         self.last_index = Some(raw.index);
         self.adc_error |= raw.read_error;
@@ -207,7 +214,35 @@ impl Device {
             self.add_to_frame(sample, raw.codes[3]);
         }
         if self.frame.is_empty() {
+            // Between frames (every sample while not streaming): keep the index span short.
+            self.fold_time();
             self.apply_pending(hw);
+        }
+    }
+
+    /// Conversions were lost before the queue (`steps` > 1: flagged as an overrun), or an index
+    /// repeated (`steps` = 0), which still counts one period as every conversion does.
+    #[cold]
+    fn index_gap(&mut self, steps: u32) {
+        if steps == 0 {
+            self.base_index = self.base_index.wrapping_sub(1);
+        } else {
+            self.overrun = true;
+        }
+    }
+
+    /// Device time of the latest conversion, ns.
+    fn time_ns(&self) -> u64 {
+        let last = self.last_index.unwrap_or(self.base_index);
+        self.base_ns + self.period_ns * u64::from(last.wrapping_sub(self.base_index))
+    }
+
+    /// Make the latest conversion the time base (before the period changes, and often enough
+    /// that the index span never wraps).
+    pub(crate) fn fold_time(&mut self) {
+        if let Some(last) = self.last_index {
+            self.base_ns = self.time_ns();
+            self.base_index = last;
         }
     }
 
@@ -237,9 +272,8 @@ impl Device {
                 ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)),
             };
         }
-        let y = self.filters.step(corrected.map(|c| c as f32));
         Sample {
-            ch: y.map(round_to_code),
+            ch: self.filters.step_codes(corrected),
         }
     }
 
@@ -271,7 +305,7 @@ impl Device {
         if self.frame.is_empty() {
             // The time stamp is only needed when a frame opens: the 64-bit division stays off
             // the per-sample path.
-            self.frame.open((self.elapsed_ns / 1000) as u32, temp);
+            self.frame.open((self.time_ns() / 1000) as u32, temp);
         }
         self.frame.push(sample.ch);
         if self.frame.len() >= usize::from(self.batch) {
@@ -415,15 +449,6 @@ impl Device {
             config_epoch: self.epoch,
         }
     }
-}
-
-/// Nearest code, halves away from zero, clamped to the 24-bit range. `as` converts with the FPU
-/// (VCVT, saturating) where libm's roundf would be a software routine on the per-sample path;
-/// below 2^23 the ± 0.5 is exact in f32, and larger values are clamped anyway.
-#[inline]
-fn round_to_code(y: f32) -> i32 {
-    let r = if y >= 0.0 { y + 0.5 } else { y - 0.5 };
-    (r as i32).clamp(CODE_MIN, CODE_MAX)
 }
 
 #[cfg(test)]

@@ -567,4 +567,17 @@ fn saturation_overrun_and_adc_error_flags() {
     );
 }
 
+#[test]
+fn a_repeated_index_still_advances_time_by_one_period() {
+    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    check(&mut dev, &mut hw, Command::SetBatch { samples: 1 }, Ok(()));
+    check(&mut dev, &mut hw, Command::Start, Ok(()));
+    for index in [10, 11, 11, 12] {
+        dev.on_sample(&raw(index, [0; 4]), &mut hw);
+    }
+    let period_us = 1_000_000 / dev.rate_hz();
+    let t: Vec<u32> = frames(&drain(&mut dev)).iter().map(|f| f.t_us).collect();
+    assert_eq!(t, [0, period_us, 2 * period_us, 3 * period_us]);
+}
+
 mod against_emulation;

@@ -66,11 +66,13 @@ impl Biquad {
         [(b1 - a1) * x + s1, s1]
     }
 
-    /// Filter one sample of one channel.
+    /// Filter one sample of one channel. The operations are ordered as the Cortex-M4's
+    /// multiply-accumulate instructions compute them (`d ± a·b`, product rounded, then the sum),
+    /// so the three-channel step of [`super::FilterBank`] gives bit-identical results.
     #[inline(always)]
     pub fn step(&self, s: &mut State, x: f32) -> f32 {
-        let y = self.b[0] * x + s[0];
-        s[0] = self.b[1] * x - self.a[0] * y + s[1];
+        let y = s[0] + self.b[0] * x;
+        s[0] = (s[1] + self.b[1] * x) - self.a[0] * y;
         s[1] = self.b[2] * x - self.a[1] * y;
         y
     }

@@ -271,3 +271,48 @@ fn priming_starts_at_the_first_sample() {
     let mut s = Single::build(&smoother(0.1), 1000.0).unwrap();
     assert_eq!(s.step(7.0), 7.0);
 }
+
+#[test]
+fn round_to_code_is_nearest_ties_to_even_and_clamped() {
+    use super::round_to_code;
+    use protocol::{CODE_MAX, CODE_MIN};
+    let cases = [
+        (2.5, 2),
+        (3.5, 4),
+        (-2.5, -2),
+        (-2.6, -3),
+        (0.49, 0),
+        (1.0e9, CODE_MAX),
+        (-1.0e9, CODE_MIN),
+        (f32::NAN, 0),
+    ];
+    for (y, code) in cases {
+        assert_eq!(round_to_code(y), code, "{y}");
+    }
+}
+
+#[test]
+fn step_codes_is_step_then_round_for_every_cascade() {
+    let configs = [
+        bw(4, 20.0),
+        bw(2, 20.0),
+        smoother(0.3),
+        FilterConfig {
+            smoother_alpha: 0.5,
+            butterworth_order: 4,
+            cutoff_hz: 80.0,
+        },
+    ];
+    for config in configs {
+        let mut codes = FilterBank::build(&config, 1000.0).unwrap();
+        let mut floats = codes;
+        for (i, x) in input(400).into_iter().enumerate() {
+            let c = (x * 3.0e6) as i32;
+            let sample = [c, -c / 3, 8_388_607 - i as i32];
+            let want = floats
+                .step(sample.map(|v| v as f32))
+                .map(super::round_to_code);
+            assert_eq!(codes.step_codes(sample), want, "{config:?} sample {i}");
+        }
+    }
+}

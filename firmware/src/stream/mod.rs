@@ -5,5 +5,5 @@ pub mod queue;
 pub mod tx;
 
 pub use frame::FrameBuilder;
-pub use queue::{Acquirer, Drain, Overruns, RawSample, SampleQueue, QUEUE_LEN};
+pub use queue::{Acquirer, Drain, Overruns, Producer, RawSample, SampleQueue, QUEUE_LEN};
 pub use tx::TxBuffer;

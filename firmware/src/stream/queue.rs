@@ -1,11 +1,14 @@
 //! The acquisition queue: the sample-clock interrupt (DRDY on the board, SysTick under QEMU) reads
 //! the ADC and pushes a [`RawSample`]; the main loop pops. Single producer, single consumer,
-//! lock-free (heapless SPSC). The interrupt never waits: when the queue is full the sample is
-//! dropped and counted, and the main loop reports the count.
+//! lock-free. The interrupt never waits: when the queue is full the sample is dropped and counted,
+//! and the main loop reports the count.
+//!
+//! A ring of its own rather than `heapless::spsc`, whose split halves take the capacity at run
+//! time (a division per push and per pop): here the capacity is a power of two known at compile
+//! time, so an index wraps with one AND.
 
-use core::sync::atomic::{AtomicU32, Ordering};
-
-use heapless::spsc::{Consumer, Producer, Queue};
+use core::cell::UnsafeCell;
+use core::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 
 /// One conversion as the interrupt saw it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -20,9 +23,108 @@ pub struct RawSample {
 
 /// Queue slots: 64 − 1 samples, 4 ms of buffering at 16 kSPS, > 60 ms at 1 kSPS.
 pub const QUEUE_LEN: usize = 64;
+const _: () = assert!(QUEUE_LEN.is_power_of_two(), "indices wrap with a mask");
+const MASK: usize = QUEUE_LEN - 1;
 
-/// The queue itself; place it in a `static` and [`Queue::split`] it.
-pub type SampleQueue = Queue<RawSample, QUEUE_LEN>;
+const EMPTY: RawSample = RawSample {
+    index: 0,
+    codes: [0; 4],
+    read_error: false,
+};
+
+/// The queue itself; place it in a `static` and [`SampleQueue::split`] it. Holds up to
+/// `QUEUE_LEN − 1` samples (one slot stays free to tell full from empty).
+pub struct SampleQueue {
+    slots: UnsafeCell<[RawSample; QUEUE_LEN]>,
+    /// Next slot to read; written only by the consumer.
+    head: AtomicUsize,
+    /// Next slot to write; written only by the producer.
+    tail: AtomicUsize,
+}
+
+// SAFETY: the producer writes only the slot at `tail` and then publishes it (Release); the
+// consumer reads only slots below the `tail` it loaded (Acquire) and then frees them by moving
+// `head` (Release), which the producer loads (Acquire) before reusing a slot. `split` hands out
+// exactly one of each end.
+unsafe impl Sync for SampleQueue {}
+
+impl Default for SampleQueue {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SampleQueue {
+    pub const fn new() -> Self {
+        Self {
+            slots: UnsafeCell::new([EMPTY; QUEUE_LEN]),
+            head: AtomicUsize::new(0),
+            tail: AtomicUsize::new(0),
+        }
+    }
+
+    /// The two ends: the `&mut` borrow guarantees there is only one of each.
+    pub fn split(&mut self) -> (Producer<'_>, Drain<'_>) {
+        (Producer { queue: self }, Drain { queue: self })
+    }
+}
+
+/// The producing end (the interrupt's).
+pub struct Producer<'a> {
+    queue: &'a SampleQueue,
+}
+
+impl Producer<'_> {
+    /// Append `sample`, or give it back if the queue is full.
+    #[inline]
+    pub fn enqueue(&mut self, sample: RawSample) -> Result<(), RawSample> {
+        let q = self.queue;
+        let tail = q.tail.load(Ordering::Relaxed);
+        let next = (tail + 1) & MASK;
+        if next == q.head.load(Ordering::Acquire) {
+            return Err(sample);
+        }
+        // SAFETY: slot `tail` is not visible to the consumer until the store below (see Sync).
+        unsafe { (*q.slots.get())[tail & MASK] = sample };
+        q.tail.store(next, Ordering::Release);
+        Ok(())
+    }
+}
+
+/// The main loop's end of the queue.
+pub struct Drain<'a> {
+    queue: &'a SampleQueue,
+}
+
+impl Drain<'_> {
+    /// The oldest sample, if any.
+    #[inline]
+    pub fn dequeue(&mut self) -> Option<RawSample> {
+        let q = self.queue;
+        let head = q.head.load(Ordering::Relaxed);
+        if head == q.tail.load(Ordering::Acquire) {
+            return None;
+        }
+        // SAFETY: slot `head` was published by the producer and is not reused before the store
+        // below frees it (see Sync).
+        let sample = unsafe { (*q.slots.get())[head & MASK] };
+        q.head.store((head + 1) & MASK, Ordering::Release);
+        Some(sample)
+    }
+
+    /// Samples waiting.
+    pub fn len(&self) -> usize {
+        let q = self.queue;
+        q.tail
+            .load(Ordering::Acquire)
+            .wrapping_sub(q.head.load(Ordering::Relaxed))
+            & MASK
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
 
 /// Count of samples the interrupt had to drop because the queue was full.
 #[derive(Default)]
@@ -41,12 +143,12 @@ impl Overruns {
 
 /// The interrupt's end of the queue.
 pub struct Acquirer<'a> {
-    producer: Producer<'a, RawSample>,
+    producer: Producer<'a>,
     overruns: &'a Overruns,
 }
 
 impl<'a> Acquirer<'a> {
-    pub fn new(producer: Producer<'a, RawSample>, overruns: &'a Overruns) -> Self {
+    pub fn new(producer: Producer<'a>, overruns: &'a Overruns) -> Self {
         Self { producer, overruns }
     }
 
@@ -63,9 +165,6 @@ impl<'a> Acquirer<'a> {
         }
     }
 }
-
-/// The main loop's end of the queue.
-pub type Drain<'a> = Consumer<'a, RawSample>;
 
 #[cfg(test)]
 mod tests {

@@ -92,7 +92,12 @@ impl<const N: usize> TxBuffer<N> {
 
     /// Hand bytes to `send` until it refuses one (port full) or the buffer is empty; returns the
     /// count sent.
+    #[inline]
     pub fn drain(&mut self, mut send: impl FnMut(u8) -> bool) -> usize {
+        // The main loop calls this after every sample; most of the time nothing waits.
+        if self.is_empty() {
+            return 0;
+        }
         let start = self.read;
         for &b in &self.buf[self.read..self.write] {
             if !send(b) {
