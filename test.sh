@@ -8,13 +8,12 @@ start=$(date +%s)
 
 bash scripts/setup.sh
 
-echo "== host workspace: build and test"
+# The firmware first: it builds the QEMU binary that the host workspace's HIL test runs.
+echo "== firmware: host tests, release binaries, QEMU on-target tests"
+bash scripts/test-firmware.sh
+
+echo "== host workspace: build and test (protocol, hardware, chip, fingertip, sim, host, HIL)"
 cargo build --workspace --all-targets --locked
 cargo test --workspace --locked
-
-if [ -x scripts/test-firmware.sh ]; then
-    echo "== firmware"
-    bash scripts/test-firmware.sh
-fi
 
 echo "== all tests passed in $(( $(date +%s) - start )) s"
