@@ -11,7 +11,7 @@
 
 use std::fs::File;
 use std::io::{self, Read, Write};
-use std::os::fd::{FromRawFd, OwnedFd};
+use std::os::fd::OwnedFd;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
@@ -163,50 +163,10 @@ pub fn silent_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
     open_pty()
 }
 
+/// A raw, close-on-exec pty pair: the same one the HIL tests use.
 fn open_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
-    let (mut m, mut s) = (0, 0);
-    // SAFETY: openpty writes two fds into the given ints; null name/termios/winsize are allowed.
-    let r = unsafe {
-        libc::openpty(
-            &mut m,
-            &mut s,
-            std::ptr::null_mut(),
-            std::ptr::null(),
-            std::ptr::null(),
-        )
-    };
-    if r != 0 {
-        return Err(io::Error::last_os_error());
-    }
-    // SAFETY: both fds were just returned by openpty and are owned by nobody else.
-    let (master, slave) = unsafe { (OwnedFd::from_raw_fd(m), OwnedFd::from_raw_fd(s)) };
-    // SAFETY: termios is plain data; tcgetattr fills it from a valid fd.
-    unsafe {
-        let mut t: libc::termios = std::mem::zeroed();
-        if libc::tcgetattr(s, &mut t) == 0 {
-            libc::cfmakeraw(&mut t);
-            libc::tcsetattr(s, libc::TCSANOW, &t);
-        }
-        let flags = libc::fcntl(m, libc::F_GETFL);
-        libc::fcntl(m, libc::F_SETFL, flags | libc::O_NONBLOCK);
-        // Child processes (the logger under test) must not inherit the pty: a killed emulator
-        // has to close it for real.
-        libc::fcntl(m, libc::F_SETFD, libc::FD_CLOEXEC);
-        libc::fcntl(s, libc::F_SETFD, libc::FD_CLOEXEC);
-    }
-    let mut name = [0 as libc::c_char; 256];
-    // SAFETY: the buffer is 256 bytes and its length is passed.
-    let r = unsafe { libc::ttyname_r(s, name.as_mut_ptr(), name.len()) };
-    if r != 0 {
-        return Err(io::Error::from_raw_os_error(r));
-    }
-    // SAFETY: ttyname_r wrote a NUL-terminated string into the buffer.
-    let path = unsafe { std::ffi::CStr::from_ptr(name.as_ptr()) };
-    Ok((
-        master,
-        slave,
-        PathBuf::from(path.to_string_lossy().into_owned()),
-    ))
+    let pty = crate::hil::pty::Pty::open()?;
+    Ok((pty.master, pty.slave, pty.path))
 }
 
 /// Atomically (re)point `link` at `target`.
