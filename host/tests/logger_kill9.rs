@@ -2,15 +2,14 @@
 //! a second before the kill), every one true to the emulator, and the MCAP file, which never
 //! got its summary, is recovered up to its last complete chunk and replays to the same data.
 
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, SystemTime};
 
-use host::device::Scale;
-use host::logger::csv::read_recording;
 use host::logger::mcap_io::recover;
 use host::logger::unix_s;
-use tests::check::{scratch, verify};
-use tests::emu::{info_for, EmuConfig, Emulator};
+use tests::check::{replay, scratch, verify_file};
+use tests::emu::{EmuConfig, Emulator};
 
 #[test]
 fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {
@@ -37,15 +36,7 @@ fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {
         "torn last row: {:?}",
         text.lines().last()
     );
-    let rec = read_recording(&csv).expect("every row complete and valid");
-    let scale = Scale::from_info(&info_for(&cfg));
-    let v = verify(
-        &rec,
-        usize::from(cfg.batch),
-        cfg.rate_hz,
-        scale.volts_per_code[0],
-    )
-    .unwrap();
+    let (rec, v) = verify_file(&csv, &cfg).expect("every row complete and valid");
     let t_host = rec.values("t_host_s").unwrap();
     let last = t_host
         .iter()
@@ -68,22 +59,8 @@ fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {
         "MCAP ends too early"
     );
     let out = dir.join("replayed.csv");
-    let st = Command::new(env!("CARGO_BIN_EXE_tactile"))
-        .arg("replay")
-        .arg(&mcap)
-        .arg("-o")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(st.success());
-    let again = read_recording(&out).unwrap();
-    let v2 = verify(
-        &again,
-        usize::from(cfg.batch),
-        cfg.rate_hz,
-        scale.volts_per_code[0],
-    )
-    .unwrap();
+    replay(Path::new(env!("CARGO_BIN_EXE_tactile")), &mcap, &out);
+    let (_, v2) = verify_file(&out, &cfg).unwrap();
     assert_eq!(v2.first_seq, v.first_seq);
     assert!(
         v2.samples + 1000 >= v.samples,

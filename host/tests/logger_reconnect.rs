@@ -3,15 +3,14 @@
 //! that the gap row does not account for. The CSV is re-read by the contract reader and
 //! checked sample by sample against the emulator's truth; the MCAP replays to the same rows.
 
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, SystemTime};
 
-use host::device::Scale;
-use host::logger::csv::read_recording;
 use host::logger::gap_code;
 use host::logger::mcap_io::recover;
-use tests::check::{scratch, verify};
-use tests::emu::{info_for, EmuConfig, Emulator};
+use tests::check::{replay, scratch, verify_file};
+use tests::emu::{EmuConfig, Emulator};
 
 #[test]
 fn reconnects_after_the_emulator_dies_and_marks_the_gap() {
@@ -44,15 +43,7 @@ fn reconnects_after_the_emulator_dies_and_marks_the_gap() {
         "emulator streamed only {sent_before} frames before the kill"
     );
 
-    let rec = read_recording(&csv).expect("the CSV follows the contract");
-    let scale = Scale::from_info(&info_for(&cfg));
-    let v = verify(
-        &rec,
-        usize::from(cfg.batch),
-        cfg.rate_hz,
-        scale.volts_per_code[0],
-    )
-    .unwrap();
+    let (_, v) = verify_file(&csv, &cfg).expect("the CSV follows the contract");
     let codes: Vec<u32> = v.gaps.iter().map(|g| g.0).collect();
     assert!(
         codes.contains(&(gap_code::DISCONNECTED as u32)),
@@ -96,22 +87,8 @@ fn reconnects_after_the_emulator_dies_and_marks_the_gap() {
         json["fz_V"].is_number() && json["t_device_s"].is_number() && json["t_host_s"].is_number()
     );
     let out = dir.join("replayed.csv");
-    let st = Command::new(env!("CARGO_BIN_EXE_tactile"))
-        .arg("replay")
-        .arg(&mcap)
-        .arg("-o")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(st.success());
-    let again = read_recording(&out).unwrap();
-    let v2 = verify(
-        &again,
-        usize::from(cfg.batch),
-        cfg.rate_hz,
-        scale.volts_per_code[0],
-    )
-    .unwrap();
+    replay(Path::new(env!("CARGO_BIN_EXE_tactile")), &mcap, &out);
+    let (_, v2) = verify_file(&out, &cfg).unwrap();
     assert_eq!(
         (v2.samples, v2.first_seq, v2.last_seq),
         (v.samples, v.first_seq, v.last_seq)

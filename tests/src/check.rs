@@ -1,11 +1,13 @@
 //! Checks of a logged recording against the emulator's deterministic truth.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
-use host::logger::csv::Recording;
+use host::device::Scale;
+use host::logger::csv::{read_recording, Recording};
 use host::logger::gap_code;
 
-use crate::emu::truth_sample;
+use crate::emu::{info_for, truth_sample, EmuConfig};
 
 /// A fresh scratch directory under the system temp dir.
 pub fn scratch(name: &str) -> PathBuf {
@@ -18,6 +20,21 @@ fn nanos() -> u128 {
     std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_nanos())
+}
+
+/// Read a recording written from the emulator `cfg` (by `tactile log` or `tactile replay`) and
+/// [`verify`] it, with the ADC scale the emulator's info frame announces.
+pub fn verify_file(path: &Path, cfg: &EmuConfig) -> Result<(Recording, Verified), String> {
+    let rec = read_recording(path).map_err(|e| e.to_string())?;
+    let scale = Scale::from_info(&info_for(cfg));
+    let v = verify(&rec, usize::from(cfg.batch), cfg.rate_hz, scale.volts_per_code[0])?;
+    Ok((rec, v))
+}
+
+/// `tactile replay MCAP -o OUT` with the `tactile` binary at `tactile`; panics if it fails.
+pub fn replay(tactile: &Path, mcap: &Path, out: &Path) {
+    let st = Command::new(tactile).arg("replay").arg(mcap).arg("-o").arg(out).status().unwrap();
+    assert!(st.success(), "tactile replay {} failed", mcap.display());
 }
 
 /// A gap that does not say how many frames it cost.
