@@ -142,7 +142,9 @@ pub struct EmuStats {
 impl EmuStats {
     /// A snapshot of the link's account.
     pub fn injected(&self) -> Injected {
-        self.injected.lock().map_or_else(|p| *p.into_inner(), |i| *i)
+        self.injected
+            .lock()
+            .map_or_else(|p| *p.into_inner(), |i| *i)
     }
 }
 

@@ -68,7 +68,11 @@ fn run(frames: u64, rate: f64, seed: u64) -> (Injected, Counters, Seen) {
     let mut next_seq = 0u32;
     let deadline = Duration::from_secs(60 + frames / 5_000);
     while u64::from(next_seq) < frames {
-        assert!(t0.elapsed() < deadline, "stuck at frame {next_seq}: {:?}", dev.counters());
+        assert!(
+            t0.elapsed() < deadline,
+            "stuck at frame {next_seq}: {:?}",
+            dev.counters()
+        );
         match dev.events().recv_timeout(Duration::from_millis(200)) {
             Ok(Event::Frame(f)) => {
                 assert!(f.seq >= next_seq, "frame {} after {}", f.seq, next_seq);
@@ -79,9 +83,11 @@ fn run(frames: u64, rate: f64, seed: u64) -> (Injected, Counters, Seen) {
                 seen.samples += f.frame.len() as u64;
             }
             Ok(Event::Gap(g)) => match g.kind {
-                GapKind::Sequence { missing, dropped_by_device: 0, .. } => {
-                    seen.missing_by_gaps += missing
-                }
+                GapKind::Sequence {
+                    missing,
+                    dropped_by_device: 0,
+                    ..
+                } => seen.missing_by_gaps += missing,
                 other => panic!("unexpected gap {other:?}"),
             },
             Ok(Event::Info(_)) | Err(_) => {}
@@ -99,20 +105,22 @@ fn run(frames: u64, rate: f64, seed: u64) -> (Injected, Counters, Seen) {
 fn check(frames: u64, rate: f64, seed: u64) {
     let (inj, c, seen) = run(frames, rate, seed);
     let rejected = c.crc_errors + c.malformed + c.overflows;
-    println!(
-        "hil_faults: {frames} frames through the pty at fault rate {rate}/frame in {:.1} s \
-         ({:.0} frames/s)\n  injected: {} bit flips, {} bytes dropped, {} bytes duplicated, \
-         {} garbage bursts, {} truncations, {} stalls\n  link account: {} delivered, {} lost, \
-         {} junk units, {} recoveries\n  host driver: {} frames, {} lost by sequence, {} rejected \
-         ({} CRC, {} malformed, {} overflow), {} resyncs, {} duplicates",
-        seen.wall_s,
-        frames as f64 / seen.wall_s,
+    let kinds = [
         inj.bit_flips,
         inj.bytes_dropped,
         inj.bytes_duplicated,
         inj.garbage_bursts,
         inj.truncations,
         inj.stalls,
+    ];
+    println!(
+        "hil_faults: {frames} frames through the pty at fault rate {rate}/frame in {:.1} s \
+         ({:.0} frames/s)\n  injected [bit flips, bytes dropped, bytes duplicated, garbage \
+         bursts, truncations, stalls]: {kinds:?}\n  link account: {} delivered, {} lost, \
+         {} junk units, {} recoveries\n  host driver: {} frames, {} lost by sequence, {} rejected \
+         ({} CRC, {} malformed, {} overflow), {} resyncs, {} duplicates",
+        seen.wall_s,
+        frames as f64 / seen.wall_s,
         inj.frames_delivered,
         inj.frames_lost,
         inj.junk_units,
@@ -127,23 +135,33 @@ fn check(frames: u64, rate: f64, seed: u64) {
         c.duplicates,
     );
     assert_eq!(inj.frames_in, frames, "the link saw every frame");
-    assert_eq!(seen.accepted, inj.frames_delivered, "every intact frame decoded");
+    assert_eq!(
+        seen.accepted, inj.frames_delivered,
+        "every intact frame decoded"
+    );
     assert_eq!(c.frames, inj.frames_delivered);
-    assert_eq!(c.lost_on_link, inj.frames_lost, "lost frames counted as injected");
-    assert_eq!(seen.missing_by_gaps, inj.frames_lost, "every loss marked as a gap");
-    assert_eq!(rejected, inj.junk_units, "every damaged unit rejected and counted");
-    assert_eq!(c.resyncs, inj.recoveries, "back on the first intact frame after damage");
-    assert_eq!((c.duplicates, c.dropped_by_device, c.host_queue_drops), (0, 0, 0));
+    assert_eq!(
+        c.lost_on_link, inj.frames_lost,
+        "lost frames counted as injected"
+    );
+    assert_eq!(
+        seen.missing_by_gaps, inj.frames_lost,
+        "every loss marked as a gap"
+    );
+    assert_eq!(
+        rejected, inj.junk_units,
+        "every damaged unit rejected and counted"
+    );
+    assert_eq!(
+        c.resyncs, inj.recoveries,
+        "back on the first intact frame after damage"
+    );
+    assert_eq!(
+        (c.duplicates, c.dropped_by_device, c.host_queue_drops),
+        (0, 0, 0)
+    );
     assert_eq!(seen.samples, c.samples);
     // Every kind of fault happened.
-    let kinds = [
-        inj.bit_flips,
-        inj.bytes_dropped,
-        inj.bytes_duplicated,
-        inj.garbage_bursts,
-        inj.truncations,
-        inj.stalls,
-    ];
     assert!(kinds.iter().all(|&n| n > 0), "{inj:?}");
 }
 

@@ -35,7 +35,6 @@ const FAST_HZ: u32 = 2000;
 /// 6e-6 of full scale; a wrong coefficient or a section in the wrong order misses by thousands.
 const FILTER_TOLERANCE_CODES: f64 = 50.0;
 
-
 fn pump(
     dev: &Device,
     rec: &mut Recorder,

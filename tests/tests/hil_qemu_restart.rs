@@ -94,7 +94,11 @@ fn check_values(frames: &[Frame]) -> u64 {
         for (k, s) in f.frame.samples().iter().enumerate() {
             let v = trimmed.volts(first + k as u64);
             let ideal: [i32; 3] = core::array::from_fn(|ch| ideal_code(v[ch], 1, VREF_V));
-            assert_eq!(s.ch, ideal, "session {} frame {} sample {k}", f.session, f.seq);
+            assert_eq!(
+                s.ch, ideal,
+                "session {} frame {} sample {k}",
+                f.session, f.seq
+            );
             checked += 1;
         }
     }
@@ -118,7 +122,10 @@ fn check_recording(path: &Path, log: &Log, scale: &Scale) {
     let mut gaps = Vec::new();
     for (i, row) in rec.rows.iter().enumerate() {
         if row[gap] != gap_code::NONE {
-            assert!(row[volts[0]].is_nan(), "row {i}: a gap row carries no value");
+            assert!(
+                row[volts[0]].is_nan(),
+                "row {i}: a gap row carries no value"
+            );
             gaps.push((row[gap], row[missing].is_nan(), row[session] as u32));
             continue;
         }
@@ -132,7 +139,10 @@ fn check_recording(path: &Path, log: &Log, scale: &Scale) {
     assert!(samples.next().is_none(), "every sample has its row");
     assert_eq!(
         gaps,
-        [(gap_code::DISCONNECTED, true, 0), (gap_code::RECONNECTED, true, 1)],
+        [
+            (gap_code::DISCONNECTED, true, 0),
+            (gap_code::RECONNECTED, true, 1)
+        ],
         "the outage marked once: disconnected, then reconnected with an unknown loss"
     );
 }
@@ -174,7 +184,10 @@ fn hil_qemu_restart_the_host_follows_a_killed_and_rebooted_board() {
     let pid2 = board.pid();
     board.shutdown().expect("stop QEMU");
     for pid in [pid1, pid2] {
-        assert!(!Path::new(&format!("/proc/{pid}")).exists(), "QEMU {pid} must be gone");
+        assert!(
+            !Path::new(&format!("/proc/{pid}")).exists(),
+            "QEMU {pid} must be gone"
+        );
     }
 
     assert_eq!(
@@ -188,15 +201,26 @@ fn hil_qemu_restart_the_host_follows_a_killed_and_rebooted_board() {
     assert!(
         matches!(
             log.gaps.as_slice(),
-            [GapKind::Disconnected, GapKind::Reconnected { missing: None, .. }]
+            [
+                GapKind::Disconnected,
+                GapKind::Reconnected { missing: None, .. }
+            ]
         ),
         "{:?}",
         log.gaps
     );
     for session in 0..2 {
-        let seqs: Vec<u32> =
-            log.frames.iter().filter(|f| f.session == session).map(|f| f.seq).collect();
-        assert!(seqs.len() > SETTLED_FRAMES, "session {session}: {} frames", seqs.len());
+        let seqs: Vec<u32> = log
+            .frames
+            .iter()
+            .filter(|f| f.session == session)
+            .map(|f| f.seq)
+            .collect();
+        assert!(
+            seqs.len() > SETTLED_FRAMES,
+            "session {session}: {} frames",
+            seqs.len()
+        );
         assert!(
             seqs.windows(2).all(|w| w[1] == w[0].wrapping_add(1)),
             "session {session}: sequence not continuous"

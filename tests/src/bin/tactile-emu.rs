@@ -52,7 +52,11 @@ fn run() -> Result<(), String> {
                 cfg.cut_mid_frame_after = Some(Duration::from_secs_f64(value(&mut args, &a)?))
             }
             "--run-for" => run_for = Some(Duration::from_secs_f64(value(&mut args, &a)?)),
-            "--free-run" => cfg.pace = Pace::FreeRun { frames: value(&mut args, &a)? },
+            "--free-run" => {
+                cfg.pace = Pace::FreeRun {
+                    frames: value(&mut args, &a)?,
+                }
+            }
             "--fault-rate" => fault_rate = Some(value::<f64>(&mut args, &a)?),
             "--fault-seed" => fault_seed = value(&mut args, &a)?,
             "-h" | "--help" => {
@@ -67,7 +71,9 @@ fn run() -> Result<(), String> {
     }
     if let Some(rate) = fault_rate {
         if !(0.0..=1.0).contains(&rate) {
-            return Err(format!("--fault-rate: {rate} is not a probability in 0..=1"));
+            return Err(format!(
+                "--fault-rate: {rate} is not a probability in 0..=1"
+            ));
         }
         let end = match cfg.pace {
             Pace::FreeRun { frames } => frames.saturating_sub(16),

@@ -113,8 +113,8 @@ pub fn relink(link: &Path, target: &Path) -> io::Result<()> {
 /// Open the slave at `path` and keep it open without reading, so that a device that drops its
 /// output while nobody has the pty open (QEMU) sees a reader from the moment it runs.
 pub fn hold_open(path: &Path) -> io::Result<OwnedFd> {
-    let c = std::ffi::CString::new(path.as_os_str().as_encoded_bytes())
-        .map_err(io::Error::other)?;
+    let c =
+        std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).map_err(io::Error::other)?;
     // SAFETY: a valid NUL-terminated path; the fd returned is owned by the OwnedFd.
     let fd = unsafe { libc::open(c.as_ptr(), libc::O_RDWR | libc::O_NOCTTY | libc::O_CLOEXEC) };
     if fd < 0 {
