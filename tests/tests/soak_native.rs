@@ -262,7 +262,8 @@ fn soak_native_hil_lossless_with_bounded_memory() {
     let baseline = baseline.unwrap_or(last);
     let growth = last.saturating_sub(baseline);
     eprintln!(
-        "soak: {minutes} min at {rate_hz} Hz through HIL 1 -> pty -> tactile log: {} samples, {} \
+        "soak: {minutes} min at {rate_hz} Hz through HIL 1 -> pty -> tactile log: \
+         {} samples, {} \
          frames, {} gap rows, first break {:?}; logger: lost {lost}, dropped {dropped}, crc \
          {crc}; board: {} conversions, {} frames queued, {} dropped, pacing lag max {:.0} ms; \
          throughput over the {duration_s:.0} s logged: {:.0} samples/s, {:.1} frames/s, \
