@@ -12,7 +12,6 @@
 //! disk should take. A reader that cannot keep up blocks the logger exactly as a slow disk
 //! would (the loss would then show as a host-queue gap).
 //!
-//! Run: `scripts/soak.sh [minutes]` (builds the logger, then runs this test).
 //! On a machine shared with other sessions' compilers the scheduler's autogroups hold the
 //! board's thread off the CPU for seconds whatever its nice value (nice only orders threads
 //! within one session's group), and the firmware's buffers overflow. So the test moves itself
@@ -21,6 +20,7 @@
 //! with its own core and a logger on a machine set up for acquisition. The value in effect is
 //! printed.
 //!
+//! Run: `scripts/soak.sh [minutes]` (builds the logger, then runs this test).
 //! Environment: `TACTILE_BIN` (the `tactile` binary; default next to this test's `deps/`),
 //! `TACTILE_SOAK_MINUTES` (default 10), `TACTILE_SOAK_RATE_HZ` (default [`RATE_HZ`]).
 
@@ -51,15 +51,14 @@ fn own_session(nice: i32) -> String {
 
 /// The highest lossless rate of the product: the ADC's 8 kSPS, the top rate the 921,600 baud
 /// link carries (protocol/SPEC.md: 8,777 samples/s with full batches). The pty has no baud
-/// limit, but above 8 kHz the native board lost frames here at load average ~15 on 2 cores:
-/// 16 kHz dropped 6 511 frames in 10 minutes (35 gaps), 32 kHz 319 in 30 s, whenever its
-/// thread or the logger's reader got no core for longer than the buffers last (docs/hil.md).
+/// limit; 8 kHz held for 10 minutes at load average ~14 on 2 cores in the test's own session,
+/// and lost 1 826 frames without it (docs/hil.md has every run).
 const RATE_HZ: u32 = 8_000;
 
 /// RSS growth allowed from the end of the first minute to the end: the logger holds no history
-/// (rows go to the files every 250 ms), only the MCAP chunk index grows (~100 bytes per chunk,
-/// 4 chunks/s: 0.25 MB in 10 min); 16 MiB is 1/5 of what 10 minutes of samples would occupy
-/// if they were kept even as bare codes.
+/// (rows go to the files every 250 ms), only the MCAP writer's chunk index grows (a chunk every
+/// 250 ms; measured 0.65–1.15 MiB over 9 minutes); 16 MiB is 1/5 of what 10 minutes of 8 kHz
+/// samples would occupy if they were kept even as bare codes.
 const RSS_GROWTH_LIMIT_KIB: u64 = 16 * 1024;
 
 const CFG: NativeConfig = NativeConfig {
