@@ -73,6 +73,9 @@ pub struct Injected {
     /// Non-empty delimited units of output that are not an intact frame: the receiver must
     /// reject each one (CRC error, malformed or overflow).
     pub junk_units: u64,
+    /// Delivered frames that follow one or more junk units since the previous delivered frame:
+    /// the points where a receiver that resynchronises within one frame returns to good data.
+    pub recoveries: u64,
     pub bit_flips: u64,
     pub bytes_dropped: u64,
     pub bytes_duplicated: u64,
@@ -92,6 +95,8 @@ pub struct FaultyLink {
     /// Content of the frames that may still be in flight, by index: a unit equal to one of them
     /// is a delivered frame.
     in_flight: HashMap<u64, Vec<u8>>,
+    /// Junk units emitted since the last delivered frame.
+    junk_since_delivery: bool,
     counted: Injected,
 }
 
@@ -104,8 +109,15 @@ impl FaultyLink {
             frame_index: 0,
             unit: Vec::new(),
             in_flight: HashMap::new(),
+            junk_since_delivery: false,
             counted: Injected::default(),
         }
+    }
+
+    /// Change the rates from the next frame on (a test switches the faults on after a clean
+    /// start and off for a clean end, so that losses at both ends show by sequence).
+    pub fn set_rates(&mut self, rates: FaultRates) {
+        self.rates = rates;
     }
 
     /// The account so far. Frames still in flight inside the link are not counted yet.
@@ -206,8 +218,14 @@ impl FaultyLink {
                         // Delivered once; a copy of it later would be junk.
                         self.in_flight.remove(&i);
                         self.counted.frames_delivered += 1;
+                        if std::mem::take(&mut self.junk_since_delivery) {
+                            self.counted.recoveries += 1;
+                        }
                     }
-                    None => self.counted.junk_units += 1,
+                    None => {
+                        self.counted.junk_units += 1;
+                        self.junk_since_delivery = true;
+                    }
                 }
             }
             self.unit.clear();

@@ -27,6 +27,8 @@ struct Received {
     accepted: u64,
     rejected: u64,
     lost_by_seq: u64,
+    /// Accepted frames that came right after one or more rejected units.
+    resyncs: u64,
 }
 
 fn run(frames: u32, rates: FaultRates, seed: u64) -> (Injected, Received) {
@@ -36,6 +38,7 @@ fn run(frames: u32, rates: FaultRates, seed: u64) -> (Injected, Received) {
     let mut got = Received::default();
     let mut sent: Vec<Message> = Vec::new();
     let mut next_seq = 0u32;
+    let mut damaged = false;
     let mut wire = vec![0u8];
     let mut out = Vec::new();
     for seq in 0..frames {
@@ -58,9 +61,13 @@ fn run(frames: u32, rates: FaultRates, seed: u64) -> (Injected, Received) {
                         got.lost_by_seq += u64::from(f.seq - next_seq);
                         next_seq = f.seq + 1;
                         got.accepted += 1;
+                        got.resyncs += u64::from(std::mem::take(&mut damaged));
                     }
                     Outcome::Message(other) => panic!("accepted a message never sent: {other:?}"),
-                    Outcome::CrcError | Outcome::Malformed(_) | Outcome::Overflow => got.rejected += 1,
+                    Outcome::CrcError | Outcome::Malformed(_) | Outcome::Overflow => {
+                        got.rejected += 1;
+                        damaged = true;
+                    }
                 }
             }
         }
@@ -77,6 +84,7 @@ fn check(frames: u32, rate: f64, seed: u64) {
     assert_eq!(got.accepted, injected.frames_delivered, "every intact frame decoded");
     assert_eq!(got.lost_by_seq, injected.frames_lost, "lost frames as injected");
     assert_eq!(got.rejected, injected.junk_units, "every junk unit rejected and counted");
+    assert_eq!(got.resyncs, injected.recoveries, "back on good frames where the link is");
     assert!(injected.frames_lost > 0 && injected.junk_units > 0);
 }
 
@@ -90,7 +98,7 @@ fn hundred_thousand_frames_through_a_faulty_link() {
 fn a_clean_link_delivers_everything() {
     let (injected, got) = run(5_000, FaultRates::NONE, 3);
     assert_eq!(injected.frames_delivered, 5_000);
-    assert_eq!((got.accepted, got.rejected, got.lost_by_seq), (5_000, 0, 0));
+    assert_eq!((got.accepted, got.rejected, got.lost_by_seq, got.resyncs), (5_000, 0, 0, 0));
 }
 
 #[test]

@@ -7,14 +7,22 @@
 //! The device clock runs from a fixed `epoch`: frame `seq` is due `seq · batch / rate` seconds
 //! after it, whether or not the emulator is running, so a restarted emulator continues the
 //! sequence and the frames of an outage are genuinely missing, as with a device that kept
-//! running while its cable was out.
+//! running while its cable was out. [`Pace::FreeRun`] instead streams a fixed number of frames
+//! as fast as the pty takes them (device time still follows the sequence), for studies that
+//! need a million frames in less than an hour.
+//!
+//! With [`EmuConfig::faults`] the device's output passes `sim::link::FaultyLink` on its way to
+//! the pty, so the host driver reads a damaged stream, and [`EmuStats::injected`] holds the
+//! link's exact account of what it did.
 
+use std::collections::VecDeque;
 use std::fs::File;
 use std::io::{self, Read, Write};
-use std::os::fd::OwnedFd;
-use std::path::{Path, PathBuf};
+use std::ops::Range;
+use std::os::fd::{AsRawFd, OwnedFd};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
 
@@ -22,6 +30,30 @@ use protocol::{
     opcode, Accumulator, Command, FilterConfig, Info, Message, NackCode, NullState, Outcome, Reply,
     Request, Sample, SampleFrame, Status,
 };
+use sim::link::{FaultRates, FaultyLink, Injected};
+
+use crate::hil::pty::relink;
+
+/// How the emulator paces its frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pace {
+    /// Frame `seq` is due `seq · batch / rate` s after the epoch, as on a real device.
+    RealTime,
+    /// Frames 0..`frames` as fast as the pty takes them from the start command on, then
+    /// silence (commands are still answered).
+    FreeRun { frames: u64 },
+}
+
+/// Damage done to the device's output on its way to the pty.
+#[derive(Debug, Clone)]
+pub struct EmuFaults {
+    pub rates: FaultRates,
+    pub seed: u64,
+    /// Sample frames with these sequence numbers go through the link at `rates`; the others
+    /// (and everything after them) pass it clean, so losses at both ends show by sequence.
+    /// Everything before the first sample frame bypasses the link: the handshake stays intact.
+    pub frames: Range<u64>,
+}
 
 /// The emulated device's configuration. The analog values are the emulator's own test values
 /// (not hardware parameters): they only need to be self-consistent with its info frame.
@@ -38,6 +70,8 @@ pub struct EmuConfig {
     pub chip_serial: u32,
     /// Write half of a frame, then stop, after this long.
     pub cut_mid_frame_after: Option<Duration>,
+    pub pace: Pace,
+    pub faults: Option<EmuFaults>,
 }
 
 impl EmuConfig {
@@ -50,6 +84,8 @@ impl EmuConfig {
             autostart: false,
             chip_serial: 0x7AC7_11E0,
             cut_mid_frame_after: None,
+            pace: Pace::RealTime,
+            faults: None,
         }
     }
 }
@@ -99,6 +135,17 @@ pub struct EmuStats {
     /// Sequence of the last frame written completely, +1 (0: none yet).
     pub last_seq_plus_one: AtomicU64,
     pub requests: AtomicU64,
+    /// The fault-injecting link's account (all zero without faults).
+    pub injected: Mutex<Injected>,
+}
+
+impl EmuStats {
+    /// A snapshot of the link's account.
+    pub fn injected(&self) -> Injected {
+        self.injected
+            .lock()
+            .map_or_else(|p| *p.into_inner(), |i| *i)
+    }
 }
 
 /// A running emulator.
@@ -169,14 +216,6 @@ fn open_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
     Ok((pty.master, pty.slave, pty.path))
 }
 
-/// Atomically (re)point `link` at `target`.
-fn relink(link: &Path, target: &Path) -> io::Result<()> {
-    let tmp = link.with_extension("relink");
-    let _ = std::fs::remove_file(&tmp);
-    std::os::unix::fs::symlink(target, &tmp)?;
-    std::fs::rename(&tmp, link)
-}
-
 /// The info frame the emulator sends for `cfg` (at power-up, before any command).
 pub fn info_for(cfg: &EmuConfig) -> Info {
     Info {
@@ -205,6 +244,9 @@ pub fn info_for(cfg: &EmuConfig) -> Info {
 /// firmware TX queue that the link cannot drain.
 const TX_QUEUE_BYTES: usize = 16 * 1024;
 
+/// In [`Pace::FreeRun`], new frames are made while fewer bytes than this wait to be written.
+const FREE_RUN_QUEUE_BYTES: usize = 16 * 1024;
+
 struct Device {
     cfg: EmuConfig,
     port: File,
@@ -215,6 +257,13 @@ struct Device {
     dropped: u16,
     tx: Vec<u8>,
     acc: Accumulator,
+    /// The fault-injecting link, from the first sample frame on.
+    link: Option<FaultyLink>,
+    /// Bytes written to the pty so far.
+    written: u64,
+    /// Stalls the link asked for: (after this many bytes written, for this long).
+    stalls: VecDeque<(u64, Duration)>,
+    quiet_until: Option<Instant>,
 }
 
 impl Device {
@@ -231,6 +280,10 @@ impl Device {
             dropped: 0,
             tx: Vec::new(),
             acc: Accumulator::new(),
+            link: None,
+            written: 0,
+            stalls: VecDeque::new(),
+            quiet_until: None,
         }
     }
 
@@ -252,9 +305,27 @@ impl Device {
             }
             self.produce();
             self.drain();
-            std::thread::sleep(Duration::from_millis(2));
+            self.wait();
         }
         Ok(())
+    }
+
+    /// Real time: a 2 ms tick. Free run: until the pty takes more (or 1 ms).
+    fn wait(&self) {
+        let free_run = matches!(self.cfg.pace, Pace::FreeRun { .. });
+        if !free_run {
+            std::thread::sleep(Duration::from_millis(2));
+        } else if self.tx.is_empty() || self.quiet_until.is_some() {
+            std::thread::sleep(Duration::from_micros(200));
+        } else {
+            let mut fd = libc::pollfd {
+                fd: self.port.as_raw_fd(),
+                events: libc::POLLOUT,
+                revents: 0,
+            };
+            // SAFETY: one valid pollfd, its count, a timeout in ms.
+            unsafe { libc::poll(&mut fd, 1, 1) };
+        }
     }
 
     /// Write every complete queued byte, then half of one more frame, and stop.
@@ -286,6 +357,15 @@ impl Device {
     }
 
     fn produce(&mut self) {
+        if let Pace::FreeRun { frames } = self.cfg.pace {
+            let mut next = self.next_seq.unwrap_or(0);
+            while self.streaming && next < frames && self.tx.len() < FREE_RUN_QUEUE_BYTES {
+                self.send_frame(next);
+                next += 1;
+            }
+            self.next_seq = Some(next);
+            return;
+        }
         let due = self.due_seq();
         let mut next = self.next_seq.unwrap_or(due);
         if !self.streaming {
@@ -296,35 +376,76 @@ impl Device {
             if self.tx.len() > TX_QUEUE_BYTES {
                 self.dropped = self.dropped.saturating_add(1);
             } else {
-                let f = truth_frame(next as u32, self.cfg.batch, self.cfg.rate_hz, self.status());
+                self.send_frame(next);
                 self.dropped = 0;
-                if let Ok(w) = protocol::encode_vec(&Message::Sample(f)) {
-                    self.tx.extend_from_slice(&w);
-                }
-                self.stats.frames_sent.fetch_add(1, Ordering::Relaxed);
-                self.stats
-                    .last_seq_plus_one
-                    .store(next + 1, Ordering::Relaxed);
             }
             next += 1;
         }
         self.next_seq = Some(next);
     }
 
+    /// Queue sample frame `seq`, through the faulty link if there is one.
+    fn send_frame(&mut self, seq: u64) {
+        if let Some(faults) = &self.cfg.faults {
+            let rates = if faults.frames.contains(&seq) {
+                faults.rates
+            } else {
+                FaultRates::NONE
+            };
+            let seed = faults.seed;
+            self.link
+                .get_or_insert_with(|| FaultyLink::new(rates, seed))
+                .set_rates(rates);
+        }
+        let f = truth_frame(seq as u32, self.cfg.batch, self.cfg.rate_hz, self.status());
+        if let Ok(w) = protocol::encode_vec(&Message::Sample(f)) {
+            self.queue(&w);
+        }
+        self.stats.frames_sent.fetch_add(1, Ordering::Relaxed);
+        self.stats
+            .last_seq_plus_one
+            .store(seq + 1, Ordering::Relaxed);
+    }
+
+    /// Write what the pty takes, up to the next stall of the link; nothing while stalled.
     fn drain(&mut self) {
+        if self.quiet_until.is_some_and(|t| Instant::now() < t) {
+            return;
+        }
+        self.quiet_until = None;
         while !self.tx.is_empty() {
-            match self.port.write(&self.tx) {
-                Ok(0) => return,
+            let limit = self
+                .stalls
+                .front()
+                .map_or(self.tx.len(), |(at, _)| (at - self.written) as usize);
+            if limit == 0 {
+                let (_, stall) = self.stalls.pop_front().unwrap_or_default();
+                self.quiet_until = Some(Instant::now() + stall);
+                return;
+            }
+            match self.port.write(&self.tx[..limit]) {
+                Ok(0) | Err(_) => return,
                 Ok(n) => {
                     self.tx.drain(..n);
+                    self.written += n as u64;
                 }
-                Err(_) => return,
             }
         }
     }
 
     fn queue(&mut self, bytes: &[u8]) {
-        self.tx.extend_from_slice(bytes);
+        let Some(link) = self.link.as_mut() else {
+            self.tx.extend_from_slice(bytes);
+            return;
+        };
+        let stall = link.transmit(bytes, &mut self.tx);
+        if stall > Duration::ZERO {
+            self.stalls
+                .push_back((self.written + self.tx.len() as u64, stall));
+        }
+        if let Ok(mut i) = self.stats.injected.lock() {
+            *i = link.injected();
+        }
     }
 
     fn send(&mut self, msg: &Message) {

@@ -146,9 +146,27 @@ fn hil_native_firmware_library_against_the_emulated_sensor_over_a_pty() {
         .iter()
         .position(|f| f.frame.status.config_epoch == epoch_filter)
         .unwrap();
+    // Spread about the straight line through the frame: the noise, without the load's slope
+    // (on a loaded machine the command can land on the steep part of the sped-up ramp).
     let spread = |f: &Frame| {
-        let v: Vec<i32> = f.frame.samples().iter().map(|s| s.ch[0]).collect();
-        (v.iter().max().unwrap() - v.iter().min().unwrap()) as f64
+        let y: Vec<f64> = f
+            .frame
+            .samples()
+            .iter()
+            .map(|s| f64::from(s.ch[0]))
+            .collect();
+        let (n, x_mean) = (y.len() as f64, (y.len() as f64 - 1.0) / 2.0);
+        let y_mean = y.iter().sum::<f64>() / n;
+        let dx = |i: usize| i as f64 - x_mean;
+        let sxy: f64 = y
+            .iter()
+            .enumerate()
+            .map(|(i, v)| dx(i) * (v - y_mean))
+            .sum();
+        let sxx: f64 = (0..y.len()).map(|i| dx(i) * dx(i)).sum();
+        let residual = |(i, v): (usize, &f64)| v - y_mean - sxy / sxx * dx(i);
+        let r: Vec<f64> = y.iter().enumerate().map(residual).collect();
+        r.iter().cloned().fold(f64::MIN, f64::max) - r.iter().cloned().fold(f64::MAX, f64::min)
     };
     assert!(
         spread(&frames[kf - 1]) > 4.0 * spread(&frames[kf]),

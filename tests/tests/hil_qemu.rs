@@ -11,7 +11,6 @@
 //! `TACTILE_HIL_QEMU_CLOCK=virtual` QEMU runs as fast as it can (`-icount shift=0,sleep=off`),
 //! which measures the path's capacity instead of the real-time rate.
 
-use std::os::fd::{FromRawFd, OwnedFd};
 use std::time::{Duration, Instant, SystemTime};
 
 use host::device::{Device, Event, Frame, OpenOptions, PortSpec};
@@ -19,7 +18,8 @@ use host::logger::{Recorder, Setup};
 use protocol::{FilterConfig, NullState};
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::{ideal_code, VREF_V};
-use tests::hil::qemu::{build_elf, Clock, QemuBoard};
+use tests::hil::pty::hold_open;
+use tests::hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
 use tests::hil::reference::ReferenceFilter;
 
 const FILTER: FilterConfig = FilterConfig {
@@ -34,9 +34,6 @@ const FAST_HZ: u32 = 2000;
 /// at radius ~0.85) accumulates some tens of them; measured 8 codes (printed). 50 codes = 7 uV,
 /// 6e-6 of full scale; a wrong coefficient or a section in the wrong order misses by thousands.
 const FILTER_TOLERANCE_CODES: f64 = 50.0;
-
-/// The board's trim codes after the power-up null (offset / 3e-4 V per code from mid).
-const NULL_CODES: [u16; 3] = [3215, 1215, 2715];
 
 fn pump(
     dev: &Device,
@@ -76,27 +73,11 @@ fn steady_frames_per_s(frames: &[Frame]) -> f64 {
     (frames.len() - 1) as f64 / span.as_secs_f64()
 }
 
-/// Keep the slave of `path` open (without reading it) so QEMU sees a reader from the moment it
-/// runs; the host driver opens it again by path.
-fn hold_open(path: &std::path::Path) -> OwnedFd {
-    let c = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
-    // SAFETY: a valid NUL-terminated path; the fd returned is owned by the OwnedFd.
-    let fd = unsafe { libc::open(c.as_ptr(), libc::O_RDWR | libc::O_NOCTTY | libc::O_CLOEXEC) };
-    assert!(
-        fd >= 0,
-        "open {}: {}",
-        path.display(),
-        std::io::Error::last_os_error()
-    );
-    // SAFETY: fd was just opened and belongs to nobody else.
-    unsafe { OwnedFd::from_raw_fd(fd) }
-}
-
 #[test]
 fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
     let elf = build_elf().expect("build the QEMU firmware");
     let mut board = QemuBoard::spawn(&elf, Clock::from_env()).expect("start qemu-system-arm");
-    let keeper = hold_open(&board.pty);
+    let keeper = hold_open(&board.pty).expect("open UART0's pty");
     board.resume().unwrap();
     let opts = OpenOptions {
         reconnect: false,

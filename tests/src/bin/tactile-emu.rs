@@ -3,13 +3,18 @@
 //! ```text
 //! tactile-emu --link /tmp/tactile0 [--rate 1000] [--batch 10] [--autostart]
 //!             [--epoch-unix SECONDS] [--cut-after SECONDS] [--run-for SECONDS]
+//!             [--free-run FRAMES] [--fault-rate PER_FRAME] [--fault-seed N]
 //! ```
 //! Prints the pty path and the link, then runs until killed (or `--run-for` / `--cut-after`).
+//! `--free-run` streams that many frames as fast as the pty takes them; `--fault-rate` passes
+//! the frames (all but 16 at each end) through `sim::link::FaultyLink` with every fault at that
+//! rate, and prints the link's account at the end of `--run-for`.
 
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use tests::emu::{EmuConfig, Emulator};
+use sim::link::FaultRates;
+use tests::emu::{EmuConfig, EmuFaults, Emulator, Pace};
 
 fn main() -> ExitCode {
     match run() {
@@ -32,6 +37,7 @@ fn value<T: std::str::FromStr>(
 fn run() -> Result<(), String> {
     let mut cfg = EmuConfig::new("/tmp/tactile0");
     let mut run_for = None;
+    let (mut fault_rate, mut fault_seed) = (None, 1u64);
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -46,8 +52,15 @@ fn run() -> Result<(), String> {
                 cfg.cut_mid_frame_after = Some(Duration::from_secs_f64(value(&mut args, &a)?))
             }
             "--run-for" => run_for = Some(Duration::from_secs_f64(value(&mut args, &a)?)),
+            "--free-run" => {
+                cfg.pace = Pace::FreeRun {
+                    frames: value(&mut args, &a)?,
+                }
+            }
+            "--fault-rate" => fault_rate = Some(value::<f64>(&mut args, &a)?),
+            "--fault-seed" => fault_seed = value(&mut args, &a)?,
             "-h" | "--help" => {
-                println!("usage: tactile-emu --link PATH [--rate HZ] [--batch N] [--autostart] [--epoch-unix S] [--cut-after S] [--run-for S]");
+                println!("usage: tactile-emu --link PATH [--rate HZ] [--batch N] [--autostart] [--epoch-unix S] [--cut-after S] [--run-for S] [--free-run FRAMES] [--fault-rate R] [--fault-seed N]");
                 return Ok(());
             }
             other => return Err(format!("unknown argument {other:?}")),
@@ -55,6 +68,22 @@ fn run() -> Result<(), String> {
     }
     if cfg.rate_hz == 0 || !(1..=16).contains(&cfg.batch) {
         return Err("--rate must be > 0 and --batch in 1..=16".into());
+    }
+    if let Some(rate) = fault_rate {
+        if !(0.0..=1.0).contains(&rate) {
+            return Err(format!(
+                "--fault-rate: {rate} is not a probability in 0..=1"
+            ));
+        }
+        let end = match cfg.pace {
+            Pace::FreeRun { frames } => frames.saturating_sub(16),
+            Pace::RealTime => u64::MAX,
+        };
+        cfg.faults = Some(EmuFaults {
+            rates: FaultRates::uniform(rate, Duration::from_millis(20)),
+            seed: fault_seed,
+            frames: 16..end,
+        });
     }
     let since = SystemTime::now()
         .duration_since(cfg.epoch)
@@ -76,6 +105,9 @@ fn run() -> Result<(), String> {
         None => loop {
             std::thread::sleep(Duration::from_secs(3600));
         },
+    }
+    if fault_rate.is_some() {
+        println!("injected: {:?}", emu.stats.injected());
     }
     emu.kill();
     Ok(())

@@ -3,7 +3,7 @@
 
 use std::io;
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Both ends and the slave's path.
 pub struct Pty {
@@ -99,4 +99,27 @@ pub fn write_master(master: &OwnedFd, bytes: &[u8]) -> io::Result<usize> {
         io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted => Ok(0),
         _ => Err(e),
     }
+}
+
+/// Atomically (re)point the stable path `link` at `target` (a device node that changes name
+/// when the device returns, as udev's by-id symlinks do).
+pub fn relink(link: &Path, target: &Path) -> io::Result<()> {
+    let tmp = link.with_extension("relink");
+    let _ = std::fs::remove_file(&tmp);
+    std::os::unix::fs::symlink(target, &tmp)?;
+    std::fs::rename(&tmp, link)
+}
+
+/// Open the slave at `path` and keep it open without reading, so that a device that drops its
+/// output while nobody has the pty open (QEMU) sees a reader from the moment it runs.
+pub fn hold_open(path: &Path) -> io::Result<OwnedFd> {
+    let c =
+        std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).map_err(io::Error::other)?;
+    // SAFETY: a valid NUL-terminated path; the fd returned is owned by the OwnedFd.
+    let fd = unsafe { libc::open(c.as_ptr(), libc::O_RDWR | libc::O_NOCTTY | libc::O_CLOEXEC) };
+    if fd < 0 {
+        return Err(io::Error::last_os_error());
+    }
+    // SAFETY: fd was just opened and belongs to nobody else.
+    Ok(unsafe { OwnedFd::from_raw_fd(fd) })
 }

@@ -44,6 +44,10 @@ pub fn build_elf() -> io::Result<PathBuf> {
     Ok(dir.join("target/thumbv7em-none-eabihf/release/qemu-mps2-an386"))
 }
 
+/// The board's trim codes after the power-up null (offset / 3e-4 V per code from mid), for the
+/// stimulus of `sim::ads131m04::stimulus::StimulusParams::QEMU_BOARD`.
+pub const NULL_CODES: [u16; 3] = [3215, 1215, 2715];
+
 /// How QEMU's clock runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Clock {
@@ -153,6 +157,12 @@ impl QemuBoard {
     /// QEMU's process id (for checks that it is gone).
     pub fn pid(&self) -> u32 {
         self.child.id()
+    }
+
+    /// SIGKILL QEMU, as a crash or a pulled power lead would stop the board, and reap it.
+    pub fn kill(mut self) -> io::Result<()> {
+        self.child.kill()?;
+        self.child.wait().map(|_| ())
     }
 
     /// Quit QEMU through the monitor, and kill it if it has not gone within a second.
