@@ -32,6 +32,9 @@ pub struct Assembled {
     pub residual: Vec<f64>,
     /// Internal force at every node (fixed ones too: their reactions), N.
     pub node_force: Vec<[f64; 3]>,
+    /// The share of `node_force` at the inclusion's nodes from the pillar elements
+    /// ([`Model::pillar`]), N; zero elsewhere.
+    pub pillar_force: Vec<[f64; 3]>,
     /// Tangent values in the model's CSC pattern (upper triangle).
     pub values: Vec<f64>,
     /// Smallest element volume ratio J (<= 0 means an inverted element).
@@ -136,6 +139,8 @@ pub fn assemble(model: &Model, state: &State, dt_s: f64, out: &mut Assembled, sc
     out.residual.resize(model.n_dofs, 0.0);
     out.node_force.clear();
     out.node_force.resize(model.mesh.nodes.len(), [0.0; 3]);
+    out.pillar_force.clear();
+    out.pillar_force.resize(model.mesh.nodes.len(), [0.0; 3]);
     out.values.clear();
     out.values.resize(model.row_idx.len(), 0.0);
     out.min_j = min_j;
@@ -144,9 +149,14 @@ pub fn assemble(model: &Model, state: &State, dt_s: f64, out: &mut Assembled, sc
         let (force, kmat) = chunk.split_at(LOCAL);
         let nodes = model.mesh.tets[model.gel[k]];
         let dofs = model.element_dofs(k);
+        let pillar = model.pillar[k];
         for (l, &d) in dofs.iter().enumerate() {
             if l % 4 < 3 {
-                model_node_force(&mut out.node_force, nodes[l / 4], l % 4, force[l]);
+                let node = nodes[l / 4];
+                out.node_force[node][l % 4] += force[l];
+                if pillar && model.mesh.in_inclusion[node] {
+                    out.pillar_force[node][l % 4] += force[l];
+                }
             }
             if d != NONE {
                 out.residual[d as usize] += force[l];
@@ -160,10 +170,6 @@ pub fn assemble(model: &Model, state: &State, dt_s: f64, out: &mut Assembled, sc
         }
     }
     nodal_pressure_terms(model, state, out);
-}
-
-fn model_node_force(node_force: &mut [[f64; 3]], node: usize, d: usize, f: f64) {
-    node_force[node][d] += f;
 }
 
 /// - V_a p_a^2 / (2 kappa): residual - V_a p_a / kappa, tangent - V_a / kappa.
