@@ -14,20 +14,32 @@ use crate::Error;
 const MAX_NEWTON: usize = 40;
 /// Smallest line-search step (six halvings).
 const MIN_ALPHA: f64 = 1.0 / 64.0;
-/// Bounds of the relative residual of the GMRES solves. Inexact Newton: the forcing term is
-/// GMRES_FORCING x the scaled residual norm, so it is loose while Newton is far off (where the
-/// linearisation error dominates anyway) and tight near convergence, which keeps the
-/// quadratic rate (the new residual is about eta |r| + C |r|^2, with C |r| ~ 1e-2 here).
-const GMRES_RTOL: (f64, f64) = (1e-8, 1e-3);
+/// Relative residual of the GMRES solves (inexact Newton). After a step with forcing eta the
+/// scaled residual is about eta |r| + C |r|^2 (C |r| ~ 1e-2 here). The forcing is
+/// GMRES_FORCING |r| (tight enough to keep the quadratic rate), at most GMRES_RTOL_MAX, but
+/// never tighter than needed to land at half the convergence tolerance: solving the last
+/// systems to 1e-8 when 1e-2 suffices was most of the GMRES work.
 const GMRES_FORCING: f64 = 0.1;
+const GMRES_RTOL_MIN: f64 = 1e-8;
+const GMRES_RTOL_MAX: f64 = 1e-3;
+/// The largest forcing allowed when the convergence tolerance takes over.
+const GMRES_RTOL_LOOSE: f64 = 0.1;
+
+/// GMRES tolerance for a Newton system with scaled residual norm `merit`.
+fn forcing(merit: f64) -> f64 {
+    let rate = (GMRES_FORCING * merit).clamp(GMRES_RTOL_MIN, GMRES_RTOL_MAX);
+    let enough = 0.5 * FORCE_TOL.min(VOLUME_TOL) / merit;
+    rate.max(enough.min(GMRES_RTOL_LOOSE))
+}
 /// GMRES iterations before giving up on the kept factor for this system.
 const GMRES_MAX: usize = 20;
 /// A kept factor that needed more GMRES iterations than this is refreshed for the next
-/// system. A single-precision factorisation costs about 18 of its triangular solves on the
-/// 10^4-tetrahedron mesh (66 ms vs 3.6 ms CPU), and a fresh factor still needs 2 GMRES
-/// iterations to reach double precision, so a stale factor pays until ~15 iterations; 10
-/// leaves room for the next system, whose tangent has drifted further.
-const GMRES_REFRESH: usize = 10;
+/// system. Measured on the 10^4-tetrahedron curve (perf): a single-precision factorisation
+/// (compute-bound dense kernels, parallel) costs about 7 GMRES iterations (memory-bound
+/// triangular solves), a fresh factor needs 1 iteration, and a stale one needs more with
+/// every Newton iteration it ages: refreshing after 3/5/10 iterations cost 27/20/12
+/// factorisations + 294/397/573 GMRES iterations, i.e. 490/540/660 iteration-equivalents.
+const GMRES_REFRESH: usize = 4;
 /// Force tolerance, in units of E R^2 (60 N at 0.15 MPa is 1 E R^2).
 const FORCE_TOL: f64 = 1e-6;
 /// Relative volume tolerance of the nodal constraint.
@@ -206,7 +218,7 @@ impl Solver {
             for (d, r) in rhs.iter_mut().zip(&self.asm.residual) {
                 *d = -r;
             }
-            let rtol = (GMRES_FORCING * merit).clamp(GMRES_RTOL.0, GMRES_RTOL.1);
+            let rtol = forcing(merit);
             let (fresh, krylov) = self.newton_direction(&rhs, &mut delta, force_factor, rtol)?;
             if trace {
                 eprintln!("  direction: fresh factor {fresh}, GMRES iterations {krylov}");
