@@ -101,16 +101,21 @@ fn element(model: &Model, state: &State, k: usize, dt_s: f64, out: &mut [f64]) -
             }
         }
     }
+    // A has the major symmetry A[iJ][kL] = A[kL][iJ], so the displacement block is symmetric:
+    // compute the node blocks b >= a and mirror them.
     for an in 0..4 {
         for i in 0..3 {
             let row = 4 * an + i;
-            for b in 0..4 {
+            for b in an..4 {
                 for kk in 0..3 {
                     let s: f64 = (0..3).map(|jj| g[an][jj] * ag[3 * i + jj][3 * b + kk]).sum();
                     kmat[row * LOCAL + 4 * b + kk] = v * s;
+                    kmat[(4 * b + kk) * LOCAL + row] = v * s;
                 }
-                // d2 Pi / dx_ai dp_b = (1/4) dv_e/dx_ai
-                let bxp = v / 4.0 * (0..3).map(|jj| vm.dj[i][jj] * g[an][jj]).sum::<f64>();
+            }
+            // d2 Pi / dx_ai dp_b = (1/4) dv_e/dx_ai, the same for every b
+            let bxp = v / 4.0 * (0..3).map(|jj| vm.dj[i][jj] * g[an][jj]).sum::<f64>();
+            for b in 0..4 {
                 kmat[row * LOCAL + 4 * b + 3] = bxp;
                 kmat[(4 * b + 3) * LOCAL + row] = bxp;
             }
