@@ -14,8 +14,10 @@
 //! loads are the resultant over the inclusion's top face alone, i.e. the contributions of the
 //! gel elements that touch the inclusion from above its top plane ([`Model::pillar`]), and
 //! the moments are taken about the chip centre (the base centre, origin of the chip frame,
-//! whose x, y, z axes are the fingertip's). Counting the side walls too would add the package's
-//! lateral confinement of the nearly incompressible gel to Fz and roughly double it.
+//! whose x, y, z axes are the fingertip's). On the nominal fingertip at 60 N (5 mm mesh) the
+//! side walls carry a small opposite Fz (the whole package carries 6 % less Fz than its top)
+//! but half again the top's lateral force, so counting them overstated the chip's moments by
+//! ~20 % at theta_p = 20° (`fingertip/figures/summary.txt`).
 
 use crate::model::Model;
 
