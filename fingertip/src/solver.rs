@@ -197,10 +197,11 @@ impl Solver {
     /// Newton to equilibrium with the rod at `rod`. On failure the state is left wherever it
     /// got to; the caller restores its copy.
     ///
-    /// The factorisation is the expensive part (≈ 10x an assembly, ≈ 20x a triangular solve),
-    /// so the Newton systems are solved by GMRES preconditioned with the last factor, kept
-    /// across iterations and load steps ([`crate::krylov`]); the tangent is refactored only
-    /// when GMRES stalls or its direction fails the line search.
+    /// A factorisation costs about 7 preconditioned GMRES iterations, so the Newton systems
+    /// are solved by GMRES preconditioned with the last single-precision factor, kept across
+    /// iterations and load steps ([`crate::krylov`]), to the inexact-Newton tolerance
+    /// `forcing`; the tangent is refactored when the kept factor needed more than
+    /// GMRES_REFRESH iterations, when GMRES stalls, or when its direction fails the line search.
     pub fn equilibrate(&mut self, rod: &Rod, dt_s: f64) -> Result<ContactTotals, Error> {
         let mut totals = self.evaluate(rod, dt_s);
         let mut delta = vec![0.0; self.model.n_dofs];
