@@ -9,7 +9,7 @@
 
 use std::fmt::Write as _;
 
-use fingertip::{compress, Config, Curve, Material};
+use fingertip::{Config, Curve, Fingertip, Material};
 use plotters::prelude::*;
 
 fn config(hw: &hardware::Fingertip, mesh_mm: f64, theta: f64, phi: f64) -> Config {
@@ -86,12 +86,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let thetas = [0.0, 10.0, 20.0, 30.0];
     let mut curves = Vec::new();
     for &theta in &thetas {
-        let c = compress(&config(&hw, mesh_mm, theta, phi), peak)?;
+        let cfg = config(&hw, mesh_mm, theta, phi);
+        let mut ft = Fingertip::new(cfg.clone())?;
+        let c = ft.compress_to_peak(peak)?;
         let last = *c.points.last().ok_or("empty curve")?;
+        // What the chip's pillar top carries, and its mean traction over the top face.
+        let loads = ft.chip_loads();
+        let top_m2 = (2.0 * cfg.inclusion_half_width_mm * 1e-3).powi(2);
+        let mount = ft.mount_reaction();
         writeln!(
             summary,
-            "theta {theta:4.1}: {} tets, solve {:.1} s; at {:.2} N: travel {:.3} mm, Fz {:.4} N, Mx {:.3e} N m, My {:.3e} N m, tilt moment {:.3e} N m",
-            c.quality.tets, c.solve_s, last.force_n, last.rod_mm, last.fz_n, last.mx_nm, last.my_nm, tilt_moment(&last, phi)
+            "theta {theta:4.1}: {} tets, solve {:.1} s; at {:.2} N: travel {:.3} mm, Fz {:.4} N, Mx {:.3e} N m, My {:.3e} N m, tilt moment {:.3e} N m; \
+             pillar top (Fx, Fy, Fz) ({:.4}, {:.4}, {:.4}) N = {:.3} of the mount's Fz, mean traction ({:.1}, {:.1}, {:.1}) kPa",
+            c.quality.tets, c.solve_s, last.force_n, last.rod_mm, last.fz_n, last.mx_nm, last.my_nm, tilt_moment(&last, phi),
+            loads.fx_n, loads.fy_n, loads.fz_n, loads.fz_n / mount[2], 1e-3 * loads.fx_n / top_m2, 1e-3 * loads.fy_n / top_m2, 1e-3 * loads.fz_n / top_m2
         )?;
         curves.push(c);
     }

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use crate::assembly::{advance_history, State};
 use crate::contact::Rod;
-use crate::loads::{chip_loads, ChipLoads};
+use crate::loads::{chip_loads, mount_reaction, ChipLoads};
 use crate::material::{moduli, Kinematics};
 use crate::mesh::{generate, MeshParams};
 use crate::model::{MaterialData, Model};
@@ -191,7 +191,7 @@ impl Fingertip {
             }
         }
         let force = -(0..3).map(|d| f[d] * rod.axis[d]).sum::<f64>();
-        let loads: ChipLoads = chip_loads(&s.model, &s.asm.node_force);
+        let loads: ChipLoads = chip_loads(&s.model, &s.asm.pillar_force);
         CurvePoint {
             t_s: self.t_s,
             rod_mm: self.travel_m * 1e3,
@@ -205,7 +205,13 @@ impl Fingertip {
 
     /// Full chip loads at the current state (including the in-plane force).
     pub fn chip_loads(&self) -> ChipLoads {
-        chip_loads(&self.solver.model, &self.solver.asm.node_force)
+        chip_loads(&self.solver.model, &self.solver.asm.pillar_force)
+    }
+
+    /// Total force the gel applies to the mount (base and whole package) at the current
+    /// state, N; at equilibrium it equals the rod's push on the gel.
+    pub fn mount_reaction(&self) -> [f64; 3] {
+        mount_reaction(&self.solver.model, &self.solver.asm.node_force)
     }
 
     /// Compress from the current state until the force along the rod reaches `peak_load_n`,

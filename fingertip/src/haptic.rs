@@ -5,7 +5,7 @@
 //! normal dofs of the candidate contact nodes (the Schur complement of everything else) gives
 //! the dense Delassus compliance W = N^T K^{-1} N (n_c x n_c, N the rod-normal directions), and
 //! the chip loads respond to contact forces through G = T K_Ic K^{-1} N (3 x n_c), read off
-//! the same n_c solves (K_Ic: the element couplings into the inclusion's nodes). Each update then solves the small complementarity problem
+//! the same n_c solves (K_Ic: the couplings of the pillar elements into the inclusion's nodes, see [`crate::loads`]). Each update then solves the small complementarity problem
 //!
 //!   g = g0 - (d - d0) 1 + W (f - f0) + f / k,   f >= 0,  g >= 0,  f g = 0
 //!
@@ -271,7 +271,7 @@ fn chip_sensitivity(ft: &Fingertip, cand: &[usize], fields: &[f64]) -> Result<[V
     let model = &s.model;
     let n = model.n_dofs;
     let touching: Vec<(usize, Vec<f64>)> = (0..model.gel.len())
-        .filter(|&k| model.mesh.tets[model.gel[k]].iter().any(|&a| model.mesh.in_inclusion[a]))
+        .filter(|&k| model.pillar[k])
         .map(|k| (k, crate::assembly::element_tangent(model, &s.state, k)))
         .collect();
     let mut g = [vec![0.0; cand.len()], vec![0.0; cand.len()], vec![0.0; cand.len()]];

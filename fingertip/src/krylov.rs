@@ -30,32 +30,39 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Solve K x = b to relative residual `rtol` within `max_iter` iterations, preconditioned by
-/// `m` (a factor of a nearby matrix). Returns the iterations used, or None without convergence.
-pub fn gmres(col_ptr: &[usize], row_idx: &[usize], values: &[f64], m: &mut Ldlt, b: &[f64], x: &mut [f64], rtol: f64, max_iter: usize) -> Option<usize> {
+/// `m` (a factor of a nearby matrix). The residual is measured in the norm |W r| with the
+/// diagonal weights `w` (the caller's scaled merit norm, so that force and volume rows count
+/// alike): GMRES runs on (W K M^{-1} W^{-1}) y = W b, x = M^{-1} W^{-1} y, whose operator is
+/// similar to K M^{-1} (≈ I), so the scaling changes the norm but not the convergence.
+/// Returns the iterations used, or None without convergence.
+#[allow(clippy::too_many_arguments)]
+pub fn gmres(col_ptr: &[usize], row_idx: &[usize], values: &[f64], m: &mut Ldlt, w: &[f64], b: &[f64], x: &mut [f64], rtol: f64, max_iter: usize) -> Option<usize> {
     let n = b.len();
-    let beta = dot(b, b).sqrt();
+    let wb: Vec<f64> = b.iter().zip(w).map(|(bi, wi)| bi * wi).collect();
+    let beta = dot(&wb, &wb).sqrt();
     x.fill(0.0);
     if beta == 0.0 {
         return Some(0);
     }
-    let mut v: Vec<Vec<f64>> = vec![b.iter().map(|bi| bi / beta).collect()];
+    let mut v: Vec<Vec<f64>> = vec![wb.iter().map(|bi| bi / beta).collect()];
     let mut h = vec![vec![0.0; max_iter]; max_iter + 1];
     let (mut cs, mut sn) = (vec![0.0; max_iter], vec![0.0; max_iter]);
     let mut g = vec![0.0; max_iter + 1];
     g[0] = beta;
     let mut z = vec![0.0; n];
-    let mut w = vec![0.0; n];
+    let mut kz = vec![0.0; n];
     let mut k = 0;
     while k < max_iter {
-        z.copy_from_slice(&v[k]);
+        z.iter_mut().zip(&v[k]).zip(w).for_each(|((zj, vj), wj)| *zj = vj / wj);
         m.solve_in_place(&mut z, 1);
-        sym_matvec(col_ptr, row_idx, values, &z, &mut w);
+        sym_matvec(col_ptr, row_idx, values, &z, &mut kz);
+        kz.iter_mut().zip(w).for_each(|(k, wi)| *k *= wi);
         for (i, vi) in v.iter().enumerate() {
-            let hik = dot(&w, vi);
+            let hik = dot(&kz, vi);
             h[i][k] = hik;
-            w.iter_mut().zip(vi).for_each(|(wj, vj)| *wj -= hik * vj);
+            kz.iter_mut().zip(vi).for_each(|(kj, vj)| *kj -= hik * vj);
         }
-        let norm = dot(&w, &w).sqrt();
+        let norm = dot(&kz, &kz).sqrt();
         h[k + 1][k] = norm;
         for i in 0..k {
             let t = cs[i] * h[i][k] + sn[i] * h[i + 1][k];
@@ -73,7 +80,7 @@ pub fn gmres(col_ptr: &[usize], row_idx: &[usize], values: &[f64], m: &mut Ldlt,
         if g[k].abs() <= rtol * beta || norm == 0.0 {
             break;
         }
-        v.push(w.iter().map(|wi| wi / norm).collect());
+        v.push(kz.iter().map(|ki| ki / norm).collect());
     }
     if g[k].abs() > rtol * beta {
         return None;
@@ -87,6 +94,7 @@ pub fn gmres(col_ptr: &[usize], row_idx: &[usize], values: &[f64], m: &mut Ldlt,
     for (i, vi) in v.iter().take(k).enumerate() {
         x.iter_mut().zip(vi).for_each(|(xj, vj)| *xj += y[i] * vj);
     }
+    x.iter_mut().zip(w).for_each(|(xj, wj)| *xj /= wj);
     m.solve_in_place(x, 1);
     Some(k)
 }
@@ -119,7 +127,8 @@ mod tests {
         let mut b = vec![0.0; n];
         sym_matvec(&col_ptr, &row_idx, &a, &xs, &mut b);
         let mut x = vec![0.0; n];
-        let its = gmres(&col_ptr, &row_idx, &a, &mut m, &b, &mut x, 1e-12, 10).expect("converges");
+        let weights = [1.0, 2.0, 0.5, 1.0, 3.0];
+        let its = gmres(&col_ptr, &row_idx, &a, &mut m, &weights, &b, &mut x, 1e-12, 10).expect("converges");
         assert!(its <= n);
         for i in 0..n {
             assert!((x[i] - xs[i]).abs() < 1e-9, "{x:?}");

@@ -1,7 +1,13 @@
 //! Sparse symmetric LDL^T from faer: the symbolic analysis (AMD ordering, elimination tree,
-//! supernodes) is done once per pattern and reused for every Newton iteration.
+//! supernodes) is done once per pattern and reused for every numeric factorisation.
+//!
+//! Two numeric precisions share that analysis. A double-precision factor solves exactly (the
+//! haptic condensation needs that). A single-precision factor is only a preconditioner for
+//! GMRES ([`crate::krylov`]), which restores double-precision accuracy in a few iterations:
+//! it costs about half the time to build and to apply (half the bytes through memory, twice the
+//! SIMD lanes), and a Newton solve never needed more than a preconditioner.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
@@ -10,21 +16,39 @@ use faer::{Conj, MatMut, Par, Side};
 
 use crate::Error;
 
+/// Which numeric factor is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Precision {
+    /// f64: an exact solver.
+    Double,
+    /// f32: a preconditioner.
+    Single,
+}
+
 /// A symmetric (upper-stored) sparse matrix factoriser with a fixed pattern.
 pub struct Ldlt {
     pattern: SymbolicSparseColMat<usize>,
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
+    l_values_f32: Vec<f32>,
+    /// The matrix values rounded to f32 (kept to avoid an allocation per factorisation).
+    a_f32: Vec<f32>,
+    /// Right-hand sides rounded to f32.
+    rhs_f32: Vec<f32>,
     factor_mem: MemBuffer,
     solve_mem: MemBuffer,
     par: Par,
-    factored: bool,
+    factored: Option<Precision>,
 }
 
 impl std::fmt::Debug for Ldlt {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Ldlt").field("n", &self.symbolic.nrows()).field("factor_nnz", &self.l_values.len()).finish()
+        f.debug_struct("Ldlt").field("n", &self.symbolic.nrows()).field("factor_nnz", &self.symbolic.len_val()).field("factored", &self.factored).finish()
     }
+}
+
+fn workspace(req: StackReq) -> Result<MemBuffer, Error> {
+    MemBuffer::try_new(req).map_err(|e| Error::LinearSolver(format!("workspace: {e:?}")))
 }
 
 impl Ldlt {
@@ -48,52 +72,89 @@ impl Ldlt {
         }
         .map_err(|e| Error::LinearSolver(format!("symbolic analysis: {e:?}")))?;
         let par = if std::env::var_os("FINGERTIP_SEQ").is_some() { Par::Seq } else { Par::rayon(0) };
-        let factor_mem = MemBuffer::try_new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
-            .map_err(|e| Error::LinearSolver(format!("workspace: {e:?}")))?;
-        let solve_mem = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(64, par))
-            .map_err(|e| Error::LinearSolver(format!("workspace: {e:?}")))?;
-        let l_values = vec![0.0; symbolic.len_val()];
-        Ok(Ldlt { pattern, symbolic, l_values, factor_mem, solve_mem, par, factored: false })
+        let factor_mem = workspace(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()).or(symbolic.factorize_numeric_ldlt_scratch::<f32>(par, Default::default())))?;
+        let solve_mem = workspace(symbolic.solve_in_place_scratch::<f64>(64, par).or(symbolic.solve_in_place_scratch::<f32>(1, par)))?;
+        Ok(Ldlt {
+            pattern,
+            symbolic,
+            l_values: Vec::new(),
+            l_values_f32: Vec::new(),
+            a_f32: Vec::new(),
+            rhs_f32: Vec::new(),
+            factor_mem,
+            solve_mem,
+            par,
+            factored: None,
+        })
     }
 
-    /// Numeric factorisation of the matrix with these values in the analysed pattern.
+    /// Double-precision numeric factorisation of the matrix with these values in the
+    /// analysed pattern.
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), Error> {
+        self.factored = None;
+        self.l_values.resize(self.symbolic.len_val(), 0.0);
         let a = SparseColMatRef::new(self.pattern.as_ref(), values);
         self.symbolic
-            .factorize_numeric_ldlt(
-                &mut self.l_values,
-                a,
-                Side::Upper,
-                LdltRegularization::default(),
-                self.par,
-                MemStack::new(&mut self.factor_mem),
-                Default::default(),
-            )
+            .factorize_numeric_ldlt(&mut self.l_values, a, Side::Upper, LdltRegularization::default(), self.par, MemStack::new(&mut self.factor_mem), Default::default())
             .map_err(|e| Error::LinearSolver(format!("LDLT: {e:?}")))?;
-        self.factored = true;
+        self.factored = Some(Precision::Double);
         Ok(())
     }
 
-    /// Solve A X = B in place for the columns of `rhs` (column-major, `n x k`, k <= 64).
+    /// Single-precision numeric factorisation (a preconditioner, see the module notes).
+    pub fn factorize_single(&mut self, values: &[f64]) -> Result<(), Error> {
+        self.factored = None;
+        self.l_values_f32.resize(self.symbolic.len_val(), 0.0);
+        self.a_f32.clear();
+        self.a_f32.extend(values.iter().map(|&v| v as f32));
+        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.a_f32[..]);
+        self.symbolic
+            .factorize_numeric_ldlt(&mut self.l_values_f32, a, Side::Upper, LdltRegularization::default(), self.par, MemStack::new(&mut self.factor_mem), Default::default())
+            .map_err(|e| Error::LinearSolver(format!("LDLT (f32): {e:?}")))?;
+        self.factored = Some(Precision::Single);
+        Ok(())
+    }
+
+    /// Solve A X = B in place for the columns of `rhs` (column-major, `n x k`) with the held
+    /// factor: exactly with a double factor, approximately with a single one.
     pub fn solve_in_place(&mut self, rhs: &mut [f64], k: usize) {
-        assert!(self.factored, "solve before factorize");
         let n = self.symbolic.nrows();
-        let ldlt = LdltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
-        for chunk in rhs.chunks_mut(n * 64).take(k.div_ceil(64)) {
-            let cols = chunk.len() / n;
-            let m = MatMut::from_column_major_slice_mut(chunk, n, cols);
-            ldlt.solve_in_place_with_conj(Conj::No, m, self.par, MemStack::new(&mut self.solve_mem));
+        match self.factored {
+            Some(Precision::Double) => {
+                let ldlt = LdltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
+                for chunk in rhs.chunks_mut(n * 64).take(k.div_ceil(64)) {
+                    let cols = chunk.len() / n;
+                    let m = MatMut::from_column_major_slice_mut(chunk, n, cols);
+                    ldlt.solve_in_place_with_conj(Conj::No, m, self.par, MemStack::new(&mut self.solve_mem));
+                }
+            }
+            Some(Precision::Single) => {
+                let ldlt = LdltRef::<'_, usize, f32>::new(&self.symbolic, &self.l_values_f32);
+                for col in rhs.chunks_mut(n).take(k) {
+                    self.rhs_f32.clear();
+                    self.rhs_f32.extend(col.iter().map(|&v| v as f32));
+                    let m = MatMut::from_column_major_slice_mut(&mut self.rhs_f32[..], n, 1);
+                    ldlt.solve_in_place_with_conj(Conj::No, m, self.par, MemStack::new(&mut self.solve_mem));
+                    col.iter_mut().zip(&self.rhs_f32).for_each(|(c, &v)| *c = v as f64);
+                }
+            }
+            None => panic!("solve before factorize"),
         }
     }
 
     /// Whether a numeric factorisation is available.
     pub fn is_factored(&self) -> bool {
+        self.factored.is_some()
+    }
+
+    /// The precision of the held factor.
+    pub fn precision(&self) -> Option<Precision> {
         self.factored
     }
 
     /// Number of stored entries of the factor.
     pub fn factor_nnz(&self) -> usize {
-        self.l_values.len()
+        self.symbolic.len_val()
     }
 }
 
@@ -116,6 +177,13 @@ mod tests {
         s.solve_in_place(&mut b, 1);
         for i in 0..3 {
             assert!((b[i] - x[i]).abs() < 1e-12);
+        }
+        // The single-precision factor solves it to f32 accuracy.
+        s.factorize_single(&vals).unwrap();
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i][j] * x[j]).sum()).collect();
+        s.solve_in_place(&mut b, 1);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < 1e-6);
         }
     }
 }

@@ -165,8 +165,8 @@ fn neo_hookean_deviatoric(mu: f64, f: &Mat3) -> (f64, Mat3, Tensor4) {
             p[i][jj] = 0.5 * mu * (g1 * i1 * h[i][jj] + 2.0 * g * f[i][jj]);
         }
     }
-    let fl: Vec<f64> = f.iter().flatten().copied().collect();
-    let hl: Vec<f64> = h.iter().flatten().copied().collect();
+    let fl: [f64; 9] = std::array::from_fn(|r| f[r / 3][r % 3]);
+    let hl: [f64; 9] = std::array::from_fn(|r| h[r / 3][r % 3]);
     let mut a = [[0.0; 9]; 9];
     for r in 0..9 {
         for c in 0..9 {

@@ -46,6 +46,9 @@ pub struct Model {
     pub row_idx: Vec<usize>,
     /// For each gel element, the value slot of local entry (r, c), r <= c in global order.
     pub slots: Vec<[u32; LOCAL * LOCAL]>,
+    /// For each gel element, whether it loads the chip through the pillar top (see
+    /// [`crate::loads`]): it touches the inclusion and lies on or above its top plane.
+    pub pillar: Vec<bool>,
 }
 
 fn shape_gradients(p: [[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
@@ -63,6 +66,20 @@ fn shape_gradients(p: [[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
         }
     }
     (g, det / 6.0)
+}
+
+/// Gel elements that touch the inclusion from above its top plane z = h (the highest
+/// inclusion node): they hold the pillar top, every other element touching the inclusion holds
+/// a package side wall. The top is a lattice plane of the mesh, so the split is exact.
+fn pillar_elements(mesh: &Mesh, gel: &[usize]) -> Vec<bool> {
+    let top = mesh.nodes.iter().zip(&mesh.in_inclusion).filter(|(_, &inc)| inc).map(|(x, _)| x[2]).fold(f64::NEG_INFINITY, f64::max);
+    let tol = 1e-9 * mesh.radius_m;
+    gel.iter()
+        .map(|&e| {
+            let t = mesh.tets[e];
+            t.iter().any(|&a| mesh.in_inclusion[a]) && t.iter().all(|&a| mesh.nodes[a][2] >= top - tol)
+        })
+        .collect()
 }
 
 impl Model {
@@ -95,7 +112,9 @@ impl Model {
                 next += 1;
             }
         }
+        let pillar = pillar_elements(&mesh, &gel);
         let mut model = Model {
+            pillar,
             mesh,
             material,
             gel,

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use crate::assembly::{assemble, Assembled, State};
 use crate::contact::{node_response, Rod, PENALTY, RAMP_FRACTION};
-use crate::linsolve::Ldlt;
+use crate::linsolve::{Ldlt, Precision};
 use crate::model::{Model, NONE};
 use crate::Error;
 
@@ -14,12 +14,31 @@ use crate::Error;
 const MAX_NEWTON: usize = 40;
 /// Smallest line-search step (six halvings).
 const MIN_ALPHA: f64 = 1.0 / 64.0;
-/// Relative residual of the preconditioned GMRES solves (inexact Newton: keeps the rate).
-const GMRES_RTOL: f64 = 1e-8;
+/// Relative residual of the GMRES solves (inexact Newton). After a step with forcing eta the
+/// scaled residual is about eta |r| + C |r|^2 (C |r| ~ 1e-2 here). The forcing is
+/// GMRES_FORCING |r| (tight enough to keep the quadratic rate), at most GMRES_RTOL_MAX, but
+/// never tighter than needed to land at half the convergence tolerance: solving the last
+/// systems to 1e-8 when 1e-2 suffices was most of the GMRES work.
+const GMRES_FORCING: f64 = 0.1;
+const GMRES_RTOL_MIN: f64 = 1e-8;
+const GMRES_RTOL_MAX: f64 = 1e-3;
+/// The largest forcing allowed when the convergence tolerance takes over.
+const GMRES_RTOL_LOOSE: f64 = 0.1;
+
+/// GMRES tolerance for a Newton system with scaled residual norm `merit`.
+fn forcing(merit: f64) -> f64 {
+    let rate = (GMRES_FORCING * merit).clamp(GMRES_RTOL_MIN, GMRES_RTOL_MAX);
+    let enough = 0.5 * FORCE_TOL.min(VOLUME_TOL) / merit;
+    rate.max(enough.min(GMRES_RTOL_LOOSE))
+}
 /// GMRES iterations before giving up on the kept factor for this system.
-const GMRES_MAX: usize = 12;
+const GMRES_MAX: usize = 20;
 /// A kept factor that needed more GMRES iterations than this is refreshed for the next
-/// system (one factorisation costs about as much as 14 triangular solves here).
+/// system. Measured on the 10^4-tetrahedron curve (perf): a single-precision factorisation
+/// (compute-bound dense kernels, parallel) costs about 7 GMRES iterations (memory-bound
+/// triangular solves), a fresh factor needs 1 iteration, and a stale one needs more with
+/// every Newton iteration it ages: refreshing after 3/5/10 iterations cost 27/20/12
+/// factorisations + 294/397/573 GMRES iterations, i.e. 490/540/660 iteration-equivalents.
 const GMRES_REFRESH: usize = 4;
 /// Force tolerance, in units of E R^2 (60 N at 0.15 MPa is 1 E R^2).
 const FORCE_TOL: f64 = 1e-6;
@@ -49,15 +68,18 @@ pub struct Solver {
     /// Onset length of the smoothed penalty of each surface node, m.
     pub contact_ramp: Vec<f64>,
     pub surface_nodes: Vec<usize>,
+    /// Weight of each dof's residual in the scaled norm: 1 / (E R^2) on forces, 1 / V_a on
+    /// the volume constraints.
+    residual_weight: Vec<f64>,
     pub ldlt: Ldlt,
     pub asm: Assembled,
-    scratch: Vec<f64>,
+    /// Per-thread accumulators of the assembly.
+    parts: Vec<crate::assembly::Partial>,
     /// Positions at the start of the step (the friction slip is measured from there).
     step_start: Vec<[f64; 3]>,
     /// Rod face position at the start of the step, m.
     step_face_m: f64,
     pub stats: Stats,
-    youngs_modulus_pa: f64,
     /// Factor every Newton system (no Krylov reuse), for comparisons (`FINGERTIP_DIRECT=1`).
     pub direct_only: bool,
 }
@@ -79,10 +101,20 @@ impl Solver {
         let surface_nodes = (0..area.len()).filter(|&a| area[a] > 0.0 && model.dof_x[a][0] != NONE).collect();
         // AMD: a geometric nested dissection was tried and gave 8 % more fill on this mesh.
         let ldlt = Ldlt::new(model.n_dofs, &model.col_ptr, &model.row_idx, None)?;
+        let f_scale = youngs_modulus_pa * model.mesh.radius_m * model.mesh.radius_m;
+        let mut residual_weight = vec![0.0; model.n_dofs];
+        for a in 0..model.mesh.nodes.len() {
+            for d in model.dof_x[a].into_iter().filter(|&d| d != NONE) {
+                residual_weight[d as usize] = 1.0 / f_scale;
+            }
+            if model.dof_p[a] != NONE {
+                residual_weight[model.dof_p[a] as usize] = 1.0 / model.node_volume[a];
+            }
+        }
         let state = State::reference(&model);
         let step_start = state.x.clone();
-        let asm = Assembled { residual: Vec::new(), node_force: Vec::new(), values: Vec::new(), min_j: 1.0 };
-        Ok(Solver { model, state, contact_k, contact_ramp, surface_nodes, ldlt, asm, scratch: Vec::new(), step_start, step_face_m: 0.0, stats: Stats::default(), youngs_modulus_pa, direct_only: std::env::var_os("FINGERTIP_DIRECT").is_some() })
+        let asm = Assembled { residual: Vec::new(), node_force: Vec::new(), pillar_force: Vec::new(), values: Vec::new(), min_j: 1.0 };
+        Ok(Solver { model, state, contact_k, contact_ramp, surface_nodes, residual_weight, ldlt, asm, parts: Vec::new(), step_start, step_face_m: 0.0, stats: Stats::default(), direct_only: std::env::var_os("FINGERTIP_DIRECT").is_some() })
     }
 
     /// Mark the current state as the start of a load step with the rod face at `face_m`.
@@ -94,7 +126,7 @@ impl Solver {
     /// Residual and tangent at the current state with the rod at `rod`.
     pub fn evaluate(&mut self, rod: &Rod, dt_s: f64) -> ContactTotals {
         let t0 = Instant::now();
-        assemble(&self.model, &self.state, dt_s, &mut self.asm, &mut self.scratch);
+        assemble(&self.model, &self.state, dt_s, &mut self.asm, &mut self.parts);
         let totals = self.add_contact(rod);
         self.stats.assembly_s += t0.elapsed().as_secs_f64();
         totals
@@ -123,24 +155,24 @@ impl Solver {
         totals
     }
 
-    /// Scaled residual norm: forces over E R^2, volume residuals over the nodal volume.
+    /// Scaled residual norm (`residual_weight`), and whether every scaled force is below
+    /// FORCE_TOL and every scaled volume residual below VOLUME_TOL.
     fn merit(&self) -> (f64, bool) {
         let m = &self.model;
-        let f_scale = self.youngs_modulus_pa * m.mesh.radius_m * m.mesh.radius_m;
+        let w = &self.residual_weight;
+        let r = &self.asm.residual;
         let (mut sum, mut fmax, mut vmax) = (0.0, 0.0f64, 0.0f64);
         for a in 0..m.mesh.nodes.len() {
-            for d in m.dof_x[a] {
-                if d != NONE {
-                    let r = self.asm.residual[d as usize] / f_scale;
-                    sum += r * r;
-                    fmax = fmax.max(r.abs());
-                }
+            for d in m.dof_x[a].into_iter().filter(|&d| d != NONE) {
+                let v = r[d as usize] * w[d as usize];
+                sum += v * v;
+                fmax = fmax.max(v.abs());
             }
             let d = m.dof_p[a];
             if d != NONE {
-                let r = self.asm.residual[d as usize] / m.node_volume[a];
-                sum += r * r;
-                vmax = vmax.max(r.abs());
+                let v = r[d as usize] * w[d as usize];
+                sum += v * v;
+                vmax = vmax.max(v.abs());
             }
         }
         (sum.sqrt(), fmax < FORCE_TOL && vmax < VOLUME_TOL)
@@ -165,10 +197,11 @@ impl Solver {
     /// Newton to equilibrium with the rod at `rod`. On failure the state is left wherever it
     /// got to; the caller restores its copy.
     ///
-    /// The factorisation is the expensive part (≈ 10x an assembly, ≈ 20x a triangular solve),
-    /// so the Newton systems are solved by GMRES preconditioned with the last factor, kept
-    /// across iterations and load steps ([`crate::krylov`]); the tangent is refactored only
-    /// when GMRES stalls or its direction fails the line search.
+    /// A factorisation costs about 7 preconditioned GMRES iterations, so the Newton systems
+    /// are solved by GMRES preconditioned with the last single-precision factor, kept across
+    /// iterations and load steps ([`crate::krylov`]), to the inexact-Newton tolerance
+    /// `forcing`; the tangent is refactored when the kept factor needed more than
+    /// GMRES_REFRESH iterations, when GMRES stalls, or when its direction fails the line search.
     pub fn equilibrate(&mut self, rod: &Rod, dt_s: f64) -> Result<ContactTotals, Error> {
         let mut totals = self.evaluate(rod, dt_s);
         let mut delta = vec![0.0; self.model.n_dofs];
@@ -186,7 +219,11 @@ impl Solver {
             for (d, r) in rhs.iter_mut().zip(&self.asm.residual) {
                 *d = -r;
             }
-            let (fresh, krylov) = self.newton_direction(&rhs, &mut delta, force_factor)?;
+            let rtol = forcing(merit);
+            let (fresh, krylov) = self.newton_direction(&rhs, &mut delta, force_factor, rtol)?;
+            if trace {
+                eprintln!("  direction: fresh factor {fresh}, GMRES iterations {krylov}");
+            }
             self.stats.newton_iterations += 1;
             match self.line_search(&delta, merit, rod, dt_s) {
                 Some((t, _)) => {
@@ -209,17 +246,25 @@ impl Solver {
         Err(Error::NotConverged { iterations: MAX_NEWTON, travel_mm: 0.0, force_n: 0.0 })
     }
 
-    /// Solve K delta = rhs: GMRES on the kept factor, or a new factorisation. Returns whether
-    /// the direction is "fresh" (exact, new factor) and the GMRES iterations used.
-    fn newton_direction(&mut self, rhs: &[f64], delta: &mut [f64], force_factor: bool) -> Result<(bool, usize), Error> {
-        let t1 = Instant::now();
-        if !force_factor && !self.direct_only {
-            let m = &self.model;
-            let its = crate::krylov::gmres(&m.col_ptr, &m.row_idx, &self.asm.values, &mut self.ldlt, rhs, delta, GMRES_RTOL, GMRES_MAX);
-            self.stats.solve_s += t1.elapsed().as_secs_f64();
-            if let Some(k) = its {
-                self.stats.krylov_iterations += k;
-                return Ok((false, k));
+    /// Solve K delta = rhs by GMRES preconditioned with the kept single-precision factor,
+    /// refactoring first when asked or when GMRES stalls on a stale factor; a double factor
+    /// (exact solve) is the last resort, and the only path with `direct_only`. Returns whether
+    /// the direction was computed with a factor of this very tangent, and the GMRES iterations.
+    fn newton_direction(&mut self, rhs: &[f64], delta: &mut [f64], force_factor: bool, rtol: f64) -> Result<(bool, usize), Error> {
+        if !self.direct_only {
+            let mut fresh = false;
+            if force_factor || self.ldlt.precision() != Some(Precision::Single) {
+                self.factor_single()?;
+                fresh = true;
+            }
+            if let Some(k) = self.gmres(rhs, delta, rtol) {
+                return Ok((fresh, k));
+            }
+            if !fresh {
+                self.factor_single()?;
+                if let Some(k) = self.gmres(rhs, delta, rtol) {
+                    return Ok((true, k));
+                }
             }
         }
         let t0 = Instant::now();
@@ -231,6 +276,23 @@ impl Solver {
         self.ldlt.solve_in_place(delta, 1);
         self.stats.solve_s += t2.elapsed().as_secs_f64();
         Ok((true, 0))
+    }
+
+    fn factor_single(&mut self) -> Result<(), Error> {
+        let t0 = Instant::now();
+        self.ldlt.factorize_single(&self.asm.values)?;
+        self.stats.factor_s += t0.elapsed().as_secs_f64();
+        self.stats.factorizations += 1;
+        Ok(())
+    }
+
+    fn gmres(&mut self, rhs: &[f64], delta: &mut [f64], rtol: f64) -> Option<usize> {
+        let t1 = Instant::now();
+        let m = &self.model;
+        let its = crate::krylov::gmres(&m.col_ptr, &m.row_idx, &self.asm.values, &mut self.ldlt, &self.residual_weight, rhs, delta, rtol, GMRES_MAX);
+        self.stats.solve_s += t1.elapsed().as_secs_f64();
+        self.stats.krylov_iterations += its.unwrap_or(GMRES_MAX);
+        its
     }
 
     /// Backtracking (halving) on the scaled residual norm with an inversion guard. Returns the
