@@ -27,7 +27,7 @@ pub const PENDING_REQUESTS: usize = 4;
 /// Replies waiting for room in the transmit buffer.
 const PENDING_REPLIES: usize = 8;
 /// Receive accumulator: the longest request (set calibration, 39-byte body) encodes to 45 bytes.
-const RX_BYTES: usize = 64;
+pub const RX_BYTES: usize = 64;
 
 /// A hardware action failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +53,11 @@ pub trait Frontend {
 pub struct Counters {
     pub frames_queued: u32,
     pub frames_dropped: u32,
+    /// Received frames that were not requests (bad CRC, overflow, malformed, wrong type).
     pub rx_errors: u32,
+    /// Replies lost because PENDING_REPLIES were already waiting for a stalled link (the host
+    /// times out and retries).
+    pub replies_dropped: u32,
 }
 
 /// The device core.
@@ -340,33 +344,27 @@ impl Device {
         }
     }
 
-    /// Bytes received from the host.
+    /// Bytes received from the host. Each complete request is queued for the next frame
+    /// boundary, or nacked at once (busy, malformed), however many one call delivers.
     pub fn on_rx(&mut self, bytes: &[u8]) {
-        let mut nacks: Deque<Reply, PENDING_REPLIES> = Deque::new();
-        let mut requests: Deque<Request, PENDING_REQUESTS> = Deque::new();
-        let mut errors = 0;
         for outcome in self.rx.feed(bytes) {
-            match outcome {
-                Outcome::Message(Message::Request(req)) => {
-                    if requests.len() + self.pending.len() >= PENDING_REQUESTS {
-                        let _ = nacks.push_back(command::nack(&req, protocol::NackCode::Busy));
-                    } else {
-                        let _ = requests.push_back(req);
-                    }
-                }
+            let nack = match outcome {
+                Outcome::Message(Message::Request(req)) => match self.pending.push_back(req) {
+                    Ok(()) => continue,
+                    Err(req) => command::nack(&req, protocol::NackCode::Busy),
+                },
                 Outcome::Malformed(Malformed::BadRequest { tag, opcode, code }) => {
-                    let _ = nacks.push_back(Reply::Nack { tag, opcode, code });
+                    Reply::Nack { tag, opcode, code }
                 }
-                _ => errors += 1,
-            }
+                _ => {
+                    self.counters.rx_errors += 1;
+                    continue;
+                }
+            };
+            // The accumulator holds `self.rx`: queue through the fields, not `self.reply`.
+            queue_reply(&mut self.replies, &mut self.tx, &mut self.counters, nack);
         }
-        self.counters.rx_errors += errors;
-        for req in requests {
-            let _ = self.pending.push_back(req);
-        }
-        for reply in nacks {
-            self.reply(reply);
-        }
+        self.flush_replies();
     }
 
     /// Call from the main loop when idle: applies waiting commands if no frame is open (e.g. while
@@ -391,10 +389,7 @@ impl Device {
     }
 
     fn reply(&mut self, reply: Reply) {
-        if self.replies.push_back(reply).is_err() {
-            // More than PENDING_REPLIES unanswered: the host times out and retries.
-            self.counters.rx_errors += 1;
-        }
+        queue_reply(&mut self.replies, &mut self.tx, &mut self.counters, reply);
         self.flush_replies();
     }
 
@@ -404,15 +399,11 @@ impl Device {
         if self.replies.is_empty() && !self.info_due {
             return;
         }
-        let mut wire = [0u8; MAX_FRAME];
-        while let Some(reply) = self.replies.front().copied() {
-            let n = encode(&Message::Reply(reply), &mut wire).unwrap_or(0);
-            if !self.tx.push_frame(&wire[..n]) {
-                return;
-            }
-            self.replies.pop_front();
+        if !flush_reply_queue(&mut self.replies, &mut self.tx) {
+            return;
         }
         if self.info_due {
+            let mut wire = [0u8; MAX_FRAME];
             let n = encode(&Message::Info(self.info()), &mut wire).unwrap_or(0);
             if self.tx.push_frame(&wire[..n]) {
                 self.info_due = false;
@@ -449,6 +440,38 @@ impl Device {
             config_epoch: self.epoch,
         }
     }
+}
+
+/// Queue `reply` behind the waiting ones, making room by moving those into the transmit buffer
+/// first; with PENDING_REPLIES still waiting (a stalled link) the reply is dropped and counted.
+fn queue_reply(
+    replies: &mut Deque<Reply, PENDING_REPLIES>,
+    tx: &mut TxBuffer<TX_BYTES>,
+    counters: &mut Counters,
+    reply: Reply,
+) {
+    if replies.is_full() {
+        flush_reply_queue(replies, tx);
+    }
+    if replies.push_back(reply).is_err() {
+        counters.replies_dropped += 1;
+    }
+}
+
+/// Move waiting replies into the transmit buffer in order; false if some still wait for room.
+fn flush_reply_queue(
+    replies: &mut Deque<Reply, PENDING_REPLIES>,
+    tx: &mut TxBuffer<TX_BYTES>,
+) -> bool {
+    let mut wire = [0u8; MAX_FRAME];
+    while let Some(reply) = replies.front().copied() {
+        let n = encode(&Message::Reply(reply), &mut wire).unwrap_or(0);
+        if !tx.push_frame(&wire[..n]) {
+            return false;
+        }
+        replies.pop_front();
+    }
+    true
 }
 
 #[cfg(test)]
