@@ -224,10 +224,10 @@ mod target {
         loop {
             let waiting = !consumer.is_empty();
             let mut handled = 0u32;
-            consumer.for_each(|raw| {
-                dev.on_sample(raw, &mut fe);
+            while let Some(raw) = consumer.dequeue() {
+                dev.on_sample(&raw, &mut fe);
                 handled += 1;
-            });
+            }
             dev.note_overruns(OVERRUNS.take());
             let mut buf = [0u8; 32];
             let mut n = 0;

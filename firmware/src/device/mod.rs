@@ -271,11 +271,6 @@ impl Device {
         let offset = self.tare.offset();
         let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
         let corrected = self.drift.apply(tared);
-        if self.filters.is_pass_through() {
-            return Sample {
-                ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)),
-            };
-        }
         Sample {
             ch: self.filters.step_codes(corrected),
         }

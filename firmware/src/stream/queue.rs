@@ -5,8 +5,7 @@
 //!
 //! A ring of its own rather than `heapless::spsc`, whose split halves take the capacity at run
 //! time (a division per push and per pop): here the capacity is a power of two known at compile
-//! time, so an index wraps with one AND. The main loop works on each sample in its slot
-//! ([`Drain::for_each`]) instead of copying it out.
+//! time, so an index wraps with one AND.
 //!
 //! Ordering: on the single-core Cortex-M targets the producer is an interrupt on the same core as
 //! the consumer, and a core observes its own memory accesses in program order, so a compiler
@@ -144,26 +143,6 @@ impl Drain<'_> {
         Some(sample)
     }
 
-    /// Hand every waiting sample, oldest first, to `f` where it lies in the ring (no copy), freeing
-    /// each slot after `f` returns; samples pushed meanwhile are handed over too.
-    #[inline]
-    pub fn for_each(&mut self, mut f: impl FnMut(&RawSample)) {
-        let q = self.queue;
-        let mut head = q.head.load(Ordering::Relaxed);
-        loop {
-            let tail = load_acquire(&q.tail);
-            if head == tail {
-                return;
-            }
-            while head != tail {
-                // SAFETY: as in `dequeue`: published, and not reused until `head` moves past it.
-                f(unsafe { &*q.slots[head & MASK].get() });
-                head = (head + 1) & MASK;
-                store_release(&q.head, head);
-            }
-        }
-    }
-
     /// Samples waiting.
     pub fn len(&self) -> usize {
         let q = self.queue;
@@ -241,16 +220,14 @@ mod tests {
         let first = consumer.dequeue().unwrap();
         assert_eq!(first.index, 0);
         assert_eq!(consumer.len(), QUEUE_LEN - 2);
-        let mut seen = Vec::new();
-        consumer.for_each(|s| seen.push(s.index));
-        assert_eq!(seen, (1..QUEUE_LEN as u32 - 1).collect::<Vec<_>>());
+        let rest: Vec<u32> = core::iter::from_fn(|| consumer.dequeue().map(|s| s.index)).collect();
+        assert_eq!(rest, (1..QUEUE_LEN as u32 - 1).collect::<Vec<_>>());
         assert!(consumer.is_empty());
         // The freed slots take new samples, across the wrap.
         for i in 100..140 {
             assert!(acq.push(sample(i)));
         }
-        seen.clear();
-        consumer.for_each(|s| seen.push(s.index));
-        assert_eq!(seen, (100..140).collect::<Vec<_>>());
+        let rest: Vec<u32> = core::iter::from_fn(|| consumer.dequeue().map(|s| s.index)).collect();
+        assert_eq!(rest, (100..140).collect::<Vec<_>>());
     }
 }
