@@ -10,12 +10,8 @@ const POLY: u16 = 0x1021;
 
 /// `T[k][b]`: the CRC register (from 0) after byte `b` followed by `k` zero bytes. `T[0]` is the
 /// classic byte table; a word's four bytes are looked up in `T[3]..T[0]`, first byte in `T[3]`.
-/// Four statics rather than one 2-D array: each gets its own base register in the hot loop.
-static T0: [u16; 256] = tables()[0];
-static T1: [u16; 256] = tables()[1];
-static T2: [u16; 256] = tables()[2];
-static T3: [u16; 256] = tables()[3];
-
+/// One static, so the hot loop needs one base address (the others are fixed offsets from it).
+static T: [[u16; 256]; 4] = tables();
 const fn tables() -> [[u16; 256]; 4] {
     let mut t = [[0u16; 256]; 4];
     let mut i = 0;
@@ -50,17 +46,17 @@ const fn tables() -> [[u16; 256]; 4] {
 #[inline(always)]
 fn step_word(crc: u16, w: u32) -> u16 {
     let x = (u32::from(crc) << 16) ^ w;
-    T3[(x >> 24) as usize]
-        ^ T2[((x >> 16) & 0xFF) as usize]
-        ^ T1[((x >> 8) & 0xFF) as usize]
-        ^ T0[(x & 0xFF) as usize]
+    T[3][(x >> 24) as usize]
+        ^ T[2][((x >> 16) & 0xFF) as usize]
+        ^ T[1][((x >> 8) & 0xFF) as usize]
+        ^ T[0][(x & 0xFF) as usize]
 }
 
 /// CRC register after absorbing two bytes, the first in the top bits of `w`.
 #[inline(always)]
 fn step_pair(crc: u16, w: u16) -> u16 {
     let x = crc ^ w;
-    T1[usize::from(x >> 8)] ^ T0[usize::from(x & 0xFF)]
+    T[1][usize::from(x >> 8)] ^ T[0][usize::from(x & 0xFF)]
 }
 
 /// CRC of `bytes` starting from `crc`.
@@ -76,7 +72,7 @@ pub fn crc16(mut crc: u16, bytes: &[u8]) -> u16 {
         crc = step_pair(crc, u16::from_be_bytes([p[0], p[1]]));
     }
     for &byte in pairs.remainder() {
-        crc = (crc << 8) ^ T0[usize::from((crc >> 8) as u8 ^ byte)];
+        crc = (crc << 8) ^ T[0][usize::from((crc >> 8) as u8 ^ byte)];
     }
     crc
 }

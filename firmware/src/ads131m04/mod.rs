@@ -74,6 +74,8 @@ pub struct Ads131m04<SPI, DRDY> {
     input_crc: bool,
     /// The NULL frame to send for a data read, prebuilt for the current word length and CRC mode.
     null_frame: [u8; MAX_FRAME_BYTES],
+    /// Receive buffer of the data read, kept rather than zeroed on the stack for every frame.
+    rx: [u8; MAX_FRAME_BYTES],
 }
 
 type Result<T, SPI, DRDY> = core::result::Result<
@@ -94,6 +96,7 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             word: WordLength::Bits24,
             input_crc: false,
             null_frame: [0; MAX_FRAME_BYTES],
+            rx: [0; MAX_FRAME_BYTES],
         };
         dev.rebuild_null_frame();
         dev
@@ -225,12 +228,12 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     /// Clock one NULL frame of `N` = 6 words of `WB` bytes and parse it.
     #[inline(always)]
     fn read_frame<const WB: usize, const N: usize>(&mut self) -> Result<Frame, SPI, DRDY> {
-        let mut rx = [0u8; N];
-        // N ≤ MAX_FRAME_BYTES for every instance, so the compiler drops the range check.
+        // N ≤ MAX_FRAME_BYTES for every instance, so the compiler drops the range checks.
+        let rx = &mut self.rx[..N];
         self.spi
-            .transfer(&mut rx, &self.null_frame[..N])
+            .transfer(rx, &self.null_frame[..N])
             .map_err(Error::Spi)?;
-        parse_words_inline::<WB, SPI, DRDY>(&rx, self.word)
+        parse_words_inline::<WB, SPI, DRDY>(&self.rx[..N], self.word)
     }
 
     fn simple_command(&mut self, command: u16) -> Result<(), SPI, DRDY> {
