@@ -200,20 +200,17 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     }
 
     /// Read the latest conversion with a NULL frame (response = STATUS). Checks the frame CRC and
-    /// reports a refused input CRC from the device.
+    /// reports a refused input CRC from the device. Inlined into the caller (the sample-clock
+    /// interrupt) for the common 24-bit word: the codes go from the decoder straight to where the
+    /// caller keeps them instead of through a returned copy; other word lengths are out of line.
+    #[inline(always)]
     pub fn read(&mut self) -> Result<Conversion, SPI, DRDY> {
         // One path per word length, each with its frame length fixed at compile time: no length
         // arithmetic, no slicing checks, and the CRC and decoding unroll and inline.
-        let frame = match self.word {
-            WordLength::Bits24 => self.read_frame::<3, { FRAME_WORDS * 3 }>()?,
-            WordLength::Bits16 => self.read_frame::<2, { FRAME_WORDS * 2 }>()?,
-            word => {
-                let mut rx = [0u8; MAX_FRAME_BYTES];
-                self.spi
-                    .transfer(&mut rx, &self.null_frame)
-                    .map_err(Error::Spi)?;
-                parse_words::<4, SPI, DRDY>(&rx, word)?
-            }
+        let frame = if self.word == WordLength::Bits24 {
+            self.read_frame::<3, { FRAME_WORDS * 3 }>()?
+        } else {
+            self.read_other_word_length()?
         };
         let status = Status(frame.response);
         if status.input_crc_error() {
@@ -223,6 +220,21 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             status,
             codes: frame.codes,
         })
+    }
+
+    /// [`Self::read`]'s frame for 16- and 32-bit words.
+    #[inline(never)]
+    fn read_other_word_length(&mut self) -> Result<Frame, SPI, DRDY> {
+        match self.word {
+            WordLength::Bits16 => self.read_frame::<2, { FRAME_WORDS * 2 }>(),
+            word => {
+                let mut rx = [0u8; MAX_FRAME_BYTES];
+                self.spi
+                    .transfer(&mut rx, &self.null_frame)
+                    .map_err(Error::Spi)?;
+                parse_words::<4, SPI, DRDY>(&rx, word)
+            }
+        }
     }
 
     /// Clock one NULL frame of `N` = 6 words of `WB` bytes and parse it.
