@@ -73,6 +73,9 @@ pub struct Device {
     null: AutoNull,
     /// Trim-DAC codes in force, channels A..=C.
     dac: [u16; 3],
+    /// An auto-null search or a tare is taking samples: the per-sample path visits them only
+    /// then, and otherwise just subtracts the tare offset.
+    offset_settling: bool,
     streaming: bool,
     epoch: u8,
     seq: u32,
@@ -112,6 +115,7 @@ impl Device {
             drift: DriftTracker::new(cfg.drift),
             null: AutoNull::new(cfg.null_timing, cfg.dac_initial),
             dac: cfg.dac_initial,
+            offset_settling: false,
             streaming: false,
             epoch: 0,
             seq: 0,
@@ -253,6 +257,19 @@ impl Device {
     /// Offset cut (null search, tare, drift) and filters for one sample of the three bridges.
     #[inline]
     fn process(&mut self, bridge: [i32; 3], hw: &mut impl Frontend) -> Sample {
+        if self.offset_settling {
+            self.settle_offset(bridge, hw);
+        }
+        let offset = self.tare.offset();
+        let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
+        let corrected = self.drift.apply(tared);
+        Sample {
+            ch: self.filters.step_codes(corrected),
+        }
+    }
+
+    /// One sample for a running null search or tare.
+    fn settle_offset(&mut self, bridge: [i32; 3], hw: &mut impl Frontend) {
         match self.null.on_sample(bridge) {
             NullStep::Continue => {}
             NullStep::SetDac(codes) => self.write_null_codes(codes, hw),
@@ -268,12 +285,12 @@ impl Device {
             self.reset_filters();
             self.epoch = self.epoch.wrapping_add(1);
         }
-        let offset = self.tare.offset();
-        let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
-        let corrected = self.drift.apply(tared);
-        Sample {
-            ch: self.filters.step_codes(corrected),
-        }
+        self.update_offset_settling();
+    }
+
+    /// Call whenever a null search or a tare starts or ends.
+    pub(crate) fn update_offset_settling(&mut self) {
+        self.offset_settling = self.null.state() == NullState::Searching || self.tare.collecting();
     }
 
     fn write_null_codes(&mut self, codes: [u16; 3], hw: &mut impl Frontend) {
@@ -287,10 +304,12 @@ impl Device {
     /// the codes in force stay as they were.
     fn start_null(&mut self, hw: &mut impl Frontend) -> Result<(), HardwareError> {
         let codes = self.null.start();
-        if let Err(e) = hw.set_trim(codes) {
+        let written = hw.set_trim(codes);
+        if written.is_err() {
             self.null.fail();
-            return Err(e);
         }
+        self.update_offset_settling();
+        written?;
         self.dac = codes;
         self.epoch = self.epoch.wrapping_add(1);
         Ok(())
