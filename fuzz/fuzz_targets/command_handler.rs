@@ -77,36 +77,17 @@ impl Frontend for Hardware {
     }
 }
 
-/// COBS-encode `payload` and append the delimiter.
-fn cobs_frame(payload: &[u8]) -> Vec<u8> {
-    let mut out = vec![0u8];
-    let mut code_at = 0;
-    for &b in payload {
-        if b == 0 {
-            out[code_at] = (out.len() - code_at) as u8;
-            code_at = out.len();
-            out.push(0);
-        } else {
-            out.push(b);
-            if out.len() - code_at == 0xFF {
-                out[code_at] = 0xFF;
-                code_at = out.len();
-                out.push(0);
-            }
-        }
-    }
-    out[code_at] = (out.len() - code_at) as u8;
-    out.push(0);
-    out
-}
-
 /// A request frame around an arbitrary body after the request type byte, with a valid CRC.
 fn request_frame(rest: &[u8]) -> Vec<u8> {
     let mut body = vec![protocol::kind::REQUEST];
     body.extend_from_slice(rest);
     let crc = protocol::CRC.checksum(&body);
     body.extend_from_slice(&crc.to_le_bytes());
-    cobs_frame(&body)
+    let mut frame = vec![0u8; body.len() + body.len() / 254 + 2];
+    let n = cobs::encode(&body, &mut frame);
+    frame.truncate(n);
+    frame.push(0);
+    frame
 }
 
 /// The harness: the device, what was asked of it and what it answered.
