@@ -4,6 +4,7 @@
 
 use firmware::ads131m04::{Osr, Pga, WordLength};
 use firmware::device::DeviceConfig;
+use firmware::iwdg::IwdgSetting;
 use firmware::offset::{DriftSettings, NullTiming};
 
 include!(concat!(env!("OUT_DIR"), "/hardware_params.rs"));
@@ -12,6 +13,21 @@ include!(concat!(env!("OUT_DIR"), "/hardware_params.rs"));
 /// 12 MHz SPI clock of board.toml exactly.
 pub const HSE_HZ: u32 = 8_000_000;
 pub const SYSCLK_HZ: u32 = 96_000_000;
+
+/// The IWDG's clock, the LSI RC oscillator: 32 kHz typical, 17..=47 kHz over process, voltage
+/// and temperature (STM32F411xC/E datasheet DS10314, table "LSI oscillator characteristics").
+pub const LSI_HZ: u32 = 32_000;
+/// Watchdog timeout at the typical LSI: far above the longest legitimate main-loop pass (a DAC
+/// write of the auto-null over 400 kHz I2C, ~0.1 ms; a full queue of 63 samples, ~1 ms) and short
+/// enough that a hung loop costs well under a second of data. With the LSI's spread the real
+/// timeout lies between 170 and 471 ms (the `iwdg` tests work it out).
+pub const WATCHDOG_TIMEOUT_MS: u32 = 250;
+/// Prescaler and reload for [`WATCHDOG_TIMEOUT_MS`]: divider 4, reload 1999 (checked at compile
+/// time: the timeout must be representable).
+pub const WATCHDOG: IwdgSetting = match IwdgSetting::for_timeout(WATCHDOG_TIMEOUT_MS, LSI_HZ) {
+    Some(s) => s,
+    None => panic!("watchdog timeout out of the IWDG's range"),
+};
 
 /// The pins `src/bin/nucleo-f411re.rs` uses, by board.toml key.
 const WIRED: [(&str, &str); 11] = [

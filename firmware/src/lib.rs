@@ -9,6 +9,7 @@
 pub mod ads131m04;
 pub mod device;
 pub mod dsp;
+pub mod iwdg;
 pub mod mcp4728;
 pub mod offset;
 pub mod stream;

@@ -1,31 +1,19 @@
 //! CRC-16-CCITT of the ADS131M04's SPI frames: polynomial 0x1021, seed 0xFFFF, MSB first, no final
-//! XOR (datasheet SBAS890 §8.5.1.10, MODE.CRC_TYPE = 0). Table-driven, two bytes per step: the
-//! check runs on every frame, 15 bytes in 24-bit mode, so it costs a few instructions per byte
-//! instead of ~40 bitwise.
+//! XOR (datasheet SBAS890 §8.5.1.10, MODE.CRC_TYPE = 0). Table-driven, sliced by four: the check
+//! runs on every frame, 15 bytes in 24-bit mode, and four tables (2 KiB of flash) let one step
+//! absorb a 32-bit word with four independent lookups, about 3.5 instructions per byte on the
+//! Cortex-M4 against about 5 sliced by two and ~40 bitwise.
 
 /// The device's CRC seed.
 pub const SEED: u16 = 0xFFFF;
 const POLY: u16 = 0x1021;
 
-/// One table entry per value of the top byte of the running CRC.
-const TABLE: [u16; 256] = build_table();
-/// TABLE advanced by one more zero byte: the contribution of the first of two bytes, so two
-/// bytes take two lookups and no dependent shift in between (slicing by two, 512 bytes more).
-const TABLE2: [u16; 256] = build_table2();
-
-const fn build_table2() -> [u16; 256] {
-    let mut t = [0u16; 256];
-    let mut i = 0;
-    while i < 256 {
-        let c = TABLE[i];
-        t[i] = (c << 8) ^ TABLE[(c >> 8) as usize];
-        i += 1;
-    }
-    t
-}
-
-const fn build_table() -> [u16; 256] {
-    let mut table = [0u16; 256];
+/// `T[k][b]`: the CRC register (from 0) after byte `b` followed by `k` zero bytes. `T[0]` is the
+/// classic byte table; a word's four bytes are looked up in `T[3]..T[0]`, first byte in `T[3]`.
+/// One static, so the hot loop needs one base address (the others are fixed offsets from it).
+static T: [[u16; 256]; 4] = tables();
+const fn tables() -> [[u16; 256]; 4] {
+    let mut t = [[0u16; 256]; 4];
     let mut i = 0;
     while i < 256 {
         let mut crc = (i as u16) << 8;
@@ -38,22 +26,53 @@ const fn build_table() -> [u16; 256] {
             };
             bit += 1;
         }
-        table[i] = crc;
+        t[0][i] = crc;
         i += 1;
     }
-    table
+    let mut k = 1;
+    while k < 4 {
+        let mut i = 0;
+        while i < 256 {
+            let c = t[k - 1][i];
+            t[k][i] = (c << 8) ^ t[0][(c >> 8) as usize];
+            i += 1;
+        }
+        k += 1;
+    }
+    t
+}
+
+/// CRC register after absorbing the big-endian word `w` (its first byte in the top bits).
+#[inline(always)]
+fn step_word(crc: u16, w: u32) -> u16 {
+    let x = (u32::from(crc) << 16) ^ w;
+    T[3][(x >> 24) as usize]
+        ^ T[2][((x >> 16) & 0xFF) as usize]
+        ^ T[1][((x >> 8) & 0xFF) as usize]
+        ^ T[0][(x & 0xFF) as usize]
+}
+
+/// CRC register after absorbing two bytes, the first in the top bits of `w`.
+#[inline(always)]
+fn step_pair(crc: u16, w: u16) -> u16 {
+    let x = crc ^ w;
+    T[1][usize::from(x >> 8)] ^ T[0][usize::from(x & 0xFF)]
 }
 
 /// CRC of `bytes` starting from `crc`.
 #[inline]
 pub fn crc16(mut crc: u16, bytes: &[u8]) -> u16 {
-    let mut pairs = bytes.chunks_exact(2);
+    let mut words = bytes.chunks_exact(4);
+    for w in &mut words {
+        crc = step_word(crc, u32::from_be_bytes([w[0], w[1], w[2], w[3]]));
+    }
+    let rest = words.remainder();
+    let mut pairs = rest.chunks_exact(2);
     for p in &mut pairs {
-        let x = crc ^ u16::from_be_bytes([p[0], p[1]]);
-        crc = TABLE2[usize::from(x >> 8)] ^ TABLE[usize::from(x & 0xFF)];
+        crc = step_pair(crc, u16::from_be_bytes([p[0], p[1]]));
     }
     for &byte in pairs.remainder() {
-        crc = (crc << 8) ^ TABLE[usize::from((crc >> 8) as u8 ^ byte)];
+        crc = (crc << 8) ^ T[0][usize::from((crc >> 8) as u8 ^ byte)];
     }
     crc
 }

@@ -74,6 +74,8 @@ pub struct Ads131m04<SPI, DRDY> {
     input_crc: bool,
     /// The NULL frame to send for a data read, prebuilt for the current word length and CRC mode.
     null_frame: [u8; MAX_FRAME_BYTES],
+    /// Receive buffer of the data read, kept rather than zeroed on the stack for every frame.
+    rx: [u8; MAX_FRAME_BYTES],
 }
 
 type Result<T, SPI, DRDY> = core::result::Result<
@@ -94,6 +96,7 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
             word: WordLength::Bits24,
             input_crc: false,
             null_frame: [0; MAX_FRAME_BYTES],
+            rx: [0; MAX_FRAME_BYTES],
         };
         dev.rebuild_null_frame();
         dev
@@ -197,20 +200,17 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     }
 
     /// Read the latest conversion with a NULL frame (response = STATUS). Checks the frame CRC and
-    /// reports a refused input CRC from the device.
+    /// reports a refused input CRC from the device. Inlined into the caller (the sample-clock
+    /// interrupt) for the common 24-bit word: the codes go from the decoder straight to where the
+    /// caller keeps them instead of through a returned copy; other word lengths are out of line.
+    #[inline(always)]
     pub fn read(&mut self) -> Result<Conversion, SPI, DRDY> {
         // One path per word length, each with its frame length fixed at compile time: no length
         // arithmetic, no slicing checks, and the CRC and decoding unroll and inline.
-        let frame = match self.word {
-            WordLength::Bits24 => self.read_frame::<3, { FRAME_WORDS * 3 }>()?,
-            WordLength::Bits16 => self.read_frame::<2, { FRAME_WORDS * 2 }>()?,
-            word => {
-                let mut rx = [0u8; MAX_FRAME_BYTES];
-                self.spi
-                    .transfer(&mut rx, &self.null_frame)
-                    .map_err(Error::Spi)?;
-                parse_words::<4, SPI, DRDY>(&rx, word)?
-            }
+        let frame = if self.word == WordLength::Bits24 {
+            self.read_frame::<3, { FRAME_WORDS * 3 }>()?
+        } else {
+            self.read_other_word_length()?
         };
         let status = Status(frame.response);
         if status.input_crc_error() {
@@ -222,15 +222,30 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
         })
     }
 
+    /// [`Self::read`]'s frame for 16- and 32-bit words.
+    #[inline(never)]
+    fn read_other_word_length(&mut self) -> Result<Frame, SPI, DRDY> {
+        match self.word {
+            WordLength::Bits16 => self.read_frame::<2, { FRAME_WORDS * 2 }>(),
+            word => {
+                let mut rx = [0u8; MAX_FRAME_BYTES];
+                self.spi
+                    .transfer(&mut rx, &self.null_frame)
+                    .map_err(Error::Spi)?;
+                parse_words::<4, SPI, DRDY>(&rx, word)
+            }
+        }
+    }
+
     /// Clock one NULL frame of `N` = 6 words of `WB` bytes and parse it.
     #[inline(always)]
     fn read_frame<const WB: usize, const N: usize>(&mut self) -> Result<Frame, SPI, DRDY> {
-        let mut rx = [0u8; N];
-        // N ≤ MAX_FRAME_BYTES for every instance, so the compiler drops the range check.
+        // N ≤ MAX_FRAME_BYTES for every instance, so the compiler drops the range checks.
+        let rx = &mut self.rx[..N];
         self.spi
-            .transfer(&mut rx, &self.null_frame[..N])
+            .transfer(rx, &self.null_frame[..N])
             .map_err(Error::Spi)?;
-        parse_words_inline::<WB, SPI, DRDY>(&rx, self.word)
+        parse_words_inline::<WB, SPI, DRDY>(&self.rx[..N], self.word)
     }
 
     fn simple_command(&mut self, command: u16) -> Result<(), SPI, DRDY> {

@@ -132,11 +132,12 @@ impl Osr {
         clkin_hz / 2 / self.ratio()
     }
 
-    /// The OSR giving exactly `rate_hz` at `clkin_hz`, if any.
+    /// The OSR giving exactly `rate_hz` at `clkin_hz`, if any. The product is checked: a rate
+    /// from the host whose product wraps must not alias a real rate (found by fuzzing).
     pub fn for_rate(rate_hz: u32, clkin_hz: u32) -> Option<Self> {
         Self::ALL
             .into_iter()
-            .find(|osr| clkin_hz / 2 == rate_hz * osr.ratio())
+            .find(|osr| rate_hz.checked_mul(osr.ratio()) == Some(clkin_hz / 2))
     }
 }
 
@@ -231,6 +232,8 @@ mod tests {
         assert_eq!(Osr::Osr16256.data_rate_hz(8_192_000), 251);
         assert_eq!(Osr::for_rate(1000, 8_192_000), Some(Osr::Osr4096));
         assert_eq!(Osr::for_rate(1001, 8_192_000), None);
+        // 32 kSPS plus 2^25: × 128 wraps to exactly clkin/2 in 32-bit arithmetic.
+        assert_eq!(Osr::for_rate(32_000 + (1 << 25), 8_192_000), None);
     }
 
     #[test]

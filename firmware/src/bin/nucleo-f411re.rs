@@ -3,6 +3,13 @@
 //! and queues the sample. The main loop runs the device core and writes frames to USART2, the
 //! ST-LINK virtual COM port. The MCP4728 trim DAC sits on I2C1. Pins and rates: hardware/board.toml
 //! (checked against the code at compile time, see boards/nucleo_f411re.rs). defmt logs over RTT (`cargo run --release --bin nucleo-f411re`).
+//!
+//! The independent watchdog (IWDG, timeout in boards/nucleo_f411re.rs) starts before the ADC
+//! and DAC are set up and is fed once per main-loop pass, only when the pass made progress: it
+//! ran to its end and, if samples were waiting, handed at least one to the device core. A hung
+//! bus, interrupt or loop therefore resets the board. After a watchdog reset the firmware says so
+//! over defmt (RCC_CSR.IWDGRSTF); the protocol has no field for a reset cause, so the host sees
+//! it only as a new power-up (a fresh info frame, sequence numbers from 0).
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(not(target_os = "none"))]
@@ -96,10 +103,44 @@ mod target {
         }
     }
 
+    /// Whether the last reset came from the independent watchdog; clears the reset flags so the
+    /// next reset reports its own cause.
+    fn take_watchdog_reset(rcc: &pac::RCC) -> bool {
+        // The PAC names RCC_CSR bit 29 (IWDGRSTF in RM0383) `wdgrstf`.
+        let by_watchdog = rcc.csr().read().wdgrstf().bit_is_set();
+        rcc.csr().modify(|_, w| w.rmvf().set_bit());
+        by_watchdog
+    }
+
+    /// Start the IWDG with the board's prescaler and reload; it cannot be stopped again. It
+    /// halts while a debugger halts the core.
+    fn start_watchdog(iwdg: &pac::IWDG, dbgmcu: &pac::DBGMCU) {
+        const KR_ACCESS: u16 = 0x5555;
+        const KR_START: u16 = 0xCCCC;
+        dbgmcu.apb1_fz().modify(|_, w| w.dbg_iwdg_stop().set_bit());
+        iwdg.kr().write(|w| unsafe { w.key().bits(KR_START) });
+        iwdg.kr().write(|w| unsafe { w.key().bits(KR_ACCESS) });
+        iwdg.pr()
+            .write(|w| unsafe { w.pr().bits(board::WATCHDOG.prescaler) });
+        iwdg.rlr().write(|w| w.rl().set(board::WATCHDOG.reload));
+        // The new values reach the LSI domain a few LSI cycles later.
+        while iwdg.sr().read().bits() != 0 {}
+        feed_watchdog(iwdg);
+    }
+
+    fn feed_watchdog(iwdg: &pac::IWDG) {
+        const KR_RELOAD: u16 = 0xAAAA;
+        iwdg.kr().write(|w| unsafe { w.key().bits(KR_RELOAD) });
+    }
+
     #[entry]
     fn main() -> ! {
         let () = board::PIN_CHECKS;
         let mut dp = pac::Peripherals::take().unwrap();
+        if take_watchdog_reset(&dp.RCC) {
+            defmt::warn!("reset by the independent watchdog: the main loop had stopped");
+        }
+        start_watchdog(&dp.IWDG, &dp.DBGMCU);
         let mut rcc = dp.RCC.freeze(
             RccConfig::hse(board::HSE_HZ.Hz())
                 .bypass_hse_oscillator()
@@ -181,8 +222,11 @@ mod target {
         // No WFI here: USART2 has a one-byte receive register and no receive interrupt is used,
         // so the loop must keep polling or a burst of request bytes would overrun it.
         loop {
+            let waiting = !consumer.is_empty();
+            let mut handled = 0u32;
             while let Some(raw) = consumer.dequeue() {
                 dev.on_sample(&raw, &mut fe);
+                handled += 1;
             }
             dev.note_overruns(OVERRUNS.take());
             let mut buf = [0u8; 32];
@@ -203,6 +247,9 @@ mod target {
             }
             dev.poll(&mut fe);
             dev.tx().drain(|b| tx.write(b).is_ok());
+            if !waiting || handled > 0 {
+                feed_watchdog(&dp.IWDG);
+            }
         }
     }
 }

@@ -66,9 +66,11 @@ impl Device {
                     return Err(NackCode::Busy);
                 }
                 self.tare.start(samples);
+                self.update_offset_settling();
             }
             Command::ClearTare => {
                 self.tare.clear();
+                self.update_offset_settling();
                 self.reset_filters();
                 self.bump();
             }

@@ -27,7 +27,7 @@ pub const PENDING_REQUESTS: usize = 4;
 /// Replies waiting for room in the transmit buffer.
 const PENDING_REPLIES: usize = 8;
 /// Receive accumulator: the longest request (set calibration, 39-byte body) encodes to 45 bytes.
-const RX_BYTES: usize = 64;
+pub const RX_BYTES: usize = 64;
 
 /// A hardware action failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +53,11 @@ pub trait Frontend {
 pub struct Counters {
     pub frames_queued: u32,
     pub frames_dropped: u32,
+    /// Received frames that were not requests (bad CRC, overflow, malformed, wrong type).
     pub rx_errors: u32,
+    /// Replies lost because PENDING_REPLIES were already waiting for a stalled link (the host
+    /// times out and retries).
+    pub replies_dropped: u32,
 }
 
 /// The device core.
@@ -69,6 +73,9 @@ pub struct Device {
     null: AutoNull,
     /// Trim-DAC codes in force, channels A..=C.
     dac: [u16; 3],
+    /// An auto-null search or a tare is taking samples: the per-sample path visits them only
+    /// then, and otherwise just subtracts the tare offset.
+    offset_settling: bool,
     streaming: bool,
     epoch: u8,
     seq: u32,
@@ -108,6 +115,7 @@ impl Device {
             drift: DriftTracker::new(cfg.drift),
             null: AutoNull::new(cfg.null_timing, cfg.dac_initial),
             dac: cfg.dac_initial,
+            offset_settling: false,
             streaming: false,
             epoch: 0,
             seq: 0,
@@ -249,6 +257,19 @@ impl Device {
     /// Offset cut (null search, tare, drift) and filters for one sample of the three bridges.
     #[inline]
     fn process(&mut self, bridge: [i32; 3], hw: &mut impl Frontend) -> Sample {
+        if self.offset_settling {
+            self.settle_offset(bridge, hw);
+        }
+        let offset = self.tare.offset();
+        let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
+        let corrected = self.drift.apply(tared);
+        Sample {
+            ch: self.filters.step_codes(corrected),
+        }
+    }
+
+    /// One sample for a running null search or tare.
+    fn settle_offset(&mut self, bridge: [i32; 3], hw: &mut impl Frontend) {
         match self.null.on_sample(bridge) {
             NullStep::Continue => {}
             NullStep::SetDac(codes) => self.write_null_codes(codes, hw),
@@ -264,17 +285,12 @@ impl Device {
             self.reset_filters();
             self.epoch = self.epoch.wrapping_add(1);
         }
-        let offset = self.tare.offset();
-        let tared: [i32; 3] = core::array::from_fn(|ch| bridge[ch].saturating_sub(offset[ch]));
-        let corrected = self.drift.apply(tared);
-        if self.filters.is_pass_through() {
-            return Sample {
-                ch: corrected.map(|c| c.clamp(CODE_MIN, CODE_MAX)),
-            };
-        }
-        Sample {
-            ch: self.filters.step_codes(corrected),
-        }
+        self.update_offset_settling();
+    }
+
+    /// Call whenever a null search or a tare starts or ends.
+    pub(crate) fn update_offset_settling(&mut self) {
+        self.offset_settling = self.null.state() == NullState::Searching || self.tare.collecting();
     }
 
     fn write_null_codes(&mut self, codes: [u16; 3], hw: &mut impl Frontend) {
@@ -288,10 +304,12 @@ impl Device {
     /// the codes in force stay as they were.
     fn start_null(&mut self, hw: &mut impl Frontend) -> Result<(), HardwareError> {
         let codes = self.null.start();
-        if let Err(e) = hw.set_trim(codes) {
+        let written = hw.set_trim(codes);
+        if written.is_err() {
             self.null.fail();
-            return Err(e);
         }
+        self.update_offset_settling();
+        written?;
         self.dac = codes;
         self.epoch = self.epoch.wrapping_add(1);
         Ok(())
@@ -340,33 +358,27 @@ impl Device {
         }
     }
 
-    /// Bytes received from the host.
+    /// Bytes received from the host. Each complete request is queued for the next frame
+    /// boundary, or nacked at once (busy, malformed), however many one call delivers.
     pub fn on_rx(&mut self, bytes: &[u8]) {
-        let mut nacks: Deque<Reply, PENDING_REPLIES> = Deque::new();
-        let mut requests: Deque<Request, PENDING_REQUESTS> = Deque::new();
-        let mut errors = 0;
         for outcome in self.rx.feed(bytes) {
-            match outcome {
-                Outcome::Message(Message::Request(req)) => {
-                    if requests.len() + self.pending.len() >= PENDING_REQUESTS {
-                        let _ = nacks.push_back(command::nack(&req, protocol::NackCode::Busy));
-                    } else {
-                        let _ = requests.push_back(req);
-                    }
-                }
+            let nack = match outcome {
+                Outcome::Message(Message::Request(req)) => match self.pending.push_back(req) {
+                    Ok(()) => continue,
+                    Err(req) => command::nack(&req, protocol::NackCode::Busy),
+                },
                 Outcome::Malformed(Malformed::BadRequest { tag, opcode, code }) => {
-                    let _ = nacks.push_back(Reply::Nack { tag, opcode, code });
+                    Reply::Nack { tag, opcode, code }
                 }
-                _ => errors += 1,
-            }
+                _ => {
+                    self.counters.rx_errors += 1;
+                    continue;
+                }
+            };
+            // The accumulator holds `self.rx`: queue through the fields, not `self.reply`.
+            queue_reply(&mut self.replies, &mut self.tx, &mut self.counters, nack);
         }
-        self.counters.rx_errors += errors;
-        for req in requests {
-            let _ = self.pending.push_back(req);
-        }
-        for reply in nacks {
-            self.reply(reply);
-        }
+        self.flush_replies();
     }
 
     /// Call from the main loop when idle: applies waiting commands if no frame is open (e.g. while
@@ -391,10 +403,7 @@ impl Device {
     }
 
     fn reply(&mut self, reply: Reply) {
-        if self.replies.push_back(reply).is_err() {
-            // More than PENDING_REPLIES unanswered: the host times out and retries.
-            self.counters.rx_errors += 1;
-        }
+        queue_reply(&mut self.replies, &mut self.tx, &mut self.counters, reply);
         self.flush_replies();
     }
 
@@ -404,15 +413,11 @@ impl Device {
         if self.replies.is_empty() && !self.info_due {
             return;
         }
-        let mut wire = [0u8; MAX_FRAME];
-        while let Some(reply) = self.replies.front().copied() {
-            let n = encode(&Message::Reply(reply), &mut wire).unwrap_or(0);
-            if !self.tx.push_frame(&wire[..n]) {
-                return;
-            }
-            self.replies.pop_front();
+        if !flush_reply_queue(&mut self.replies, &mut self.tx) {
+            return;
         }
         if self.info_due {
+            let mut wire = [0u8; MAX_FRAME];
             let n = encode(&Message::Info(self.info()), &mut wire).unwrap_or(0);
             if self.tx.push_frame(&wire[..n]) {
                 self.info_due = false;
@@ -449,6 +454,38 @@ impl Device {
             config_epoch: self.epoch,
         }
     }
+}
+
+/// Queue `reply` behind the waiting ones, making room by moving those into the transmit buffer
+/// first; with PENDING_REPLIES still waiting (a stalled link) the reply is dropped and counted.
+fn queue_reply(
+    replies: &mut Deque<Reply, PENDING_REPLIES>,
+    tx: &mut TxBuffer<TX_BYTES>,
+    counters: &mut Counters,
+    reply: Reply,
+) {
+    if replies.is_full() {
+        flush_reply_queue(replies, tx);
+    }
+    if replies.push_back(reply).is_err() {
+        counters.replies_dropped += 1;
+    }
+}
+
+/// Move waiting replies into the transmit buffer in order; false if some still wait for room.
+fn flush_reply_queue(
+    replies: &mut Deque<Reply, PENDING_REPLIES>,
+    tx: &mut TxBuffer<TX_BYTES>,
+) -> bool {
+    let mut wire = [0u8; MAX_FRAME];
+    while let Some(reply) = replies.front().copied() {
+        let n = encode(&Message::Reply(reply), &mut wire).unwrap_or(0);
+        if !tx.push_frame(&wire[..n]) {
+            return false;
+        }
+        replies.pop_front();
+    }
+    true
 }
 
 #[cfg(test)]

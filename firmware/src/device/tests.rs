@@ -581,3 +581,4 @@ fn a_repeated_index_still_advances_time_by_one_period() {
 }
 
 mod against_emulation;
+mod robustness;

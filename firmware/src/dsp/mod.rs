@@ -47,6 +47,20 @@ pub struct FilterBank {
     coef: [[f32; 5]; butterworth::MAX_SECTIONS],
     state: [[f32; 2 * CHANNELS]; butterworth::MAX_SECTIONS],
     primed: bool,
+    /// Which per-sample path applies, kept up to date by `build`, `prime` and `reset` so the
+    /// step makes one decision instead of testing alpha, sections and priming each time.
+    path: Path,
+}
+
+/// The per-sample paths of [`FilterBank::step_codes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Path {
+    /// Smoother and low-pass off: codes pass unchanged.
+    PassThrough,
+    /// Primed, no smoother, two sections: the one-block cascade.
+    Cascade2,
+    /// Anything else (including the first sample after a change, which primes).
+    General,
 }
 
 impl FilterBank {
@@ -59,6 +73,7 @@ impl FilterBank {
         coef: [[0.0; 5]; butterworth::MAX_SECTIONS],
         state: [[0.0; 2 * CHANNELS]; butterworth::MAX_SECTIONS],
         primed: false,
+        path: Path::PassThrough,
     };
 
     /// Validate `config` against the sample rate and design the filters.
@@ -92,12 +107,23 @@ impl FilterBank {
                 ];
             }
         }
+        bank.update_path();
         Ok(bank)
+    }
+
+    fn update_path(&mut self) {
+        self.path = if self.alpha.is_none() && self.sections == 0 {
+            Path::PassThrough
+        } else if self.primed && self.alpha.is_none() && self.sections == 2 {
+            Path::Cascade2
+        } else {
+            Path::General
+        };
     }
 
     /// Whether the bank leaves samples unchanged (smoother and low-pass both off).
     pub fn is_pass_through(&self) -> bool {
-        self.alpha.is_none() && self.sections == 0
+        self.path == Path::PassThrough
     }
 
     /// Filter one sample of each channel.
@@ -126,17 +152,18 @@ impl FilterBank {
         x
     }
 
-    /// Filter one sample of 24-bit codes and round the result to codes ([`round_to_code`]): the
-    /// same result as `step` on the codes as f32, rounded. The device's path. With the common
-    /// setting (order 4, no smoother) on the Cortex-M4F, conversion, both sections and rounding
-    /// run as one block of assembly with every value kept in FPU registers.
+    /// Filter one sample of codes and round the result to 24-bit codes ([`round_to_code`]): the
+    /// same result as `step` on the codes as f32, rounded (pass-through only clamps). The device's
+    /// path. With the common setting (order 4, no smoother) on the Cortex-M4F, conversion, both
+    /// sections and rounding run as one block of assembly with every value kept in FPU registers.
     #[inline]
     pub fn step_codes(&mut self, x: [i32; CHANNELS]) -> [i32; CHANNELS] {
-        if self.primed && self.alpha.is_none() && self.sections == 2 {
-            return cascade2_codes(&self.coef, &mut self.state, x)
-                .map(|c| c.clamp(protocol::CODE_MIN, protocol::CODE_MAX));
+        let clamp = |c: i32| c.clamp(protocol::CODE_MIN, protocol::CODE_MAX);
+        match self.path {
+            Path::Cascade2 => cascade2_codes(&self.coef, &mut self.state, x).map(clamp),
+            Path::PassThrough => x.map(clamp),
+            Path::General => self.step(x.map(|c| c as f32)).map(round_to_code),
         }
-        self.step(x.map(|c| c as f32)).map(round_to_code)
     }
 
     fn prime(&mut self, x: [f32; CHANNELS]) {
@@ -151,11 +178,13 @@ impl FilterBank {
             }
         }
         self.primed = true;
+        self.update_path();
     }
 
     /// Forget the history (after a tare or null step the old state is meaningless).
     pub fn reset(&mut self) {
         self.primed = false;
+        self.update_path();
     }
 }
 

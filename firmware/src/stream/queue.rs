@@ -6,9 +6,39 @@
 //! A ring of its own rather than `heapless::spsc`, whose split halves take the capacity at run
 //! time (a division per push and per pop): here the capacity is a power of two known at compile
 //! time, so an index wraps with one AND.
+//!
+//! Ordering: on the single-core Cortex-M targets the producer is an interrupt on the same core as
+//! the consumer, and a core observes its own memory accesses in program order, so a compiler
+//! fence is all the publication needs (no `dmb`); elsewhere (host tests, threads) the indices are
+//! real acquire/release atomics.
 
 use core::cell::UnsafeCell;
 use core::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
+
+/// Load an index the other end publishes (acquire).
+#[inline(always)]
+fn load_acquire(index: &AtomicUsize) -> usize {
+    #[cfg(all(target_arch = "arm", target_os = "none"))]
+    {
+        let v = index.load(Ordering::Relaxed);
+        core::sync::atomic::compiler_fence(Ordering::Acquire);
+        v
+    }
+    #[cfg(not(all(target_arch = "arm", target_os = "none")))]
+    index.load(Ordering::Acquire)
+}
+
+/// Publish an index to the other end (release).
+#[inline(always)]
+fn store_release(index: &AtomicUsize, v: usize) {
+    #[cfg(all(target_arch = "arm", target_os = "none"))]
+    {
+        core::sync::atomic::compiler_fence(Ordering::Release);
+        index.store(v, Ordering::Relaxed);
+    }
+    #[cfg(not(all(target_arch = "arm", target_os = "none")))]
+    index.store(v, Ordering::Release);
+}
 
 /// One conversion as the interrupt saw it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,7 +65,7 @@ const EMPTY: RawSample = RawSample {
 /// The queue itself; place it in a `static` and [`SampleQueue::split`] it. Holds up to
 /// `QUEUE_LEN − 1` samples (one slot stays free to tell full from empty).
 pub struct SampleQueue {
-    slots: UnsafeCell<[RawSample; QUEUE_LEN]>,
+    slots: [UnsafeCell<RawSample>; QUEUE_LEN],
     /// Next slot to read; written only by the consumer.
     head: AtomicUsize,
     /// Next slot to write; written only by the producer.
@@ -44,8 +74,9 @@ pub struct SampleQueue {
 
 // SAFETY: the producer writes only the slot at `tail` and then publishes it (Release); the
 // consumer reads only slots below the `tail` it loaded (Acquire) and then frees them by moving
-// `head` (Release), which the producer loads (Acquire) before reusing a slot. `split` hands out
-// exactly one of each end.
+// `head` (Release), which the producer loads (Acquire) before reusing a slot (on the single-core
+// target, program order plus compiler fences give the same guarantee). `split` hands out exactly
+// one of each end.
 unsafe impl Sync for SampleQueue {}
 
 impl Default for SampleQueue {
@@ -57,7 +88,7 @@ impl Default for SampleQueue {
 impl SampleQueue {
     pub const fn new() -> Self {
         Self {
-            slots: UnsafeCell::new([EMPTY; QUEUE_LEN]),
+            slots: [const { UnsafeCell::new(EMPTY) }; QUEUE_LEN],
             head: AtomicUsize::new(0),
             tail: AtomicUsize::new(0),
         }
@@ -81,12 +112,12 @@ impl Producer<'_> {
         let q = self.queue;
         let tail = q.tail.load(Ordering::Relaxed);
         let next = (tail + 1) & MASK;
-        if next == q.head.load(Ordering::Acquire) {
+        if next == load_acquire(&q.head) {
             return Err(sample);
         }
         // SAFETY: slot `tail` is not visible to the consumer until the store below (see Sync).
-        unsafe { (*q.slots.get())[tail & MASK] = sample };
-        q.tail.store(next, Ordering::Release);
+        unsafe { *q.slots[tail & MASK].get() = sample };
+        store_release(&q.tail, next);
         Ok(())
     }
 }
@@ -102,13 +133,13 @@ impl Drain<'_> {
     pub fn dequeue(&mut self) -> Option<RawSample> {
         let q = self.queue;
         let head = q.head.load(Ordering::Relaxed);
-        if head == q.tail.load(Ordering::Acquire) {
+        if head == load_acquire(&q.tail) {
             return None;
         }
         // SAFETY: slot `head` was published by the producer and is not reused before the store
         // below frees it (see Sync).
-        let sample = unsafe { (*q.slots.get())[head & MASK] };
-        q.head.store((head + 1) & MASK, Ordering::Release);
+        let sample = unsafe { *q.slots[head & MASK].get() };
+        store_release(&q.head, (head + 1) & MASK);
         Some(sample)
     }
 
@@ -189,5 +220,14 @@ mod tests {
         let first = consumer.dequeue().unwrap();
         assert_eq!(first.index, 0);
         assert_eq!(consumer.len(), QUEUE_LEN - 2);
+        let rest: Vec<u32> = core::iter::from_fn(|| consumer.dequeue().map(|s| s.index)).collect();
+        assert_eq!(rest, (1..QUEUE_LEN as u32 - 1).collect::<Vec<_>>());
+        assert!(consumer.is_empty());
+        // The freed slots take new samples, across the wrap.
+        for i in 100..140 {
+            assert!(acq.push(sample(i)));
+        }
+        let rest: Vec<u32> = core::iter::from_fn(|| consumer.dequeue().map(|s| s.index)).collect();
+        assert_eq!(rest, (100..140).collect::<Vec<_>>());
     }
 }
