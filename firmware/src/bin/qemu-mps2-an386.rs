@@ -64,7 +64,7 @@ mod semihost {
         "  adds r1, r1, #2",
         "  str r1, [r0, #24]",
         "  mvn r1, #0",
-        "  str r1, [r0]", // stacked r0: the call's result
+        "  str r1, [r0]",     // stacked r0: the call's result
         "  movw r2, #0xed2c", // HFSR, write one to clear
         "  movt r2, #0xe000",
         "  ldr r3, [r2]",
@@ -238,7 +238,12 @@ mod target {
                 return;
             };
             // After a stimulus file's last record the test is over: no more conversions.
-            if a.chip.borrow_mut().input_mut().file().is_some_and(|f| f.finished()) {
+            if a.chip
+                .borrow_mut()
+                .input_mut()
+                .file()
+                .is_some_and(|f| f.finished())
+            {
                 return;
             }
             a.chip.borrow_mut().convert();
@@ -312,7 +317,8 @@ mod target {
             config.amp_gain = f.header.amp_gain;
             config.excitation_v = f.header.excitation_v;
         }
-        let chip: &'static Chip = cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input))).unwrap();
+        let chip: &'static Chip =
+            cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input))).unwrap();
         let (spi, drdy) = handles(chip);
         let mut adc = Ads131m04::new(spi, drdy);
         let adc_config = Config {

@@ -91,6 +91,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some([a, b, c]) => [*a, *b, *c],
         _ => nominal.gain,
     };
+    if args.adc_stimulus.is_some() {
+        anyhow::ensure!(
+            sim::ads131m04::stimulus_file::is_data_rate(test.sample_rate_hz),
+            "--adc-stimulus: {} Hz is not a data rate of the ADS131M04 (CLKIN/2/OSR: 500, 1000, \
+             2000, ... 32000 Hz)",
+            test.sample_rate_hz
+        );
+    }
     let mut front_end = FrontEnd::from_chip(
         &params,
         gain,

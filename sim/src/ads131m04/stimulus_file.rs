@@ -121,6 +121,16 @@ impl Header {
     }
 }
 
+/// Whether the emulated ADC converts at exactly `rate_hz` (CLKIN / 2 / OSR for one of its OSRs,
+/// a whole number of samples per second as the firmware's rate setting needs): a stimulus file
+/// plays one record per conversion, so it must be produced at such a rate.
+pub fn is_data_rate(rate_hz: f64) -> bool {
+    let half_clkin_hz = super::CLKIN_HZ / 2;
+    super::regs::OSR
+        .iter()
+        .any(|&osr| half_clkin_hz % osr == 0 && f64::from(half_clkin_hz / osr) == rate_hz)
+}
+
 /// One record's bytes.
 pub fn record_bytes(volts: [f32; 4]) -> [u8; RECORD_BYTES] {
     let mut b = [0u8; RECORD_BYTES];
@@ -313,6 +323,13 @@ mod tests {
     }
 
     #[test]
+    fn data_rates_are_clkin_over_twice_the_osr() {
+        assert!(is_data_rate(500.0) && is_data_rate(1000.0) && is_data_rate(32_000.0));
+        // 4.096 MHz / 16256 = 251.97 Hz: not a whole rate; 300 Hz: no OSR.
+        assert!(!is_data_rate(4_096_000.0 / 16_256.0) && !is_data_rate(300.0));
+    }
+
+    #[test]
     fn header_round_trips_and_rejects_garbage() {
         let b = file(&ramp(3));
         let (h, at) = Header::parse(&b).unwrap();
@@ -342,7 +359,8 @@ mod tests {
             offset_v: [0.0; 4],
             ..StimulusParams::QEMU_BOARD
         };
-        let mut s = FileStimulus::new(Stimulus::new(params), h, SliceSource::new(&b[at..])).unwrap();
+        let mut s =
+            FileStimulus::new(Stimulus::new(params), h, SliceSource::new(&b[at..])).unwrap();
         for i in 0..BLOCK_RECORDS + 5 {
             assert_eq!(s.sample_v(0), records[i % BLOCK_RECORDS]);
         }
@@ -389,6 +407,11 @@ mod tests {
         assert!(!s.finished());
         s.sample_v(0);
         assert!(s.finished());
-        assert!(FileStimulus::new(Stimulus::new(StimulusParams::QEMU_BOARD), h, SliceSource::new(&[])).is_none());
+        assert!(FileStimulus::new(
+            Stimulus::new(StimulusParams::QEMU_BOARD),
+            h,
+            SliceSource::new(&[])
+        )
+        .is_none());
     }
 }
