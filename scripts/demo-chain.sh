@@ -66,8 +66,8 @@ started=$SECONDS
     --reference "$out/machine.csv" --align start &
 log_pid=$!
 # The board's sample clock stops after the last record: stop the logger once the recording spans
-# the test in device time (all but the last, partial frame), or give up when nothing new arrives
-# for 30 s.
+# the test in device time (all but the last, partial frame); give up if the logger ends on its
+# own or nothing new arrives for 30 s.
 if ! python3 - "$out/compression.csv" "$((records - batch))" "$rate_hz" "$log_pid" <<'PY'; then
 import os, signal, sys, time
 path, samples, rate, pid = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4])
@@ -75,6 +75,12 @@ need = (samples - 1) / rate
 last_change, last_rows, span = time.time(), 0, 0.0
 while True:
     time.sleep(0.2)
+    try:  # the logger's state; Z = exited, waiting for the shell to reap it
+        state = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0]
+    except FileNotFoundError:
+        state = "Z"
+    if state == "Z":
+        sys.exit("tactile log ended on its own")
     try:
         lines = [l for l in open(path) if not l.startswith("#") and l.strip()]
     except FileNotFoundError:
