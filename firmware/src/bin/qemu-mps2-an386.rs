@@ -1,12 +1,26 @@
 //! Firmware for QEMU `mps2-an386` (Cortex-M4F). UART0 carries the protocol frames; the ADC is the
 //! sim crate's register-level ADS131M04 emulation behind the same `SpiDevice` + DRDY the real
-//! driver uses, converting the deterministic stimulus (`sim::ads131m04::stimulus`) that host tests
-//! recompute; the trim DAC is the emulated MCP4728 driven by the real MCP4728 driver. SysTick paces
-//! the conversions: its interrupt converts, reads the ADC through the driver and queues the sample;
-//! the main loop does everything else.
+//! driver uses; the trim DAC is the emulated MCP4728 driven by the real MCP4728 driver. SysTick
+//! paces the conversions: its interrupt converts, reads the ADC through the driver and queues the
+//! sample; the main loop does everything else.
+//!
+//! What the emulated ADC converts:
+//! - by default the deterministic triangle stimulus (`sim::ads131m04::stimulus`) that host tests
+//!   recompute;
+//! - with a stimulus file named on the semihosting command line, the recorded volts of that file
+//!   (`sim::ads131m04::stimulus_file`, e.g. a compression test from `tactile simulate
+//!   --adc-stimulus`), read from the host through ARM semihosting in 2 KiB blocks. The board then
+//!   converts at the file's rate and reports the file's amplifier gains and excitation in its info
+//!   frame; the playback starts when the host starts the stream (until then the inputs hold the
+//!   first record, the sensor at rest, which the power-up auto-null sees) and the sample clock
+//!   stops after the last record (the test is over).
 //!
 //! Run: `qemu-system-arm -machine mps2-an386 -nographic -kernel <elf> -serial pty` (see
-//! scripts/test-firmware.sh); the device waits for a Start request before streaming.
+//! scripts/test-firmware.sh), plus `-semihosting-config enable=on,target=native,arg=<elf>,arg=<file>`
+//! for a stimulus file (scripts/demo-chain.sh); the device waits for a Start request before
+//! streaming. Without `-semihosting-config` the semihosting probe at start-up traps (a BKPT with
+//! no debugger is a HardFault on M-profile), the handler below makes the call return -1, and the
+//! board falls back to the triangles.
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
 #[cfg(not(target_os = "none"))]
@@ -22,6 +36,87 @@ fn main() {
 mod board;
 
 #[cfg(target_os = "none")]
+mod semihost {
+    //! The host side of the stimulus file: the semihosting calls, and the HardFault handler that
+    //! turns a semihosting call into a failed one (-1) when QEMU runs without semihosting.
+    use cortex_m_semihosting::syscall;
+    use sim::ads131m04::stimulus_file::RecordSource;
+
+    // The handler: if the faulting instruction is the semihosting BKPT (0xBEAB, escalated to
+    // HardFault because no debugger is attached), step over it with r0 = -1; any other fault goes
+    // to cortex-m-rt's default handler. Written in assembly because it must return to the
+    // stacked frame, which a Rust `HardFault` handler (`-> !`) cannot.
+    core::arch::global_asm!(
+        ".section .text.HardFault,\"ax\",%progbits",
+        ".global HardFault",
+        ".type HardFault,%function",
+        ".thumb_func",
+        "HardFault:",
+        "  tst lr, #4",
+        "  ite eq",
+        "  mrseq r0, msp",
+        "  mrsne r0, psp",
+        "  ldr r1, [r0, #24]", // stacked PC
+        "  ldrh r2, [r1]",
+        "  movw r3, #0xbeab", // bkpt 0xab
+        "  cmp r2, r3",
+        "  bne 1f",
+        "  adds r1, r1, #2",
+        "  str r1, [r0, #24]",
+        "  mvn r1, #0",
+        "  str r1, [r0]",     // stacked r0: the call's result
+        "  movw r2, #0xed2c", // HFSR, write one to clear
+        "  movt r2, #0xe000",
+        "  ldr r3, [r2]",
+        "  str r3, [r2]",
+        "  bx lr",
+        "1:",
+        "  b HardFault_",
+    );
+
+    /// The semihosting command line (`arg=` values of `-semihosting-config`, space-separated), or
+    /// `None` without semihosting.
+    pub fn command_line(buf: &mut [u8]) -> Option<&[u8]> {
+        let mut block = [buf.as_mut_ptr() as usize, buf.len()];
+        // SAFETY: SYS_GET_CMDLINE writes at most block[1] bytes into buf and the length into
+        // block[1]; both outlive the call.
+        let r = unsafe {
+            cortex_m_semihosting::syscall1(
+                cortex_m_semihosting::nr::GET_CMDLINE,
+                block.as_mut_ptr() as usize,
+            )
+        };
+        (r == 0 && block[1] <= buf.len()).then(|| &buf[..block[1]])
+    }
+
+    /// A host file opened read-only in binary mode.
+    pub struct HostFile {
+        handle: usize,
+    }
+
+    impl HostFile {
+        pub fn open(path: &[u8]) -> Option<Self> {
+            let mut name = [0u8; 128];
+            if path.len() >= name.len() {
+                return None;
+            }
+            name[..path.len()].copy_from_slice(path);
+            // SAFETY: `name` is NUL-terminated and outlives the call; mode 1 = "rb".
+            let handle = unsafe { syscall!(OPEN, name.as_ptr(), 1, path.len()) };
+            (handle as isize >= 0).then_some(Self { handle })
+        }
+    }
+
+    impl RecordSource for HostFile {
+        fn read(&mut self, buf: &mut [u8]) -> usize {
+            // SAFETY: SYS_READ writes at most buf.len() bytes into buf; returns the bytes NOT read.
+            let left = unsafe { syscall!(READ, self.handle, buf.as_mut_ptr(), buf.len()) };
+            buf.len().saturating_sub(left)
+        }
+    }
+}
+
+#[cfg(target_os = "none")]
 mod target {
     use super::board::{self, Uart0};
     use core::cell::RefCell;
@@ -33,12 +128,87 @@ mod target {
     use firmware::mcp4728::{trim_writes, Mcp4728, DEFAULT_ADDRESS};
     use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
     use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-    use sim::ads131m04::trim_dac::TrimDac;
-    use sim::ads131m04::{handles, Ads131m04 as Emu, DrdyHandle, SpiHandle};
+    use sim::ads131m04::stimulus_file::{FileStimulus, Header, HEADER_BYTES};
+    use sim::ads131m04::trim_dac::{TrimDac, TrimInput};
+    use sim::ads131m04::{handles, Ads131m04 as Emu, AnalogInput, DrdyHandle, SpiHandle};
     use {defmt_rtt as _, panic_probe as _};
 
-    type Chip = RefCell<Emu<Stimulus>>;
-    type Adc = Ads131m04<SpiHandle<'static, Stimulus>, DrdyHandle<'static, Stimulus>>;
+    use super::semihost::{self, HostFile};
+    use sim::ads131m04::stimulus_file::RecordSource;
+
+    /// What the emulated ADC converts: the triangles, or a stimulus file from the host.
+    enum BoardInput {
+        Triangle(Stimulus),
+        File(FileStimulus<HostFile>),
+    }
+
+    impl AnalogInput for BoardInput {
+        fn sample_v(&mut self, index: u64) -> [f32; 4] {
+            match self {
+                Self::Triangle(s) => s.sample_v(index),
+                Self::File(f) => f.sample_v(index),
+            }
+        }
+    }
+
+    impl TrimInput for BoardInput {
+        fn set_trim(&mut self, channel: usize, code: u16) {
+            match self {
+                Self::Triangle(s) => s.set_trim(channel, code),
+                Self::File(f) => f.set_trim(channel, code),
+            }
+        }
+    }
+
+    impl BoardInput {
+        /// The stimulus file named by the second word of the semihosting command line (the first
+        /// is the program), or the triangles.
+        fn from_host() -> Self {
+            let bench = Stimulus::new(StimulusParams::QEMU_BOARD);
+            let mut line = [0u8; 160];
+            let path = semihost::command_line(&mut line)
+                .and_then(|l| l.split(|b| *b == b' ').filter(|w| !w.is_empty()).nth(1));
+            let Some(path) = path else {
+                return Self::Triangle(bench);
+            };
+            let Some(mut file) = HostFile::open(path) else {
+                defmt::error!("stimulus file cannot be opened");
+                return Self::Triangle(bench);
+            };
+            let mut head = [0u8; HEADER_BYTES];
+            let parsed = (file.read(&mut head) == HEADER_BYTES)
+                .then(|| Header::parse(&head).ok())
+                .flatten();
+            // Records start right after this version's header; a longer header is skipped.
+            let Some((header, length)) = parsed else {
+                defmt::error!("stimulus file: bad header");
+                return Self::Triangle(bench);
+            };
+            let mut skip = [0u8; 16];
+            let mut left = length - HEADER_BYTES;
+            while left > 0 {
+                let n = file.read(&mut skip[..left.min(16)]);
+                if n == 0 {
+                    return Self::Triangle(bench);
+                }
+                left -= n;
+            }
+            match FileStimulus::new(bench.clone(), header, file) {
+                Some(f) => Self::File(f),
+                None => Self::Triangle(bench),
+            }
+        }
+
+        fn file(&mut self) -> Option<&mut FileStimulus<HostFile>> {
+            match self {
+                Self::File(f) => Some(f),
+                Self::Triangle(_) => None,
+            }
+        }
+    }
+
+    type Chip = RefCell<Emu<BoardInput>>;
+    type Adc = Ads131m04<SpiHandle<'static, BoardInput>, DrdyHandle<'static, BoardInput>>;
 
     /// What the sample-clock interrupt owns.
     struct Acquisition {
@@ -67,6 +237,15 @@ mod target {
             let Some(Shared(a)) = slot.as_mut() else {
                 return;
             };
+            // After a stimulus file's last record the test is over: no more conversions.
+            if a.chip
+                .borrow_mut()
+                .input_mut()
+                .file()
+                .is_some_and(|f| f.finished())
+            {
+                return;
+            }
             a.chip.borrow_mut().convert();
             let (codes, read_error) = match a.adc.read() {
                 Ok(conv) => (conv.codes, false),
@@ -84,7 +263,7 @@ mod target {
 
     /// The main loop's hardware: trim DAC on the emulated I2C, ADC rate and the SysTick period.
     struct QemuFrontend {
-        dac: Mcp4728<TrimDac<'static, Stimulus>>,
+        dac: Mcp4728<TrimDac<'static, BoardInput>>,
         syst: SYST,
         clkin_hz: u32,
     }
@@ -112,13 +291,34 @@ mod target {
         }
     }
 
+    /// Start a stimulus file's playback (the triangles run from power-up).
+    fn start_playback(chip: &'static Chip) {
+        critical_section::with(|_| {
+            if let Some(f) = chip.borrow_mut().input_mut().file() {
+                f.start();
+            }
+        });
+    }
+
     #[entry]
     fn main() -> ! {
         let cp = cortex_m::Peripherals::take().unwrap();
         let mut uart = Uart0::init();
+        let input = BoardInput::from_host();
+        let mut config = board::device_config();
+        if let BoardInput::File(f) = &input {
+            // The file describes the sensor: its rate, and the gains and excitation the host
+            // needs to read the volts as that sensor's.
+            let rate_hz = f.header.sample_rate_hz as u32;
+            match Osr::for_rate(rate_hz, config.clkin_hz) {
+                Some(osr) => config.osr = osr,
+                None => defmt::error!("stimulus rate {} Hz is not an ADC rate", rate_hz),
+            }
+            config.amp_gain = f.header.amp_gain;
+            config.excitation_v = f.header.excitation_v;
+        }
         let chip: &'static Chip =
-            cortex_m::singleton!(: Chip = RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)))).unwrap();
-        let config = board::device_config();
+            cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input))).unwrap();
         let (spi, drdy) = handles(chip);
         let mut adc = Ads131m04::new(spi, drdy);
         let adc_config = Config {
@@ -153,6 +353,7 @@ mod target {
         }
         let period = board::ticks_per_sample(dev.rate_hz());
         board::start_sample_clock(&mut fe.syst, period);
+        let mut playing = false;
         loop {
             let mut busy = false;
             while let Some(raw) = consumer.dequeue() {
@@ -176,6 +377,10 @@ mod target {
                 busy = true;
             }
             dev.poll(&mut fe);
+            if !playing && dev.streaming() {
+                start_playback(chip);
+                playing = true;
+            }
             dev.tx().drain(|b| uart.try_write(b));
             if !busy && dev.tx().is_empty() {
                 // SysTick wakes us for the next conversion; received bytes wait in the UART

@@ -52,7 +52,8 @@ pub struct Args {
     /// the end.
     #[arg(long, value_name = "CSV")]
     pub reference: Option<PathBuf>,
-    /// How to align the reference: by timestamps or by cross-correlation of load with Fz.
+    /// How to align the reference: by timestamps, by cross-correlation of load with Fz, or
+    /// `start`: the machine was started by the stream's start, its time zero is the first sample.
     #[arg(long, value_enum, default_value = "time", requires = "reference")]
     pub align: AlignArg,
     /// Reference time minus recording time, s (with --align time).
@@ -79,6 +80,7 @@ pub struct Args {
 pub enum AlignArg {
     Time,
     Xcorr,
+    Start,
 }
 
 struct Sensor {
@@ -129,6 +131,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             AlignArg::Xcorr => Align::Xcorr {
                 max_lag_s: args.max_lag_s,
             },
+            AlignArg::Start => Align::Start,
         };
         for path in csv_paths(&args) {
             let off = merge_file(&path, reference, align)?;

@@ -57,6 +57,15 @@ pub struct Args {
     /// Bridge excitation, V [default: hardware/chip.toml].
     #[arg(long)]
     pub excitation_v: Option<f64>,
+    /// Also write the volts at the ADC inputs (Fz, Mx, My as in the recording, the temperature
+    /// sensor's output on channel 3) as a stimulus file for the QEMU board
+    /// (`sim::ads131m04::stimulus_file`; scripts/demo-chain.sh).
+    #[arg(long, value_name = "FILE", conflicts_with = "smoother_alpha")]
+    pub adc_stimulus: Option<PathBuf>,
+    /// Also write the test machine's export of the run (t_s, rod_mm, load_N), what `tactile log
+    /// --reference` merges into a recording.
+    #[arg(long, value_name = "CSV")]
+    pub machine_csv: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -82,6 +91,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some([a, b, c]) => [*a, *b, *c],
         _ => nominal.gain,
     };
+    if args.adc_stimulus.is_some() {
+        anyhow::ensure!(
+            sim::ads131m04::stimulus_file::is_data_rate(test.sample_rate_hz),
+            "--adc-stimulus: {} Hz is not a data rate of the ADS131M04 (CLKIN/2/OSR: 500, 1000, \
+             2000, ... 32000 Hz)",
+            test.sample_rate_hz
+        );
+    }
     let mut front_end = FrontEnd::from_chip(
         &params,
         gain,
@@ -140,5 +157,56 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .with_context(|| format!("creating {}", args.out.display()))?;
     rec.write_to(file)
         .with_context(|| format!("writing {}", args.out.display()))?;
+    if let Some(path) = &args.adc_stimulus {
+        let sensor = sim::frontend::FrontEnd::from_params(&params).temperature;
+        write_adc_stimulus(path, &rec, &sensor)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &args.machine_csv {
+        write_machine_csv(path, &rec).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// The recording's volts, sample by sample, as the QEMU board's ADC inputs. Without noise the
+/// rest reads exactly zero; the temperature channel is the sensor's output at `temp_C` (its
+/// offset where the recording has none).
+fn write_adc_stimulus(
+    path: &std::path::Path,
+    rec: &Recording,
+    sensor: &sim::frontend::TempSensor,
+) -> anyhow::Result<()> {
+    let c = &rec.channels;
+    let records: Vec<[f32; 4]> = (0..c.len())
+        .map(|i| {
+            let temp_v = rec
+                .temp_c
+                .as_ref()
+                .map_or(sensor.offset_v, |t| sensor.output_v(t[i]));
+            [c.fz_v[i], c.mx_v[i], c.my_v[i], temp_v].map(|v| v as f32)
+        })
+        .collect();
+    let m = &rec.meta;
+    let out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    sim::ads131m04::stimulus_file::write(
+        out,
+        m.sample_rate_hz as f32,
+        [m.gain_fz, m.gain_mx, m.gain_my].map(|g| g as f32),
+        m.excitation_v as f32,
+        &records,
+    )?;
+    Ok(())
+}
+
+/// The test machine's side of the run: time, rod travel and load cell, one row per sample.
+fn write_machine_csv(path: &std::path::Path, rec: &Recording) -> anyhow::Result<()> {
+    use std::io::Write;
+    let c = &rec.channels;
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(out, "t_s,rod_mm,load_N")?;
+    for i in 0..c.len() {
+        writeln!(out, "{},{},{}", c.t_s[i], c.rod_mm[i], c.load_n[i])?;
+    }
+    out.flush()?;
     Ok(())
 }

@@ -105,6 +105,10 @@ pub enum Align {
     Time { offset_s: f64 },
     /// Search the offset within ±`max_lag_s` that best correlates load with Fz.
     Xcorr { max_lag_s: f64 },
+    /// The machine was started by the start of the stream (a trigger): its time zero is the
+    /// recording's first sample. Exact where the trigger is; cross-correlation is biased by any
+    /// phase shift between load and sensor (AC coupling leads, relaxation lags).
+    Start,
 }
 
 /// Grid step of the cross-correlation search.
@@ -186,6 +190,11 @@ pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
             let t = rec.values("t_s").unwrap_or_default();
             xcorr_offset(&t, &signal, reference, max_lag_s).unwrap_or(0.0)
         }
+        Align::Start => rec
+            .rows
+            .iter()
+            .find(|row| row.iter().skip(3).take(3).any(|v| v.is_finite()))
+            .map_or(0.0, |row| -row[ti]),
     };
     for row in &mut rec.rows {
         let at = row[ti] + offset;
@@ -246,6 +255,36 @@ mod tests {
         };
         let off = xcorr_offset(&t, &s, &r, 4.0).unwrap();
         assert!((off - 2.3).abs() < 0.011, "offset {off}");
+    }
+
+    /// A triggered machine's time zero is the first sample, wherever the recording's clock was.
+    #[test]
+    fn start_alignment_puts_machine_zero_on_the_first_sample() {
+        let rows = (0..5)
+            .map(|i| {
+                let t = 0.94 + 0.002 * i as f64;
+                vec![t, f64::NAN, f64::NAN, 0.1, 0.2, 0.3]
+            })
+            .collect();
+        let mut rec = Recording {
+            meta: Vec::new(),
+            columns: ["t_s", "rod_mm", "load_N", "fz_V", "mx_V", "my_V"]
+                .map(String::from)
+                .to_vec(),
+            rows,
+        };
+        let t_s: Vec<f64> = (0..10).map(|i| 0.002 * i as f64).collect();
+        let r = Reference {
+            rod_mm: t_s.iter().map(|t| 100.0 * t).collect(),
+            load_n: t_s.iter().map(|t| 1000.0 * t).collect(),
+            t_s,
+        };
+        let offset = merge(&mut rec, &r, Align::Start);
+        assert!((offset + 0.94).abs() < 1e-12);
+        for (i, row) in rec.rows.iter().enumerate() {
+            assert!((row[1] - 0.2 * i as f64).abs() < 1e-9, "rod at row {i}");
+            assert!((row[2] - 2.0 * i as f64).abs() < 1e-9, "load at row {i}");
+        }
     }
 
     #[test]

@@ -16,6 +16,7 @@
 pub mod crc;
 pub mod regs;
 pub mod stimulus;
+pub mod stimulus_file;
 pub mod trim_dac;
 
 use core::cell::RefCell;

@@ -71,19 +71,23 @@ impl Stimulus {
     }
 
     /// Volts at the four ADC inputs for conversion `index`.
-    #[allow(clippy::needless_range_loop)] // channel index runs over params, signal and trim alike
+    #[allow(clippy::needless_range_loop)] // channel index runs over signal and output alike
     pub fn volts(&self, index: u64) -> [f32; 4] {
         let p = &self.params;
         let signal = self.signal_v(index);
         let mut v = [0.0; 4];
-        for ch in 0..4 {
-            v[ch] = p.offset_v[ch] + signal[ch];
-        }
         for ch in 0..3 {
-            let steps = f32::from(self.trim_codes[ch]) - f32::from(TRIM_MID_CODE);
-            v[ch] += p.trim_v_per_code[ch] * steps;
+            v[ch] = self.bridge_v(ch, signal[ch]);
         }
+        v[3] = p.offset_v[3] + signal[3];
         v
+    }
+
+    /// Volts at bridge channel `ch`'s ADC input for a signal `signal_v` (what a nulled, tared
+    /// channel shows): the bench's raw offset, the signal, and the trim DAC's correction.
+    pub fn bridge_v(&self, ch: usize, signal_v: f32) -> f32 {
+        let steps = f32::from(self.trim_codes[ch]) - f32::from(TRIM_MID_CODE);
+        self.params.offset_v[ch] + signal_v + self.params.trim_v_per_code[ch] * steps
     }
 
     /// The signal part alone (offsets and trim excluded), what a perfectly nulled and tared
