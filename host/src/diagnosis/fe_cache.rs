@@ -19,7 +19,7 @@ use super::fe_response::FeResponseError;
 
 /// Bump when the meaning of a stored curve changes without a change of its inputs (the FE's
 /// chip-load extraction, the stepping).
-pub const CURVE_REVISION: u32 = 1;
+pub const CURVE_REVISION: u32 = 2;
 /// Environment variable that overrides the cache directory.
 pub const CACHE_DIR_ENV: &str = "TACTILE_CACHE_DIR";
 
