@@ -24,7 +24,7 @@ use super::fe_cache::{self, RawCurve};
 /// against -6.56 N) while the rod force agrees within 1 %: the chip loads need the finer mesh.
 const MESH_FRACTION_OF_RADIUS: f64 = 0.25;
 /// Rod travel per FE step as a fraction of R (0.8 mm: ~11 steps to 60 N, enough for the
-/// monotone cubic between points to stay within 1 % of a d^1.5..d^2 law).
+/// monotone cubic between points to stay within 0.3 % of a d^1.5 law past the second step).
 const STEP_FRACTION_OF_RADIUS: f64 = 0.04;
 /// The table reaches this multiple of the standard test's peak load at E0, so that a recording
 /// with a softer gel (down to E0 / 1.25) or a higher peak stays inside it; beyond, the table
