@@ -15,7 +15,7 @@ fn concealed_effects_are_found_blind() {
         options: host::diagnosis::Options::from_hardware(&hw, false).unwrap(),
         front_end: host::diagnosis::baseline::FrontEnd::from_hardware(&hw).unwrap(),
     };
-    let cases = plan.generate();
+    let cases = plan.generate().expect("FE tables");
     assert!(cases.len() >= 40);
     for kind in sim::effects::EffectKind::ALL {
         assert!(

@@ -4,19 +4,21 @@
 //! Run: `cargo test --release -p host --test diagnosis_robustness -- --ignored --nocapture`.
 
 use host::diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
-use host::diagnosis::standin::HertzContact;
+use host::diagnosis::fe_response::AngleBlend;
 use host::diagnosis::synth::{simulate, Gaussian, Noise, SimSpec};
 use host::recording::Recording;
 use sim::effects::Effect;
 
-/// A force law outside the diagnosis's family: Hertz stiffened by the finite gel thickness,
-/// F = F_Hertz (1 + 0.5 (d / R)^2), chip loads in proportion.
-struct Thick(HertzContact);
+/// A force law outside the diagnosis's family: the FE response stiffened as if the gel were
+/// thinner, F = F_FE (1 + 0.5 (d / R)^2), chip loads in proportion.
+struct Thick(AngleBlend);
+
+const RADIUS_MM: f64 = 20.0;
 
 impl FingertipResponse for Thick {
     fn unit_response(&self, rod_mm: f64) -> UnitResponse {
         let u = self.0.unit_response(rod_mm);
-        let k = 1.0 + 0.5 * (rod_mm.max(0.0) / self.0.radius_mm).powi(2);
+        let k = 1.0 + 0.5 * (rod_mm.max(0.0) / RADIUS_MM).powi(2);
         UnitResponse {
             force_n: u.force_n * k,
             chip: u.chip.map(|c| c * k),
@@ -38,15 +40,9 @@ fn recording_with(
 ) -> (Recording, host::diagnosis::Options) {
     let hw = hardware::Params::load_default().unwrap();
     let opt = host::diagnosis::Options::from_hardware(&hw, false).unwrap();
-    let hertz = HertzContact {
-        radius_mm: 20.0,
-        poisson: opt.poisson,
-        contact_angle_deg: 20.0,
-        azimuth_deg: 60.0,
-        lever_mm: opt.lever_mm,
-    };
-    let thick_tip = Thick(hertz);
-    let fingertip: &dyn FingertipResponse = if thick { &thick_tip } else { &hertz };
+    let fe = opt.fe.response(RADIUS_MM, 20.0, 60.0).unwrap();
+    let thick_tip = Thick(fe.clone());
+    let fingertip: &dyn FingertipResponse = if thick { &thick_tip } else { &fe };
     let mut spec = SimSpec {
         fingertip,
         front_end: FrontEnd::from_hardware(&hw).unwrap(),
@@ -72,6 +68,7 @@ fn recording_with(
         seed: 3,
         ambient_c: 25.0,
         warm_up_rise_c: 5.0,
+        ambient_swing: None,
         source: "robustness study".into(),
     };
     tweak(&mut spec);

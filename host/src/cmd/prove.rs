@@ -44,7 +44,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         front_end: FrontEnd::from_hardware(&hw)?,
     };
     let started = Instant::now();
-    let cases = plan.generate();
+    let cases = plan.generate()?;
     let generated = started.elapsed().as_secs_f64();
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;

@@ -7,7 +7,7 @@ use anyhow::Context;
 use sim::effects::Effect;
 
 use crate::diagnosis::baseline::{smoother_tau_s, BaselineParams, FrontEnd, SMOOTHER_KEY};
-use crate::diagnosis::standin::HertzContact;
+use crate::diagnosis::fe_response::FeSource;
 use crate::diagnosis::synth::{simulate, Noise, SimSpec};
 use crate::recording::Recording;
 
@@ -54,6 +54,10 @@ pub struct Args {
     /// recording's metadata as `firmware_smoother_alpha`) [default: off].
     #[arg(long)]
     pub smoother_alpha: Option<f64>,
+    /// A sinusoidal swing of the ambient temperature: amplitude (degC) and period (s). A
+    /// `thermal_drift` follows the temperature, so it then departs from a pure warm-up.
+    #[arg(long, value_delimiter = ',', num_args = 2, value_names = ["DEG_C", "PERIOD_S"])]
+    pub ambient_swing: Option<Vec<f64>>,
     /// Bridge excitation, V [default: hardware/chip.toml].
     #[arg(long)]
     pub excitation_v: Option<f64>,
@@ -78,6 +82,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .collect::<anyhow::Result<Vec<_>>>()
         .context("--effect")?;
     anyhow::ensure!(args.peak_load > 0.0, "--peak-load must be positive");
+    if let Some([_, period_s]) = args.ambient_swing.as_deref() {
+        anyhow::ensure!(*period_s > 0.0, "--ambient-swing: the period must be positive");
+    }
     let test = sim::compression::CompressionTest {
         sample_rate_hz: args.rate.unwrap_or(tip.test.sample_rate_hz),
         speed_mm_per_min: tip.test.rod_speed_mm_per_min,
@@ -111,13 +118,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
         front_end.smoother_tau_s = smoother_tau_s(alpha, test.sample_rate_hz);
     }
-    let fingertip = HertzContact {
-        radius_mm: tip.radius_mm,
-        poisson: tip.poisson,
-        contact_angle_deg: args.contact_angle,
-        azimuth_deg: args.azimuth,
-        lever_mm: params.chip.pillar_height_um * 1e-3,
-    };
+    let fingertip = FeSource::from_hardware(&params)?.response(
+        tip.radius_mm,
+        args.contact_angle,
+        args.azimuth,
+    )?;
     let names: Vec<String> = effects
         .iter()
         .map(|e| e.kind().name().to_string())
@@ -142,8 +147,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         seed: args.seed,
         ambient_c: 25.0,
         warm_up_rise_c: 5.0,
+        ambient_swing: match args.ambient_swing.as_deref() {
+            Some([amplitude_c, period_s]) => Some((*amplitude_c, *period_s)),
+            _ => None,
+        },
         source: format!(
-            "tactile simulate (stand-in Hertz baseline); effects: [{}]",
+            "tactile simulate (FE baseline); effects: [{}]",
             names.join(" ")
         ),
     };

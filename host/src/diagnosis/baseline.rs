@@ -21,12 +21,15 @@ pub trait FingertipResponse: Sync {
     fn unit_response(&self, rod_mm: f64) -> UnitResponse;
 }
 
-/// A tabulated response (from the FE model or any other source), linear between points and
-/// zero before the first (no contact).
+/// A tabulated response (from the FE model or any other source), zero before the first point
+/// (no contact), monotone cubic (PCHIP, [`super::interp`]) between points, and straight on
+/// along the end slope past the last.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResponseTable {
     rod_mm: Vec<f64>,
-    points: Vec<UnitResponse>,
+    /// Force, then the three chip loads, per Pa, at each rod travel.
+    values: [Vec<f64>; 4],
+    slopes: [Vec<f64>; 4],
 }
 
 impl ResponseTable {
@@ -37,13 +40,24 @@ impl ResponseTable {
             rod_mm.windows(2).all(|w| w[1] > w[0]),
             "rod travel must increase"
         );
-        Self { rod_mm, points }
+        let values: [Vec<f64>; 4] = std::array::from_fn(|k| {
+            points
+                .iter()
+                .map(|p| if k == 0 { p.force_n } else { p.chip[k - 1] })
+                .collect()
+        });
+        let slopes = std::array::from_fn(|k| super::interp::slopes(&rod_mm, &values[k]));
+        Self {
+            rod_mm,
+            values,
+            slopes,
+        }
     }
 
-    /// From a quasi-static curve computed at modulus `youngs_modulus_pa` (e.g. the `fingertip`
-    /// FE's `Curve::points`: rod_mm, force_n, fz_n, mx_nm, my_nm), divided by that modulus: the
-    /// neo-Hookean response scales linearly with E at fixed geometry. Points must have
-    /// increasing rod travel; repeated travels (a hold) keep the first.
+    /// From a quasi-static curve computed at modulus `youngs_modulus_pa` (rod_mm, force_n,
+    /// chip loads), divided by that modulus: the neo-Hookean response scales linearly with E at
+    /// fixed geometry (`fingertip`'s `response_scales_linearly_with_youngs_modulus`). Points
+    /// must have increasing rod travel; repeated travels (a hold) keep the first.
     pub fn from_curve(
         points: impl IntoIterator<Item = (f64, f64, [f64; 3])>,
         youngs_modulus_pa: f64,
@@ -71,31 +85,31 @@ impl ResponseTable {
         let points = rod.iter().map(|&d| model.unit_response(d)).collect();
         Self::new(rod, points)
     }
+
+    /// The largest tabulated rod travel.
+    pub fn max_rod_mm(&self) -> f64 {
+        self.rod_mm.last().copied().unwrap_or(0.0)
+    }
+
+    fn component(&self, k: usize, rod_mm: f64) -> f64 {
+        let (x, y, d) = (&self.rod_mm, &self.values[k], &self.slopes[k]);
+        let last = x.len() - 1;
+        if rod_mm > x[last] {
+            y[last] + d[last] * (rod_mm - x[last])
+        } else {
+            super::interp::eval(x, y, d, rod_mm)
+        }
+    }
 }
 
 impl FingertipResponse for ResponseTable {
     fn unit_response(&self, rod_mm: f64) -> UnitResponse {
-        let n = self.rod_mm.len();
-        if n == 0 || rod_mm <= self.rod_mm[0] {
+        if self.rod_mm.is_empty() || rod_mm <= self.rod_mm[0] {
             return UnitResponse::default();
         }
-        let i = self
-            .rod_mm
-            .partition_point(|&r| r <= rod_mm)
-            .min(n - 1)
-            .max(1);
-        let (r0, r1) = (self.rod_mm[i - 1], self.rod_mm[i]);
-        let u = ((rod_mm - r0) / (r1 - r0)).min(1.0);
-        let (a, b) = (self.points[i - 1], self.points[i]);
-        // Past the table's end, extrapolate along the last interval.
-        let u = if rod_mm > self.rod_mm[n - 1] {
-            (rod_mm - r0) / (r1 - r0)
-        } else {
-            u
-        };
         UnitResponse {
-            force_n: a.force_n + u * (b.force_n - a.force_n),
-            chip: std::array::from_fn(|k| a.chip[k] + u * (b.chip[k] - a.chip[k])),
+            force_n: self.component(0, rod_mm),
+            chip: std::array::from_fn(|k| self.component(k + 1, rod_mm)),
         }
     }
 }
@@ -205,6 +219,8 @@ pub struct Drive {
     pub unit: Vec<UnitResponse>,
     /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
     ln_rel_rod: Vec<f64>,
+    /// Measured temperature at each time, for a drift regressed on it.
+    pub temp_c: Option<Vec<f64>>,
 }
 
 impl Drive {
@@ -227,7 +243,13 @@ impl Drive {
             t_s,
             unit,
             ln_rel_rod,
+            temp_c: None,
         }
+    }
+
+    /// The same drive with the temperature measured at each of its times.
+    pub fn with_temperature(self, temp_c: Option<Vec<f64>>) -> Self {
+        Self { temp_c, ..self }
     }
 
     pub fn len(&self) -> usize {
@@ -293,7 +315,7 @@ pub fn evaluate(
             out.push(v * s);
         }
     }
-    chain.apply_electrical(&drive.t_s, &mut volts);
+    chain.apply_electrical_at(&drive.t_s, drive.temp_c.as_deref(), &mut volts);
     load.iter_mut().for_each(|f| *f += p.offset[0]);
     for (out, offset) in volts.iter_mut().zip(&p.offset[1..]) {
         out.iter_mut().for_each(|v| *v += offset);
@@ -361,8 +383,10 @@ mod tests {
             (2.0, 6e4, [3e4, -1e3, 1e4]),
         ];
         let t = ResponseTable::from_curve(pts, 1e4);
-        let u = t.unit_response(1.5);
-        assert!((u.force_n - 4.0).abs() < 1e-12 && (u.chip[0] - 2.0).abs() < 1e-12);
+        let u = t.unit_response(1.0);
+        assert!((u.force_n - 2.0).abs() < 1e-12 && (u.chip[0] - 1.0).abs() < 1e-12);
+        let mid = t.unit_response(1.5).force_n;
+        assert!(mid > 2.0 && mid < 6.0, "{mid}");
     }
 
     #[test]

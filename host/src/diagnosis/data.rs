@@ -60,6 +60,9 @@ pub enum DataError {
     /// The rod never presses into the fingertip.
     #[error("column `rod_mm` never rises above 0: no compression in this recording")]
     NoContact,
+    /// The FE-backed fingertip response for the recording's angles and radius failed.
+    #[error(transparent)]
+    Fingertip(#[from] super::fe_response::FeResponseError),
 }
 
 impl Data {

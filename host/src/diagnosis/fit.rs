@@ -28,6 +28,9 @@ pub struct Setup<'a> {
     pub heldout_mask: Vec<bool>,
     /// Channels worth comparing (a peak-to-peak range above the noise).
     pub used: [bool; 4],
+    /// A usable measured temperature: `thermal_drift` is then regressed on it, with the
+    /// warm-up time constant the temperature shows (see [`super::temperature`]).
+    pub thermal: Option<super::temperature::ThermalFit>,
 }
 
 /// One parameter's coding: bounds, finite-difference step and starting values (internal units).
@@ -134,6 +137,11 @@ impl<'s, 'a> Model<'s, 'a> {
         if kinds.contains(&EffectKind::Crosstalk) {
             fixed[4] = Some(0.0);
         }
+        // Regressed on the measured temperature, the drift's time constant is the temperature's.
+        if let (Some(th), Some(at)) = (setup.thermal, param_index(kinds, EffectKind::ThermalDrift, 1))
+        {
+            fixed[at] = Some(th.tau_s.ln());
+        }
         for (c, used) in setup.used.iter().enumerate() {
             if !used {
                 fixed[5 + c] = Some(0.0);
@@ -221,7 +229,9 @@ impl<'s, 'a> Model<'s, 'a> {
             effects.push(k.with_params(&phys));
             i += n;
         }
-        (base, Chain::new(effects))
+        let mut chain = Chain::new(effects);
+        chain.thermal_reference = self.setup.thermal.map(|t| t.reference);
+        (base, chain)
     }
 
     pub fn outputs(&self, full: &[f64], series_drive: &Drive) -> Outputs {
@@ -312,6 +322,18 @@ impl Problem for Model<'_, '_> {
         let full = self.expand(p);
         self.weighted(&full, &self.setup.fit_mask, out);
     }
+}
+
+/// Index in the full vector of parameter `j` of effect `kind` among `kinds`, if it is there.
+fn param_index(kinds: &[EffectKind], kind: EffectKind, j: usize) -> Option<usize> {
+    let mut first = N_BASE;
+    for &k in kinds {
+        if k == kind {
+            return Some(first + j);
+        }
+        first += k.param_names().len();
+    }
+    None
 }
 
 /// A fitted model.

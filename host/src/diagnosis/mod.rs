@@ -5,15 +5,18 @@
 pub mod baseline;
 pub mod data;
 pub mod evidence;
+pub mod fe_cache;
+pub mod fe_response;
 pub mod fit;
+pub mod interp;
 pub mod lm;
 pub mod localise;
 pub mod mains;
 pub mod output;
 pub mod pipeline;
 pub mod regimes;
-pub mod standin;
 pub mod synth;
+pub mod temperature;
 
 pub use pipeline::{diagnose, Diagnosis, Options};
 pub mod prove;

@@ -14,16 +14,14 @@ use super::localise::{self, ChannelLocalisation};
 use super::mains::{self, Line};
 use super::output::*;
 use super::regimes::{self, Segment};
-use super::standin::{self, HertzContact};
+use super::fe_response::FeSource;
 use crate::recording::Recording;
 
 /// Knobs of a run and the project's model parameters the recording does not carry.
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// Poisson's ratio of the gel (from `hardware/fingertip.toml`).
-    pub poisson: f64,
-    /// Height of the tangential load's line of action above the chip (the pillar, chip.toml).
-    pub lever_mm: f64,
+    /// The fingertip FE and the chip behind the baseline's response tables.
+    pub fe: FeSource,
     /// The chip's bridge output per volt of excitation per unit load (the `chip` crate).
     pub sensitivity_per_v: [[f64; 3]; 3],
     /// Show a progress bar.
@@ -37,8 +35,7 @@ impl Options {
     ) -> Result<Self, chip::from_hardware::FromHardwareError> {
         let fe = super::baseline::FrontEnd::from_chip(hw, [1.0; 3], hw.chip.excitation_v)?;
         Ok(Self {
-            poisson: hw.fingertip.poisson,
-            lever_mm: hw.chip.pillar_height_um * 1e-3,
+            fe: FeSource::from_hardware(hw)?,
             sensitivity_per_v: fe.sensitivity_per_v,
             progress,
         })
@@ -123,17 +120,19 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     let heldout = regimes::heldout_window(fit_t, &segments);
     let heldout_mask: Vec<bool> = fit_t.iter().map(|&t| t >= heldout.0).collect();
     let meta = &rec.meta;
-    let fingertip = HertzContact {
-        radius_mm: meta.fingertip_radius_mm,
-        poisson: opt.poisson,
-        contact_angle_deg: meta.contact_angle_deg,
-        azimuth_deg: meta.azimuth_deg,
-        lever_mm: opt.lever_mm,
-    };
+    let fingertip =
+        opt.fe
+            .response(meta.fingertip_radius_mm, meta.contact_angle_deg, meta.azimuth_deg)?;
     let used: [bool; 4] = std::array::from_fn(|c| data.range[c] > 10.0 * data.noise_full[c]);
+    let thermal = match (&data.fit.temp_c, &data.full.temp_c) {
+        (Some(fit), Some(full)) => super::temperature::fit(fit_t, fit, full),
+        _ => None,
+    };
+    let temperature = |s: &super::data::Series| thermal.and(s.temp_c.clone());
     let setup = Setup {
         data: &data,
-        drive: Drive::new(&fingertip, fit_t.clone(), &data.fit.rod_mm),
+        drive: Drive::new(&fingertip, fit_t.clone(), &data.fit.rod_mm)
+            .with_temperature(temperature(&data.fit)),
         front_end: FrontEnd {
             sensitivity_per_v: opt.sensitivity_per_v,
             gain: [meta.gain_fz, meta.gain_mx, meta.gain_my],
@@ -149,6 +148,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,
         used,
+        thermal,
     };
 
     let slow_kinds: Vec<EffectKind> = EffectKind::ALL
@@ -206,7 +206,8 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         .collect();
 
     // Full-rate evaluation: contract RMSEs and the mains line.
-    let full_drive = Drive::new(&fingertip, data.full.t_s.clone(), &data.full.rod_mm);
+    let full_drive = Drive::new(&fingertip, data.full.t_s.clone(), &data.full.rod_mm)
+        .with_temperature(temperature(&data.full));
     let base_full = base.model.outputs(&base.fitted.full, &full_drive);
     let chosen_full = chosen.model.outputs(&chosen.fitted.full, &full_drive);
     let full_heldout: Vec<bool> = data.full.t_s.iter().map(|&t| t >= heldout.0).collect();
@@ -514,7 +515,7 @@ fn baseline_params(base: &Candidate) -> Numbers {
     let f = &base.fitted.full;
     let mut n = Numbers::default();
     n.push("youngs_modulus_Pa", f[0].exp());
-    n.push("force_exponent", standin::HERTZ_EXPONENT + f[1]);
+    n.push("force_exponent_shift", f[1]);
     n.push("force_exponent_curvature", f[9]);
     n.push("scale_fz", f[2]);
     n.push("scale_moment", f[3]);

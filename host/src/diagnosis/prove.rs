@@ -9,7 +9,7 @@ use sim::effects::{Effect, EffectKind};
 
 use super::baseline::{BaselineParams, Drive};
 use super::pipeline::{diagnose, Options};
-use super::standin::HertzContact;
+use super::fe_response::{AngleBlend, FeResponseError};
 use super::synth::{simulate, Gaussian, Noise, SimSpec};
 use crate::recording::Recording;
 
@@ -52,6 +52,9 @@ pub struct Plan {
     pub front_end: super::baseline::FrontEnd,
 }
 
+/// Contact angles of the generated recordings, deg.
+const JIG_ANGLES_DEG: [f64; 5] = [10.0, 15.0, 17.5, 20.0, 25.0];
+
 /// The two-effect cases: viscoelastic relaxation with AC coupling (the paper's observations)
 /// twice, and three pairs with distinct signatures.
 const PAIRS: [(EffectKind, EffectKind); 5] = [
@@ -80,7 +83,7 @@ impl Plan {
     }
 
     /// Generate every case (in parallel, each from its own seed).
-    pub fn generate(&self) -> Vec<Case> {
+    pub fn generate(&self) -> Result<Vec<Case>, FeResponseError> {
         self.truths()
             .into_par_iter()
             .enumerate()
@@ -88,18 +91,22 @@ impl Plan {
             .collect()
     }
 
-    fn case(&self, id: usize, kinds: &[EffectKind]) -> Case {
+    fn case(&self, id: usize, kinds: &[EffectKind]) -> Result<Case, FeResponseError> {
         let mut g = Gaussian::new(
             self.seed
                 .wrapping_mul(0x2545_F491_4F6C_DD1D)
                 .wrapping_add(id as u64 * 7919 + 1),
         );
         let mut u = |a: f64, b: f64| a + (b - a) * g.uniform();
-        let contact_angle_deg = u(12.0, 30.0);
-        let azimuth_deg = u(20.0, 80.0);
+        // The jigs' settings: inclinations in equal steps (one between grid tables, so the
+        // blend is exercised) and two azimuths, the paper's 60 deg and 30 deg.
+        let contact_angle_deg = JIG_ANGLES_DEG[(u(0.0, 1.0) * JIG_ANGLES_DEG.len() as f64) as usize
+            % JIG_ANGLES_DEG.len()];
+        let azimuth_deg = if u(0.0, 1.0) < 0.5 { 30.0 } else { 60.0 };
         let peak = u(40.0, 70.0);
         let second = peak * u(0.5, 0.8);
-        let modulus = u(0.7e5, 1.5e5);
+        // Stiffer than nominal or nominal: the FE tables reach 75 N at the nominal modulus.
+        let modulus = u(1.0e5, 1.5e5);
         let low_snr = id % 4 == 3;
         let volts_noise = if low_snr {
             u(8e-3, 12e-3)
@@ -107,13 +114,10 @@ impl Plan {
             u(1e-3, 3e-3)
         };
         let load_noise = if low_snr { 0.1 } else { 0.02 };
-        let fingertip = HertzContact {
-            radius_mm: self.radius_mm,
-            poisson: self.options.poisson,
-            contact_angle_deg,
-            azimuth_deg,
-            lever_mm: self.options.lever_mm,
-        };
+        let fingertip =
+            self.options
+                .fe
+                .response(self.radius_mm, contact_angle_deg, azimuth_deg)?;
         let front_end = self.front_end;
         let test = CompressionTest {
             sample_rate_hz: self.sample_rate_hz,
@@ -158,20 +162,23 @@ impl Plan {
             seed: self.seed ^ (id as u64) << 20,
             ambient_c: 24.0,
             warm_up_rise_c: 6.0,
+            // Every other drift follows an ambient that also swings: the regression on temp_C.
+            ambient_swing: (kinds.contains(&EffectKind::ThermalDrift) && id % 2 == 0)
+                .then(|| (u(0.5, 1.0), u(30.0, 90.0))),
             source: "tactile prove".into(),
         };
-        Case {
+        Ok(Case {
             id,
             truth,
             low_snr,
             recording: simulate(&spec),
-        }
+        })
     }
 }
 
 /// The largest output magnitude of the noise-free baseline at `peak` (to place a rail).
 fn peak_output_v(
-    fingertip: &HertzContact,
+    fingertip: &AngleBlend,
     front_end: &super::baseline::FrontEnd,
     base: &BaselineParams,
     peak: f64,

@@ -3,7 +3,7 @@
 //! generator (`tactile prove`) both use this.
 
 use sim::compression::{rod_at_load, CompressionTest};
-use sim::effects::{Chain, Effect};
+use sim::effects::{Chain, Effect, ThermalReference};
 
 use super::baseline::{evaluate, BaselineParams, Drive, FingertipResponse, FrontEnd};
 use crate::recording::{Channels, Meta, Recording};
@@ -36,6 +36,9 @@ pub struct SimSpec<'a> {
     /// Temperature at power-up and its rise during warm-up (with `thermal_drift`).
     pub ambient_c: f64,
     pub warm_up_rise_c: f64,
+    /// A slow sinusoidal swing of the ambient (amplitude, period), on top of any warm-up; a
+    /// `thermal_drift` follows the temperature, so with a swing it is no exponential.
+    pub ambient_swing: Option<(f64, f64)>,
     pub source: String,
 }
 
@@ -52,8 +55,32 @@ pub fn simulate(spec: &SimSpec) -> Recording {
         .map(|&l| rod_at_load(force_at, l, MAX_ROD_MM))
         .collect();
     let history = spec.test.rod_history(&turns);
-    let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm);
-    let chain = Chain::new(spec.effects.clone());
+    let warm_up = spec.effects.iter().find_map(|e| match e {
+        Effect::ThermalDrift(d) => Some(*d),
+        _ => None,
+    });
+    // The true temperature; the offset drift follows it (for a pure warm-up this is exactly
+    // the exponential law, `ThermalDrift::apply_regressed`).
+    let rise_c = warm_up.map_or(0.0, |_| spec.warm_up_rise_c);
+    let true_temp_c: Vec<f64> = history
+        .t_s
+        .iter()
+        .map(|&t| {
+            let swing = spec.ambient_swing.map_or(0.0, |(a, period_s)| {
+                a * (std::f64::consts::TAU * t / period_s).sin()
+            });
+            spec.ambient_c + warm_up.map_or(0.0, |d| rise_c * d.warm_up(t)) + swing
+        })
+        .collect();
+    let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm)
+        .with_temperature(Some(true_temp_c.clone()));
+    let mut chain = Chain::new(spec.effects.clone());
+    if rise_c != 0.0 {
+        chain.thermal_reference = Some(ThermalReference {
+            t0_c: spec.ambient_c,
+            rise_c,
+        });
+    }
     let mut rng = Gaussian::new(spec.seed);
     let noise = spec.noise;
     let mut add_noise = |v: &mut [Vec<f64>; 3]| {
@@ -75,18 +102,9 @@ pub fn simulate(spec: &SimSpec) -> Recording {
         .iter()
         .map(|f| f + noise.load_n * rng.normal())
         .collect();
-    let warm_up = spec.effects.iter().find_map(|e| match e {
-        Effect::ThermalDrift(d) => Some(*d),
-        _ => None,
-    });
-    let temp_c = history
-        .t_s
+    let temp_c = true_temp_c
         .iter()
-        .map(|&t| {
-            spec.ambient_c
-                + warm_up.map_or(0.0, |d| spec.warm_up_rise_c * d.warm_up(t))
-                + noise.temp_c * rng.normal()
-        })
+        .map(|t| t + noise.temp_c * rng.normal())
         .collect();
     let [fz_v, mx_v, my_v] = out.volts;
     let fe = &spec.front_end;

@@ -29,7 +29,7 @@ pub use highpass_coupling::HighpassCoupling;
 pub use hysteresis::Hysteresis;
 pub use mains_interference::MainsInterference;
 pub use stiffening::Stiffening;
-pub use thermal_drift::ThermalDrift;
+pub use thermal_drift::{ThermalDrift, ThermalReference};
 pub use time_offset::TimeOffset;
 pub use viscoelastic_relaxation::ViscoelasticRelaxation;
 
@@ -244,11 +244,17 @@ impl Effect {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Chain {
     pub effects: Vec<Effect>,
+    /// With a measured temperature (see [`Chain::apply_electrical_at`]), `thermal_drift` is
+    /// regressed on it against this reference instead of following the exponential warm-up.
+    pub thermal_reference: Option<ThermalReference>,
 }
 
 impl Chain {
     pub fn new(effects: Vec<Effect>) -> Self {
-        Self { effects }
+        Self {
+            effects,
+            thermal_reference: None,
+        }
     }
 
     fn each(&self, kind: EffectKind) -> impl Iterator<Item = &Effect> {
@@ -298,6 +304,16 @@ impl Chain {
 
     /// The electronics, on the output volts [fz, mx, my], ahead of offsets and noise.
     pub fn apply_electrical(&self, t_s: &[f64], volts: &mut [Vec<f64>; 3]) {
+        self.apply_electrical_at(t_s, None, volts);
+    }
+
+    /// As [`Chain::apply_electrical`], with the temperature measured at each sample, if any.
+    pub fn apply_electrical_at(
+        &self,
+        t_s: &[f64],
+        temp_c: Option<&[f64]>,
+        volts: &mut [Vec<f64>; 3],
+    ) {
         for e in &self.effects {
             if let Effect::BridgeNonlinearity(b) = e {
                 volts.iter_mut().for_each(|v| b.apply(v));
@@ -311,7 +327,12 @@ impl Chain {
         for e in &self.effects {
             match e {
                 Effect::HighpassCoupling(h) => volts.iter_mut().for_each(|v| h.apply(t_s, v)),
-                Effect::ThermalDrift(d) => volts.iter_mut().for_each(|v| d.apply(t_s, v)),
+                Effect::ThermalDrift(d) => match (self.thermal_reference, temp_c) {
+                    (Some(r), Some(temp)) => {
+                        volts.iter_mut().for_each(|v| d.apply_regressed(temp, r, v))
+                    }
+                    _ => volts.iter_mut().for_each(|v| d.apply(t_s, v)),
+                },
                 Effect::MainsInterference(m) => volts.iter_mut().for_each(|v| m.apply(t_s, v)),
                 _ => {}
             }

@@ -200,12 +200,13 @@ mod tests {
     }
 
     #[test]
-    fn unnulled_fz_saturates_as_the_paper_says_it_would() {
-        // Raw offset 0.66 mV x 3010 = 2 V: beyond the +-1.2 V ADC range, hence the offset cut.
+    fn unnulled_fz_offset_needs_the_offset_cut() {
+        // Raw offset 0.66 mV x 1100 = 0.73 V: over half the +-1.2 V ADC range before any load
+        // (at the rig's 3010x it clipped, 2 V), hence the offset cut.
         let fe = front_end();
         let mid = fe.mid_v();
         let v = fe.channels[0].adc_input_v([0.0; 4], 0.0, fe.mid_dac_code, mid);
-        assert!(Ads131m04::is_clipped(fe.adc.code(0, v)), "{v}");
+        assert!(v.abs() > 0.5 * fe.adc.full_scale_v(0), "{v}");
     }
 
     #[test]
