@@ -18,8 +18,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 use super::fe_response::FeResponseError;
 
 /// Bump when the meaning of a stored curve changes without a change of its inputs (the FE's
-/// chip-load extraction, the stepping).
-pub const CURVE_REVISION: u32 = 2;
+/// chip-load extraction, the stepping). 3: the FE's chip loads count the package top only, and
+/// its contact onset is sharper.
+pub const CURVE_REVISION: u32 = 3;
 /// Environment variable that overrides the cache directory.
 pub const CACHE_DIR_ENV: &str = "TACTILE_CACHE_DIR";
 
