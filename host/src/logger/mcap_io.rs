@@ -160,8 +160,13 @@ pub struct Recovered {
 /// says where it stopped.
 pub fn recover(path: &Path) -> Result<Recovered, FileError> {
     let buf = std::fs::read(path).map_err(|e| FileError::open(path, e))?;
+    recover_bytes(path, &buf)
+}
+
+/// [`recover`] of a file already in memory; `path` names it in messages.
+pub fn recover_bytes(path: &Path, buf: &[u8]) -> Result<Recovered, FileError> {
     let stream =
-        mcap::MessageStream::new_with_options(&buf, mcap::read::Options::IgnoreEndMagic.into())
+        mcap::MessageStream::new_with_options(buf, mcap::read::Options::IgnoreEndMagic.into())
             .map_err(|e| FileError::Capture {
                 path: path.to_path_buf(),
                 why: format!("not an MCAP file ({e})"),
