@@ -7,7 +7,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use protocol::{Info, Message, Outcome};
 
-use super::mcap_io::{recover_bytes, StoredMessage, RAW_ENCODING};
+use super::mcap_io::{recover_bytes, StoredMessage, MCAP_MAGIC, RAW_ENCODING};
 use super::{FileError, Recorder, Setup};
 use crate::decode::FastDecoder;
 use crate::device::{Event, Frame, Gap, GapKind, Step, Tracker};
@@ -25,8 +25,6 @@ pub struct ReplaySummary {
     pub truncated: Option<String>,
 }
 
-/// The MCAP magic at the start of every MCAP file.
-const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
 
 /// Where the replayed CSV goes.
 enum Output<'a> {
