@@ -209,7 +209,7 @@ pub fn replay(
         decoder.feed(&head, |j| r.on_outcome(j.outcome, j.raw, None));
         loop {
             let n = file.read(&mut chunk).map_err(|e| FileError::open(input, e))?;
-            if n == 0 {
+            if n == 0 || r.error.is_some() {
                 break;
             }
             decoder.feed(&chunk[..n], |j| r.on_outcome(j.outcome, j.raw, None));
