@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::logger::csv::Recording;
+use crate::recording::Recording;
 
 /// Output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -108,11 +108,11 @@ fn panels<DB: DrawingBackend>(
     x_desc: &str,
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let x = rec.values(x_col).unwrap_or_default();
+    let x = rec.column(x_col).unwrap_or_default();
     let areas = root.split_evenly((3, 1));
     let colors = [BLUE, RED, GREEN];
     for ((col, desc), (area, color)) in CHANNELS.iter().zip(areas.iter().zip(colors)) {
-        let y = rec.values(col).unwrap_or_default();
+        let y = rec.column(col).unwrap_or_default();
         let mut chart = ChartBuilder::on(area)
             .margin(8)
             .x_label_area_size(35)
@@ -125,7 +125,7 @@ fn panels<DB: DrawingBackend>(
             .y_desc(*desc)
             .draw()
             .map_err(|e| e.to_string())?;
-        for seg in segments(&x, &y) {
+        for seg in segments(x, y) {
             if x_col == "t_s" {
                 chart
                     .draw_series(LineSeries::new(seg, &color))
@@ -173,9 +173,7 @@ fn draw_one(
 /// Draw `<prefix>-time.<ext>` and, when the recording has reference loads, `<prefix>-load.<ext>`;
 /// returns the files written.
 pub fn plot(rec: &Recording, prefix: &Path, formats: &[Format]) -> Result<Vec<PathBuf>, PlotError> {
-    let has_load = rec
-        .values("load_N")
-        .is_some_and(|v| v.iter().any(|x| x.is_finite()));
+    let has_load = rec.channels.load_n.iter().any(|x| x.is_finite());
     let mut written = Vec::new();
     for &format in formats {
         let ext = if format == Format::Png { "png" } else { "svg" };

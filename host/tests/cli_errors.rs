@@ -8,7 +8,7 @@
 use std::os::unix::fs::PermissionsExt;
 use std::os::unix::process::CommandExt;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use host::cli::exit;
@@ -16,24 +16,8 @@ use host::device::{Device, OpenOptions, PortSpec};
 use tests::check::scratch;
 use tests::emu::{EmuConfig, Emulator};
 
-fn tactile(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tactile"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-/// Exit code `code`, exactly one stderr line containing every `needle`, no panic.
-fn fails(out: &Output, code: i32, needles: &[&str]) {
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(code), "stderr: {err}");
-    assert!(!err.contains("panicked"), "panic: {err}");
-    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert_eq!(lines.len(), 1, "expected one line: {err}");
-    for n in needles {
-        assert!(err.contains(n), "{n:?} not in: {err}");
-    }
-}
+mod common;
+use common::{fails, tactile};
 
 const DEVICE_COMMANDS: [&[&str]; 4] = [
     &["info"],
@@ -142,8 +126,8 @@ fn busy_port_and_device_gone_mid_stream() {
     emu.kill();
     let out = child.wait_with_output().unwrap();
     fails(&out, exit::UNAVAILABLE.into(), &[&link, "device gone"]);
-    let rec = host::logger::csv::read_recording(&csv).expect("rows up to the loss are valid");
-    assert!(rec.rows.len() > 100);
+    let rec = host::recording::read(&csv).expect("rows up to the loss are valid");
+    assert!(rec.channels.len() > 100);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -182,7 +166,7 @@ fn malformed_files_name_the_line_and_field() {
     fails(
         &tactile(&["plot", &s(&p("bad-number.csv"))]),
         exit::DATA.into(),
-        &["bad-number.csv:12", "mx_V"],
+        &["bad-number.csv: line 12", "mx_V"],
     );
     fails(
         &tactile(&["plot", &s(&p("no-key.csv"))]),
@@ -192,22 +176,22 @@ fn malformed_files_name_the_line_and_field() {
     fails(
         &tactile(&["plot", &s(&p("back-in-time.csv"))]),
         exit::DATA.into(),
-        &["back-in-time.csv:12", "t_s"],
+        &["back-in-time.csv: line 12", "t_s"],
     );
     fails(
         &tactile(&["plot", &s(&p("empty.csv"))]),
         exit::DATA.into(),
-        &["empty.csv:1", "header"],
+        &["empty.csv: line 1", "header"],
     );
     fails(
         &tactile(&["plot", &s(&p("binary.csv"))]),
         exit::DATA.into(),
-        &["binary.csv:1", "UTF-8"],
+        &["binary.csv: line 1", "UTF-8"],
     );
     fails(
         &tactile(&["plot", &s(&p("truncated.csv"))]),
         exit::DATA.into(),
-        &["truncated.csv:11"],
+        &["truncated.csv: line 11", "mx_V", "no line end"],
     );
     fails(
         &tactile(&["plot", &s(&p("missing.csv"))]),

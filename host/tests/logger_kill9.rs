@@ -37,7 +37,7 @@ fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {
         text.lines().last()
     );
     let (rec, v) = verify_file(&csv, &cfg).expect("every row complete and valid");
-    let t_host = rec.values("t_host_s").unwrap();
+    let t_host = rec.column("t_host_s").unwrap();
     let last = t_host
         .iter()
         .copied()

@@ -3,7 +3,7 @@
 
 use std::process::Command;
 
-use host::logger::csv::read_recording;
+use host::recording::read as read_recording;
 use host::logger::reference::interpolate;
 use tests::check::scratch;
 use tests::emu::{EmuConfig, Emulator};
@@ -46,7 +46,7 @@ fn two_sensors_then_reference_merge_then_plots() {
             .trim_matches('_')
     ));
     let rec_a = read_recording(&csv_a).expect("one CSV per sensor");
-    assert!(rec_a.rows.len() > 1000);
+    assert!(rec_a.channels.len() > 1000);
     // One MCAP, two sensors: replay needs to be told which.
     let mcap = dir.join("rec.mcap");
     let o = tactile(&["replay".as_ref(), mcap.as_os_str()]);
@@ -54,12 +54,12 @@ fn two_sensors_then_reference_merge_then_plots() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--sensor"));
 
     // A machine export that lags the sensor by 0.3 s: load = 0.9·Fz + 1 N, rod = 0.01·t.
-    let t = rec_a.values("t_s").unwrap();
-    let fz = rec_a.values("fz_N").unwrap();
+    let t = rec_a.column("t_s").unwrap();
+    let fz = rec_a.column("fz_N").unwrap();
     let mut machine = String::from("time_s,position_mm,force_N\n");
     let mut tm = -0.5;
     while tm < 3.0 {
-        if let Some(f) = interpolate(&t, &fz, tm - 0.3) {
+        if let Some(f) = interpolate(t, fz, tm - 0.3) {
             machine.push_str(&format!("{tm:.3},{:.5},{:.6}\n", 0.01 * tm, 0.9 * f + 1.0));
         }
         tm += 0.005;
@@ -81,7 +81,7 @@ fn two_sensors_then_reference_merge_then_plots() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let m = read_recording(&merged).unwrap();
-    let reference = m.meta("reference").expect("merge noted in the metadata");
+    let reference = m.meta.get("reference").expect("merge noted in the metadata");
     let offset: f64 = reference
         .split("offset ")
         .nth(1)
@@ -89,15 +89,15 @@ fn two_sensors_then_reference_merge_then_plots() {
         .unwrap();
     // Replay starts its clock at the first frame, the live log at its start: the machine's
     // 0.3 s lag is seen through that difference.
-    let expected = 0.3 + t[0] - m.values("t_s").unwrap()[0];
+    let expected = 0.3 + t[0] - m.channels.t_s[0];
     assert!(
         (offset - expected).abs() < 0.011,
         "offset {offset}, expected {expected}"
     );
-    let (load, fz) = (m.values("load_N").unwrap(), m.values("fz_N").unwrap());
+    let (load, fz) = (&m.channels.load_n, m.column("fz_N").unwrap());
     let worst = load
         .iter()
-        .zip(&fz)
+        .zip(fz)
         .filter(|(l, _)| l.is_finite())
         .map(|(l, f)| (l - (0.9 * f + 1.0)).abs())
         .fold(0.0, f64::max);

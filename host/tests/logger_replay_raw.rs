@@ -4,7 +4,7 @@
 use std::process::Command;
 
 use host::device::Scale;
-use host::logger::csv::read_recording;
+use host::recording::read as read_recording;
 use protocol::{Message, Status};
 use tests::check::{scratch, verify};
 use tests::emu::{info_for, truth_frame, EmuConfig};

@@ -192,13 +192,102 @@ fn wrong_field_count_is_refused() {
 }
 
 #[test]
-fn bad_utf8_is_refused_naming_the_line() {
+fn bad_utf8_is_refused_naming_the_line_and_field() {
     let mut bytes = format!("{META}{HEADER}0,0,0,0,0,0\n").into_bytes();
     bytes.extend_from_slice(b"0.001,0,0,\xff\xfe,0,0\n");
     let e = host::recording::read_from(&bytes[..])
         .unwrap_err()
         .to_string();
-    assert_eq!(e, "line 13: not valid UTF-8");
+    assert_eq!(
+        e,
+        "line 13, field `fz_V`: not UTF-8 text (byte 0xff); Latin-1/Windows-1252 text or binary \
+         data; the format is UTF-8"
+    );
+}
+
+#[test]
+fn utf16_is_refused_as_utf16() {
+    let bytes: Vec<u8> = [0xFF, 0xFE]
+        .into_iter()
+        .chain(format!("{META}{HEADER}").encode_utf16().flat_map(u16::to_le_bytes))
+        .collect();
+    let e = host::recording::read_from(&bytes[..]).unwrap_err().to_string();
+    assert!(e.starts_with("line 1: not UTF-8 text (byte 0xff); UTF-16 text"), "{e}");
+}
+
+/// The contract's lines end with `\n` or `\r\n`; a last row without one may have been cut
+/// mid-number by a killed writer, so it is refused (not dropped, not read): naming the line
+/// and the field it stops in.
+#[test]
+fn a_last_line_without_line_end_is_refused() {
+    let e = err(&format!("{META}{HEADER}0,0,0,0.0012,0,0\n0.001,0,0,0.00"));
+    assert_eq!(
+        e,
+        "line 13, field `fz_V`: last line has no line end, so it may have been cut short \
+         mid-write (killed writer?); refused rather than read a shortened value (delete the \
+         line to read the rest)"
+    );
+    // A complete-looking row is refused all the same: its last value may be shortened.
+    let e = err(&format!("{META}{HEADER}0,0,0,0.0012,0,0.25"));
+    assert!(e.starts_with("line 12, field `my_V`: last line has no line end"), "{e}");
+    let e = err(&format!("{META}{}", HEADER.trim_end()));
+    assert!(e.starts_with("line 11, field `header`: last line has no line end"), "{e}");
+    // `\r\n` ends and trailing blank lines without an end are fine.
+    ok(&format!("{META}{HEADER}0,0,0,0,0,0\r\n  "));
+}
+
+#[test]
+fn input_over_the_byte_limit_is_refused() {
+    use host::recording::{read_from_with, Limits};
+    let text = format!("{META}{HEADER}0,0,0,0,0,0\n0.001,0,0,0,0,0\n");
+    let limits = Limits { max_bytes: text.len() as u64 - 1, ..Limits::DEFAULT };
+    let e = read_from_with(text.as_bytes(), limits).unwrap_err();
+    assert!(
+        e.to_string().contains(&format!("is over the {}-byte limit", text.len() - 1)),
+        "{e}"
+    );
+    let exact = Limits { max_bytes: text.len() as u64, ..Limits::DEFAULT };
+    assert_eq!(read_from_with(text.as_bytes(), exact).unwrap().channels.len(), 2);
+}
+
+#[test]
+fn a_file_over_the_byte_limit_is_refused_before_reading_naming_it() {
+    use host::recording::{read_with, Limits};
+    let dir = std::env::temp_dir().join(format!("rec-limit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.csv");
+    std::fs::write(&path, format!("{META}{HEADER}0,0,0,0,0,0\n")).unwrap();
+    let e = read_with(&path, Limits { max_bytes: 100, ..Limits::DEFAULT }).unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.starts_with(&format!("{}: ", path.display())), "{msg}");
+    assert!(msg.contains("over the 100-byte limit"), "{msg}");
+    assert_eq!(e.exit_code(), host::cli::exit::DATA);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn too_many_values_and_overlong_lines_are_refused() {
+    use host::recording::{read_from_with, Limits};
+    let text = format!("{META}{HEADER}0,0,0,0,0,0\n0.001,0,0,0,0,0\n");
+    let few = Limits { max_values: 11, ..Limits::DEFAULT };
+    let e = read_from_with(text.as_bytes(), few).unwrap_err().to_string();
+    assert!(e.starts_with("line 13: more than 11 values"), "{e}");
+    let short = Limits { max_line_bytes: 30, ..Limits::DEFAULT };
+    let e = read_from_with(text.as_bytes(), short).unwrap_err().to_string();
+    assert!(e.starts_with("line 11: longer than 30 bytes"), "{e}");
+}
+
+#[test]
+fn columns_and_untyped_keys_are_found_by_name() {
+    let r = ok(&format!(
+        "{META}# firmware_smoother_alpha = 0.25\nt_s,rod_mm,load_N,fz_V,mx_V,my_V,temp_C,seq\n0,1,2,3,4,5,25,7\n"
+    ));
+    assert_eq!(r.meta.get("firmware_smoother_alpha"), Some("0.25"));
+    assert_eq!(r.meta.get("nope"), None);
+    assert_eq!(r.column("load_N"), Some(&[2.0][..]));
+    assert_eq!(r.column("temp_C"), Some(&[25.0][..]));
+    assert_eq!(r.column("seq"), Some(&[7.0][..]));
+    assert_eq!(r.column("nope"), None);
 }
 
 #[test]

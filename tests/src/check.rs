@@ -4,10 +4,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use host::device::Scale;
-use host::logger::csv::{read_recording, Recording};
+use host::recording::{read as read_recording, Recording};
 use host::logger::gap_code;
 
-use crate::emu::{info_for, truth_sample, EmuConfig};
+use crate::emu::{info_for, truth_sample, truth_temp, EmuConfig};
 
 /// A fresh scratch directory under the system temp dir.
 pub fn scratch(name: &str) -> PathBuf {
@@ -54,7 +54,7 @@ pub struct Verified {
 /// Every data row must carry exactly the emulator's sample for its sequence and position in
 /// the frame; consecutive frames must follow each other by sequence unless a gap row between
 /// them accounts for every missing frame. Volts are converted back to codes with the
-/// emulator's ADC scale (`volts_per_code`).
+/// emulator's ADC scale (`volts_per_code`); the raw temperature code must be the frame's.
 pub fn verify(
     rec: &Recording,
     batch: usize,
@@ -63,14 +63,16 @@ pub fn verify(
 ) -> Result<Verified, String> {
     let col = |n: &str| rec.column(n).ok_or(format!("no column {n}"));
     let (seq_c, gap_c, miss_c) = (col("seq")?, col("gap")?, col("missing")?);
-    let ch = [col("fz_V")?, col("mx_V")?, col("my_V")?];
+    let temp_c = col("temp_code")?;
+    let c = &rec.channels;
+    let ch = [&c.fz_v, &c.mx_v, &c.my_v];
     let mut v = Verified::default();
     let mut prev: Option<(u32, usize)> = None;
     let mut allowance: Option<u64> = None;
-    for (i, row) in rec.rows.iter().enumerate() {
-        let gap = row[gap_c];
+    for i in 0..c.len() {
+        let gap = gap_c[i];
         if gap != gap_code::NONE {
-            let missing = row[miss_c].is_finite().then(|| row[miss_c] as u64);
+            let missing = miss_c[i].is_finite().then(|| miss_c[i] as u64);
             v.gaps.push((gap as u32, missing));
             // A sequence gap adds its missing frames; a reconnection states exactly how many
             // frames the outage cost (None: the device restarted, any jump is accounted for).
@@ -81,7 +83,7 @@ pub fn verify(
             });
             continue;
         }
-        let seq = row[seq_c] as u32;
+        let seq = seq_c[i] as u32;
         let k = match prev {
             Some((s, k)) if s == seq => k + 1,
             _ => 0,
@@ -119,8 +121,11 @@ pub fn verify(
             v.frames += 1;
         }
         let truth = truth_sample(u64::from(seq) * batch as u64 + k as u64, rate_hz);
+        if temp_c[i] != f64::from(truth_temp(seq)) {
+            return Err(format!("row {i}: frame {seq}: temperature code {} != truth {}", temp_c[i], truth_temp(seq)));
+        }
         for c in 0..3 {
-            let code = (row[ch[c]] / volts_per_code).round() as i32;
+            let code = (ch[c][i] / volts_per_code).round() as i32;
             if code != truth.ch[c] {
                 return Err(format!(
                     "row {i}: frame {seq} sample {k} channel {c}: {code} != truth {}",

@@ -258,10 +258,10 @@ fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
     );
 
     // The recording: the contract's CSV with one row per sample.
-    let recording = host::logger::csv::read_recording(&out).expect("recording-v1 CSV reads back");
-    let fz = recording.values("fz_V").unwrap();
+    let recording = host::recording::read(&out).expect("recording-v1 CSV reads back");
+    let fz = &recording.channels.fz_v;
     assert_eq!(fz.len() as u64, samples, "one row per sample");
-    assert_eq!(recording.meta("format"), Some("tactile-recording/1"));
+    assert!(recording.meta.get("firmware_smoother_alpha").is_some());
     let _ = std::fs::remove_file(&out);
     let _ = std::fs::remove_file(out.with_extension("mcap"));
     eprintln!(

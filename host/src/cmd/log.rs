@@ -12,10 +12,9 @@ use anyhow::Context;
 use super::common::{finite, positive_seconds};
 use crate::device::{Device, Event, OpenOptions, PortSpec, Scale};
 use crate::live::{Dashboard, SensorView};
-use crate::logger::csv::per_sensor_path;
 use crate::logger::mcap_io::McapSink;
 use crate::logger::reference::{merge_file, Align};
-use crate::logger::{metadata, Recorder, Setup};
+use crate::logger::{metadata, per_sensor_path, Recorder, Setup};
 
 /// Record sensors until --duration has passed or Ctrl-C: the recording CSV
 /// (shared/contracts/recording-v1.md, plus seq, both timestamps, gap marks and loads) and an
@@ -194,7 +193,7 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
         if let Some(m) = &mcap {
             let ch = m
                 .borrow_mut()
-                .add_sensor(&spec.label(), &metadata(&info, &setup, start))?;
+                .add_sensor(&spec.label(), &metadata(&info, &setup, start).pairs())?;
             rec = rec.with_mcap((m.clone(), ch));
             rec.on_event(&Event::Info(info.clone()))?;
         }

@@ -2,7 +2,6 @@
 
 use std::path::PathBuf;
 
-use crate::logger::csv::read_recording;
 use crate::plot::{plot, Format};
 
 /// Plot a recording CSV: the three bridge outputs against time (<prefix>-time.png/.svg) and,
@@ -27,7 +26,7 @@ pub enum FormatArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rec = read_recording(&args.recording)?;
+    let rec = crate::recording::read(&args.recording)?;
     let prefix = args
         .out
         .unwrap_or_else(|| args.recording.with_extension(""));

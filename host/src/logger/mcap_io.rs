@@ -3,7 +3,6 @@
 //! Foxglove), gaps and info frames. Chunks are uncompressed and closed at every flush, so a
 //! killed logger leaves complete chunks that [`recover`] reads back.
 
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::BufWriter;
@@ -156,51 +155,168 @@ pub struct Recovered {
 }
 
 /// Read every message of `path` in file order. A file whose writer was killed (no summary,
-/// no footer, maybe half a chunk at the end) gives every message of its complete chunks and
+/// no footer, maybe half a chunk at the end) gives every message of its complete records and
 /// says where it stopped.
 pub fn recover(path: &Path) -> Result<Recovered, FileError> {
     let buf = std::fs::read(path).map_err(|e| FileError::open(path, e))?;
-    let stream =
-        mcap::MessageStream::new_with_options(&buf, mcap::read::Options::IgnoreEndMagic.into())
-            .map_err(|e| FileError::Capture {
-                path: path.to_path_buf(),
-                why: format!("not an MCAP file ({e})"),
-            })?;
-    let mut messages = Vec::new();
-    let mut truncated = None;
-    let mut topics: BTreeMap<u16, (Arc<str>, Arc<str>)> = BTreeMap::new();
-    for m in stream {
-        match m {
-            Ok(m) => {
-                let (topic, encoding) = topics
-                    .entry(m.channel.id)
-                    .or_insert_with(|| {
-                        (
-                            Arc::from(m.channel.topic.as_str()),
-                            Arc::from(m.channel.message_encoding.as_str()),
-                        )
-                    })
-                    .clone();
-                let data = match m.data {
-                    Cow::Borrowed(b) => b.to_vec(),
-                    Cow::Owned(v) => v,
-                };
-                messages.push(StoredMessage {
-                    topic,
-                    encoding,
-                    log_ns: m.log_time,
-                    publish_ns: m.publish_time,
-                    data,
-                });
-            }
-            Err(e) => {
-                truncated = Some(e.to_string());
-                break;
-            }
-        }
-    }
+    recover_bytes(path, &buf)
+}
+
+/// MCAP record opcodes this reader acts on (MCAP specification, "Records").
+mod op {
+    pub const FOOTER: u8 = 0x02;
+    pub const CHANNEL: u8 = 0x04;
+    pub const MESSAGE: u8 = 0x05;
+    pub const CHUNK: u8 = 0x06;
+    pub const DATA_END: u8 = 0x0F;
+}
+
+/// [`recover`] of a file already in memory; `path` names it in messages.
+///
+/// Its own reader of the few records replay needs (channels, messages, uncompressed chunks)
+/// rather than the `mcap` crate's: every length in the file is checked against the bytes that
+/// are really there before use, so a corrupt file can neither allocate what it declares
+/// (mcap 0.26 reserves a string's declared length, up to 4 GiB) nor overflow an offset
+/// (mcap 0.26 panics in `sans_io::linear_reader`); both were found by the `replay` fuzz target.
+pub fn recover_bytes(path: &Path, buf: &[u8]) -> Result<Recovered, FileError> {
+    let Some(records) = buf.strip_prefix(MCAP_MAGIC) else {
+        return Err(FileError::Capture {
+            path: path.to_path_buf(),
+            why: "not an MCAP file (bad magic)".into(),
+        });
+    };
+    let mut r = Recovery::default();
+    let truncated = match r.records(records, false) {
+        Ok(true) => None,
+        Ok(false) => Some("no footer: the writer stopped before finishing the file".into()),
+        Err(why) => Some(why),
+    };
     Ok(Recovered {
-        messages,
+        messages: r.messages,
         truncated,
     })
+}
+
+/// The MCAP magic at the start (and end) of every MCAP file.
+pub const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
+
+/// Channels seen so far and the messages read.
+#[derive(Default)]
+struct Recovery {
+    channels: BTreeMap<u16, (Arc<str>, Arc<str>)>,
+    messages: Vec<StoredMessage>,
+}
+
+/// A cursor over one record's body that refuses to read past it.
+struct Body<'a>(&'a [u8]);
+
+impl<'a> Body<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        if n > self.0.len() {
+            return Err(format!("a field of {n} bytes overruns its record"));
+        }
+        let (head, rest) = self.0.split_at(n);
+        self.0 = rest;
+        Ok(head)
+    }
+
+    fn u16(&mut self) -> Result<u16, String> {
+        Ok(u16::from_le_bytes(self.take(2)?.try_into().expect("2 bytes")))
+    }
+
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+    }
+
+    fn u64(&mut self) -> Result<u64, String> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+    }
+
+    /// A `u64`-sized length that must fit in what is left.
+    fn len64(&mut self) -> Result<usize, String> {
+        let n = self.u64()?;
+        usize::try_from(n)
+            .ok()
+            .filter(|&n| n <= self.0.len())
+            .ok_or_else(|| format!("a length of {n} bytes overruns its record"))
+    }
+
+    fn string(&mut self) -> Result<&'a str, String> {
+        let n = self.u32()? as usize;
+        std::str::from_utf8(self.take(n)?).map_err(|_| "a string is not UTF-8".to_string())
+    }
+}
+
+impl Recovery {
+    /// Read records until the end of `bytes`; `Ok(true)` once the footer or data end is
+    /// reached, `Ok(false)` if the bytes end between records, `Err` where a record is broken.
+    /// Chunks do not nest (`in_chunk`), which also bounds the recursion.
+    fn records(&mut self, mut bytes: &[u8], in_chunk: bool) -> Result<bool, String> {
+        while !bytes.is_empty() {
+            let mut head = Body(bytes);
+            let opcode = head.take(1)?[0];
+            let cut = |_| "a record is cut short (writer killed mid-record?)".to_string();
+            let len = head.len64().map_err(cut)?;
+            let body = head.take(len)?;
+            bytes = head.0;
+            match opcode {
+                op::FOOTER | op::DATA_END => return Ok(true),
+                op::CHANNEL => self.channel(Body(body))?,
+                op::MESSAGE => self.message(Body(body))?,
+                op::CHUNK if in_chunk => return Err("a chunk inside a chunk".into()),
+                op::CHUNK => {
+                    if self.chunk(Body(body))? {
+                        return Ok(true);
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(false)
+    }
+
+    fn channel(&mut self, mut b: Body<'_>) -> Result<(), String> {
+        let id = b.u16()?;
+        let _schema_id = b.u16()?;
+        let topic = b.string()?;
+        let encoding = b.string()?;
+        self.channels
+            .entry(id)
+            .or_insert_with(|| (Arc::from(topic), Arc::from(encoding)));
+        Ok(())
+    }
+
+    fn message(&mut self, mut b: Body<'_>) -> Result<(), String> {
+        let channel = b.u16()?;
+        let _sequence = b.u32()?;
+        let log_ns = b.u64()?;
+        let publish_ns = b.u64()?;
+        let (topic, encoding) = self
+            .channels
+            .get(&channel)
+            .cloned()
+            .ok_or_else(|| format!("a message on channel {channel}, which no record declared"))?;
+        self.messages.push(StoredMessage {
+            topic,
+            encoding,
+            log_ns,
+            publish_ns,
+            data: b.0.to_vec(),
+        });
+        Ok(())
+    }
+
+    /// An uncompressed chunk's records (this writer never compresses).
+    fn chunk(&mut self, mut b: Body<'_>) -> Result<bool, String> {
+        let _start_ns = b.u64()?;
+        let _end_ns = b.u64()?;
+        let _uncompressed_size = b.u64()?;
+        let _crc = b.u32()?;
+        let compression = b.string()?;
+        if !compression.is_empty() {
+            return Err(format!("a chunk compressed with {compression:?}, which this reader does not read"));
+        }
+        let n = b.len64()?;
+        self.records(b.take(n)?, true)
+    }
 }

@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
-use super::csv::{read_recording, CsvSink, Recording};
 use super::FileError;
+use crate::recording::{Limits, Recording};
 
 /// A test machine's export: time in s, rod travel in mm, load in N.
 #[derive(Debug, Clone, Default)]
@@ -35,7 +35,20 @@ fn find(columns: &[String], names: &[&str]) -> Option<usize> {
 /// Read a machine export: `#` lines skipped, one header naming a time, a rod-position and a
 /// load column (common spellings accepted), then numeric rows with increasing time.
 pub fn read_reference(path: &Path) -> Result<Reference, FileError> {
-    let text = std::fs::read_to_string(path).map_err(|e| FileError::open(path, e))?;
+    let bytes = std::fs::metadata(path).map_err(|e| FileError::open(path, e))?.len();
+    let limit_bytes = Limits::DEFAULT.max_bytes;
+    if bytes > limit_bytes {
+        return Err(FileError::TooLarge {
+            path: path.into(),
+            bytes,
+            limit_bytes,
+            why: "a reference export is read whole",
+        });
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::InvalidData => bad_encoding(path),
+        _ => FileError::open(path, e),
+    })?;
     let bad = |line, field: &str, why: String| FileError::Malformed {
         path: path.to_path_buf(),
         line,
@@ -82,6 +95,18 @@ pub fn read_reference(path: &Path) -> Result<Reference, FileError> {
         return Err(bad(hline, "(rows)", "fewer than two rows".into()));
     }
     Ok(r)
+}
+
+/// A reference export that is not UTF-8: name the first line that is not.
+fn bad_encoding(path: &Path) -> FileError {
+    let bytes = std::fs::read(path).unwrap_or_default();
+    let at = std::str::from_utf8(&bytes).err().map_or(0, |e| e.valid_up_to());
+    FileError::Malformed {
+        path: path.into(),
+        line: bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1,
+        field: "(text)".into(),
+        why: "not UTF-8 (UTF-16, Latin-1 or binary?): save the export as UTF-8".into(),
+    }
 }
 
 /// Linear interpolation of `y(x)` at `at`; `None` outside the sampled range.
@@ -174,21 +199,14 @@ fn correlation(pairs: &[(f64, f64)]) -> f64 {
     }
 }
 
-/// Fill `rod_mm` and `load_N` of `rec` from `reference`; returns the offset used.
+/// Fill `rod_mm` and `load_N` of `rec` from `reference`; returns the offset used. Gap rows
+/// (no sensor value at all) stay gaps.
 pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
-    let col = |n: &str| rec.column(n);
-    let (Some(ti), Some(ri), Some(li)) = (col("t_s"), col("rod_mm"), col("load_N")) else {
-        return 0.0;
-    };
     let offset = match align {
         Align::Time { offset_s } => offset_s,
         Align::Xcorr { max_lag_s } => {
-            let signal = rec
-                .values("fz_N")
-                .or_else(|| rec.values("fz_V"))
-                .unwrap_or_default();
-            let t = rec.values("t_s").unwrap_or_default();
-            xcorr_offset(&t, &signal, reference, max_lag_s).unwrap_or(0.0)
+            let signal = rec.column("fz_N").unwrap_or(&rec.channels.fz_v);
+            xcorr_offset(&rec.channels.t_s, signal, reference, max_lag_s).unwrap_or(0.0)
         }
         Align::Start => rec
             .rows
@@ -196,14 +214,14 @@ pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
             .find(|row| row.iter().skip(3).take(3).any(|v| v.is_finite()))
             .map_or(0.0, |row| -row[ti]),
     };
-    for row in &mut rec.rows {
-        let at = row[ti] + offset;
-        // A gap row stays a gap: every sensor value is missing there.
-        if row.iter().skip(3).take(3).all(|v| v.is_nan()) {
+    let c = &mut rec.channels;
+    for i in 0..c.len() {
+        if c.fz_v[i].is_nan() && c.mx_v[i].is_nan() && c.my_v[i].is_nan() {
             continue;
         }
-        row[ri] = interpolate(&reference.t_s, &reference.rod_mm, at).unwrap_or(f64::NAN);
-        row[li] = interpolate(&reference.t_s, &reference.load_n, at).unwrap_or(f64::NAN);
+        let at = c.t_s[i] + offset;
+        c.rod_mm[i] = interpolate(&reference.t_s, &reference.rod_mm, at).unwrap_or(f64::NAN);
+        c.load_n[i] = interpolate(&reference.t_s, &reference.load_n, at).unwrap_or(f64::NAN);
     }
     offset
 }
@@ -212,29 +230,17 @@ pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
 /// renamed over it, so a crash never leaves a half-merged file).
 pub fn merge_file(path: &Path, reference_path: &Path, align: Align) -> Result<f64, FileError> {
     let reference = read_reference(reference_path)?;
-    let mut rec = read_recording(path)?;
+    let mut rec = crate::recording::read(path)?;
     let offset = merge(&mut rec, &reference, align);
-    rec.meta.push((
+    rec.meta.other.push((
         "reference".into(),
         format!("{} (offset {offset} s)", reference_path.display()),
     ));
     let tmp = path.with_extension("merging");
-    write_recording(&tmp, &rec)?;
+    let file = std::fs::File::create(&tmp).map_err(|e| FileError::write(&tmp, e))?;
+    rec.write_to(file).map_err(|e| FileError::write(&tmp, e))?;
     std::fs::rename(&tmp, path).map_err(|e| FileError::write(path, e))?;
     Ok(offset)
-}
-
-/// Write a whole recording.
-pub fn write_recording(path: &Path, rec: &Recording) -> Result<(), FileError> {
-    let file = std::fs::File::create(path).map_err(|e| FileError::write(path, e))?;
-    let cols: Vec<&str> = rec.columns.iter().map(String::as_str).collect();
-    let mut w = CsvSink::new(std::io::BufWriter::new(file), &rec.meta, &cols)
-        .map_err(|e| FileError::write(path, e))?;
-    for r in &rec.rows {
-        let vals: Vec<Option<f64>> = r.iter().map(|v| v.is_finite().then_some(*v)).collect();
-        w.row(&vals).map_err(|e| FileError::write(path, e))?;
-    }
-    w.flush().map_err(|e| FileError::write(path, e))
 }
 
 #[cfg(test)]

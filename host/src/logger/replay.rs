@@ -7,7 +7,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use protocol::{Info, Message, Outcome};
 
-use super::mcap_io::{recover, StoredMessage, RAW_ENCODING};
+use super::mcap_io::{recover_bytes, StoredMessage, MCAP_MAGIC, RAW_ENCODING};
 use super::{FileError, Recorder, Setup};
 use crate::decode::FastDecoder;
 use crate::device::{Event, Frame, Gap, GapKind, Step, Tracker};
@@ -25,12 +25,18 @@ pub struct ReplaySummary {
     pub truncated: Option<String>,
 }
 
-/// The MCAP magic at the start of every MCAP file.
-const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
+
+/// Where the replayed CSV goes.
+enum Output<'a> {
+    File(&'a Path),
+    Stdout,
+    Writer(Box<dyn std::io::Write>),
+}
 
 /// Turns decoded frames into recorder events.
 struct Replayer<'a> {
-    out: Option<&'a Path>,
+    /// Taken when the recorder is created, at the first sample frame.
+    out: Option<Output<'a>>,
     setup: &'a Setup,
     info: Option<Info>,
     rec: Option<Recorder>,
@@ -93,16 +99,20 @@ impl Replayer<'_> {
                 why: "no info frame before the first sample frame: cannot convert codes to volts"
                     .into(),
             })?;
-            self.rec = Some(match self.out {
-                Some(path) => Recorder::create(path, info, self.setup, host_time)?,
-                None => Recorder::create_on(
+            let rec = match self.out.take() {
+                Some(Output::File(path)) => Recorder::create(path, info, self.setup, host_time),
+                Some(Output::Writer(w)) => {
+                    Recorder::create_on(w, &self.input, info, self.setup, host_time)
+                }
+                Some(Output::Stdout) | None => Recorder::create_on(
                     Box::new(std::io::stdout()),
                     Path::new("stdout"),
                     info,
                     self.setup,
                     host_time,
-                )?,
-            });
+                ),
+            };
+            self.rec = Some(rec?);
         }
         let rec = self.rec.as_mut().expect("created above");
         if let Some(kind) = gap {
@@ -161,72 +171,127 @@ impl Replayer<'_> {
     }
 }
 
+/// The largest MCAP file replayed: its messages are held in memory (a raw capture streams).
+pub const MAX_MCAP_BYTES: u64 = 1 << 30;
+
 /// Replay `input` into the CSV `out` (stdout if `None`). `sensor` picks one sensor of a
-/// multi-sensor MCAP.
+/// multi-sensor MCAP. A raw capture is streamed; an MCAP file over [`MAX_MCAP_BYTES`] is
+/// refused.
 pub fn replay(
     input: &Path,
     out: Option<&Path>,
     setup: &Setup,
     sensor: Option<&str>,
 ) -> Result<ReplaySummary, FileError> {
-    let head = {
-        use std::io::Read;
-        let mut f = std::fs::File::open(input).map_err(|e| FileError::open(input, e))?;
-        let mut h = [0u8; 8];
-        let n = f.read(&mut h).map_err(|e| FileError::open(input, e))?;
-        h[..n].to_vec()
-    };
-    let mut r = Replayer {
-        out,
-        setup,
-        info: None,
-        rec: None,
-        tracker: Tracker::default(),
-        summary: ReplaySummary::default(),
-        error: None,
-        input: input.to_path_buf(),
-    };
-    let mut decoder = FastDecoder::new();
+    use std::io::Read;
+    let mut file = std::fs::File::open(input).map_err(|e| FileError::open(input, e))?;
+    let mut head = Vec::with_capacity(MCAP_MAGIC.len());
+    (&mut file)
+        .take(MCAP_MAGIC.len() as u64)
+        .read_to_end(&mut head)
+        .map_err(|e| FileError::open(input, e))?;
+    let mut r = Replayer::new(input, out.map(Output::File).unwrap_or(Output::Stdout), setup);
     if head == MCAP_MAGIC {
-        let rec = recover(input)?;
-        r.summary.truncated = rec.truncated.clone();
-        let topic = pick_topic(input, &rec.messages, sensor)?;
+        let len = file.metadata().map_err(|e| FileError::open(input, e))?.len();
+        if len > MAX_MCAP_BYTES {
+            return Err(FileError::TooLarge {
+                path: input.into(),
+                bytes: len,
+                limit_bytes: MAX_MCAP_BYTES,
+                why: "an MCAP file is replayed in memory; a raw capture streams",
+            });
+        }
+        let bytes = std::fs::read(input).map_err(|e| FileError::open(input, e))?;
+        r.mcap(&bytes, sensor)?;
+    } else {
+        let mut decoder = FastDecoder::new();
+        let mut chunk = vec![0u8; 64 * 1024];
+        decoder.feed(&head, |j| r.on_outcome(j.outcome, j.raw, None));
+        loop {
+            let n = file.read(&mut chunk).map_err(|e| FileError::open(input, e))?;
+            if n == 0 || r.error.is_some() {
+                break;
+            }
+            decoder.feed(&chunk[..n], |j| r.on_outcome(j.outcome, j.raw, None));
+        }
+    }
+    r.finish()
+}
+
+/// [`replay`] of bytes already in memory (`name` stands for the file in messages) into `out`.
+pub fn replay_bytes(
+    bytes: &[u8],
+    name: &Path,
+    out: Box<dyn std::io::Write>,
+    setup: &Setup,
+    sensor: Option<&str>,
+) -> Result<ReplaySummary, FileError> {
+    let mut r = Replayer::new(name, Output::Writer(out), setup);
+    if bytes.starts_with(MCAP_MAGIC) {
+        r.mcap(bytes, sensor)?;
+    } else {
+        FastDecoder::new().feed(bytes, |j| r.on_outcome(j.outcome, j.raw, None));
+    }
+    r.finish()
+}
+
+impl<'a> Replayer<'a> {
+    fn new(input: &Path, out: Output<'a>, setup: &'a Setup) -> Self {
+        Replayer {
+            out: Some(out),
+            setup,
+            info: None,
+            rec: None,
+            tracker: Tracker::default(),
+            summary: ReplaySummary::default(),
+            error: None,
+            input: input.to_path_buf(),
+        }
+    }
+
+    /// Feed the raw frames and gap marks of one sensor of an MCAP file.
+    fn mcap(&mut self, bytes: &[u8], sensor: Option<&str>) -> Result<(), FileError> {
+        let rec = recover_bytes(&self.input, bytes)?;
+        self.summary.truncated = rec.truncated.clone();
+        let topic = pick_topic(&self.input, &rec.messages, sensor)?;
         let base = topic.trim_end_matches("/raw").to_owned();
+        let gap_topic = format!("{base}/gap");
+        let mut decoder = FastDecoder::new();
+        let mut framed = Vec::new();
         for m in &rec.messages {
             let t = UNIX_EPOCH + Duration::from_nanos(m.publish_ns);
             if *m.topic == *topic {
-                let mut framed = m.data.clone();
+                framed.clear();
+                framed.extend_from_slice(&m.data);
                 framed.push(0);
-                decoder.feed(&framed, |j| r.on_outcome(j.outcome, j.raw, Some(t)));
-            } else if *m.topic == format!("{base}/gap") {
-                r.on_gap_json(&m.data, t)?;
+                decoder.feed(&framed, |j| self.on_outcome(j.outcome, j.raw, Some(t)));
+            } else if *m.topic == gap_topic {
+                self.on_gap_json(&m.data, t)?;
             }
         }
-    } else {
-        let bytes = std::fs::read(input).map_err(|e| FileError::open(input, e))?;
-        for chunk in bytes.chunks(64 * 1024) {
-            decoder.feed(chunk, |j| r.on_outcome(j.outcome, j.raw, None));
+        Ok(())
+    }
+
+    /// The summary once the input is consumed, or why nothing could be replayed.
+    fn finish(mut self) -> Result<ReplaySummary, FileError> {
+        if let Some(e) = self.error.take() {
+            return Err(e);
         }
-        if r.info.is_none()
-            && r.summary.frames == 0
-            && r.summary.crc_errors + r.summary.malformed + r.summary.overflows == 0
-        {
+        let s = &self.summary;
+        if self.info.is_none() && s.frames == 0 && s.crc_errors + s.malformed + s.overflows == 0 {
             return Err(FileError::Capture {
-                path: input.into(),
+                path: self.input.clone(),
                 why: "no frame found: not a tactile capture".into(),
             });
         }
+        let mut rec = self.rec.take().ok_or_else(|| FileError::Capture {
+            path: self.input.clone(),
+            why: "no sample frame in the capture".into(),
+        })?;
+        rec.flush()?;
+        self.summary.rows = rec.rows;
+        Ok(self.summary)
     }
-    if let Some(e) = r.error {
-        return Err(e);
-    }
-    let mut rec = r.rec.ok_or_else(|| FileError::Capture {
-        path: input.into(),
-        why: "no sample frame in the capture".into(),
-    })?;
-    rec.flush()?;
-    r.summary.rows = rec.rows;
-    Ok(r.summary)
 }
 
 fn pick_topic(

@@ -1,9 +1,10 @@
 //! Why a recording was refused. Every variant names the line (1-based) and, where there is one,
-//! the field, so the one-line message is enough to fix the file.
+//! the field, so the one-line message is enough to fix the file; [`read`](super::read) wraps
+//! them in [`RecordingError::InFile`] so the message names the file too.
 
 use std::fmt;
 
-/// A recording that breaks the layout of `recording-v1.md`.
+/// A recording that breaks the layout of `recording-v1.md`, or is too big to hold in memory.
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum RecordingError {
@@ -12,10 +13,30 @@ pub enum RecordingError {
         path: String,
         source: std::io::Error,
     },
+    /// Another error, found in the file at `path`.
+    InFile {
+        path: String,
+        source: Box<RecordingError>,
+    },
     /// The file has no header line (it is empty or holds metadata only).
     Empty,
-    /// A line is not valid UTF-8.
-    NotUtf8 { line: usize },
+    /// A line is not valid UTF-8; `field` is the column it happened in (data rows), `hint` a
+    /// guess at what the bytes are (UTF-16, Latin-1, binary).
+    NotUtf8 {
+        line: usize,
+        field: Option<String>,
+        byte: u8,
+        hint: &'static str,
+    },
+    /// The last line has no line end: a write cut short (a killed writer) may have shortened
+    /// `field`, so the row cannot be trusted.
+    Unterminated { line: usize, field: String },
+    /// A line is longer than any recording line can reasonably be (binary data, no line ends).
+    LineTooLong { line: usize, limit_bytes: usize },
+    /// The input is bigger than the readers hold in memory.
+    TooLarge { bytes: u64, limit_bytes: u64 },
+    /// The rows hold more values than the readers hold in memory.
+    TooManyValues { line: usize, limit: u64 },
     /// A required metadata key is absent; `line` is the header line where metadata ended.
     MissingKey { line: usize, key: &'static str },
     /// A metadata value that must be a number is not one.
@@ -55,8 +76,43 @@ impl fmt::Display for RecordingError {
         use RecordingError::*;
         match self {
             Io { path, source } => write!(f, "{path}: {source}"),
+            InFile { path, source } => write!(f, "{path}: {source}"),
             Empty => write!(f, "line 1: empty recording: no header line"),
-            NotUtf8 { line } => write!(f, "line {line}: not valid UTF-8"),
+            NotUtf8 {
+                line,
+                field,
+                byte,
+                hint,
+            } => {
+                write!(f, "line {line}")?;
+                if let Some(field) = field {
+                    write!(f, ", field `{field}`")?;
+                }
+                write!(
+                    f,
+                    ": not UTF-8 text (byte 0x{byte:02x}); {hint}; the format is UTF-8"
+                )
+            }
+            Unterminated { line, field } => write!(
+                f,
+                "line {line}, field `{field}`: last line has no line end, so it may have been cut \
+                 short mid-write (killed writer?); refused rather than read a shortened value \
+                 (delete the line to read the rest)"
+            ),
+            LineTooLong { line, limit_bytes } => write!(
+                f,
+                "line {line}: longer than {limit_bytes} bytes without a line end: not a recording"
+            ),
+            TooLarge { bytes, limit_bytes } => write!(
+                f,
+                "{bytes} bytes is over the {limit_bytes}-byte limit of the recording reader \
+                 (it holds the recording in memory): split the recording"
+            ),
+            TooManyValues { line, limit } => write!(
+                f,
+                "line {line}: more than {limit} values, the limit of the recording reader \
+                 (it holds the recording in memory): split the recording"
+            ),
             MissingKey { line, key } => {
                 write!(
                     f,
@@ -123,11 +179,35 @@ impl RecordingError {
     pub fn exit_code(&self) -> u8 {
         use crate::cli::exit;
         match self {
-            RecordingError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
-                exit::NO_INPUT
-            }
-            RecordingError::Io { .. } => exit::IO,
+            RecordingError::Io { source, .. } => match source.kind() {
+                std::io::ErrorKind::NotFound => exit::NO_INPUT,
+                std::io::ErrorKind::PermissionDenied => exit::NO_PERM,
+                _ => exit::IO,
+            },
+            RecordingError::InFile { source, .. } => source.exit_code(),
             _ => exit::DATA,
+        }
+    }
+
+    /// The 1-based line the error is on, if it is about one.
+    pub fn line(&self) -> Option<usize> {
+        use RecordingError::*;
+        match self {
+            InFile { source, .. } => source.line(),
+            Io { .. } | TooLarge { .. } => None,
+            Empty => Some(1),
+            NotUtf8 { line, .. }
+            | Unterminated { line, .. }
+            | LineTooLong { line, .. }
+            | TooManyValues { line, .. }
+            | MissingKey { line, .. }
+            | BadMetaValue { line, .. }
+            | WrongFormat { line, .. }
+            | MissingColumn { line, .. }
+            | DuplicateColumn { line, .. }
+            | FieldCount { line, .. }
+            | NotNumeric { line, .. }
+            | DecreasingTime { line, .. } => Some(*line),
         }
     }
 }

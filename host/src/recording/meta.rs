@@ -36,8 +36,17 @@ pub(super) const REQUIRED_KEYS: [&str; 9] = [
 ];
 
 impl Meta {
+    /// The value of a key the contract does not type (the last one, if repeated).
+    pub fn get(&self, key: &str) -> Option<&str> {
+        self.other
+            .iter()
+            .rev()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+
     /// The `key = value` pairs to write, required keys first.
-    pub(super) fn pairs(&self) -> Vec<(String, String)> {
+    pub fn pairs(&self) -> Vec<(String, String)> {
         let mut p = vec![("format".to_string(), super::FORMAT.to_string())];
         let nums = [
             ("sample_rate_hz", self.sample_rate_hz),

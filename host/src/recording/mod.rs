@@ -2,8 +2,13 @@
 //! `# key = value` metadata, one header line and numeric rows.
 //!
 //! [`read`] / [`Recording::parse`] refuse a file that breaks the layout with a
-//! [`RecordingError`] naming the line and the field; [`RecordingWriter`] writes rows
-//! incrementally (the logger and `tactile simulate` use it).
+//! [`RecordingError`] naming the line and the field (and the file, for [`read`]), and a file too
+//! big to hold in memory ([`Limits`]); [`RecordingWriter`] writes rows incrementally (the
+//! logger, `tactile simulate`, `replay` and the reference merge use it).
+//!
+//! A last line without its line end is refused ([`RecordingError::Unterminated`]): the contract
+//! makes every line end with `\n` or `\r\n`, and a row cut short by a killed writer can still
+//! parse (`0.0012` cut to `0.00`), so reading it would silently alter the data.
 
 mod error;
 mod meta;
@@ -12,7 +17,7 @@ mod writer;
 
 pub use error::RecordingError;
 pub use meta::Meta;
-pub use reader::{read, read_from};
+pub use reader::{read, read_from, read_from_with, read_with, Limits};
 pub use writer::RecordingWriter;
 
 /// The value of the `format` key this module reads and writes.
@@ -61,18 +66,21 @@ impl Channels {
         ]
     }
 
+    /// The six required columns by contract name, in the contract's order.
+    pub fn required(&self) -> [(&'static str, &[f64]); 6] {
+        [
+            ("t_s", &self.t_s),
+            ("rod_mm", &self.rod_mm),
+            ("load_N", &self.load_n),
+            ("fz_V", &self.fz_v),
+            ("mx_V", &self.mx_v),
+            ("my_V", &self.my_v),
+        ]
+    }
+
     /// Whether row `i` is a gap (a required value missing).
     pub fn is_gap(&self, i: usize) -> bool {
-        [
-            &self.t_s,
-            &self.rod_mm,
-            &self.load_n,
-            &self.fz_v,
-            &self.mx_v,
-            &self.my_v,
-        ]
-        .iter()
-        .any(|c| c[i].is_nan())
+        self.required().iter().any(|(_, c)| c[i].is_nan())
     }
 }
 
@@ -96,6 +104,20 @@ impl Recording {
             temp_c: None,
             extra: Vec::new(),
         }
+    }
+
+    /// The values of column `name` (required, `temp_C` or extra), if the recording has it.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        if let Some((_, v)) = self.channels.required().into_iter().find(|(n, _)| *n == name) {
+            return Some(v);
+        }
+        if name == TEMP_COLUMN {
+            return self.temp_c.as_deref();
+        }
+        self.extra
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.values.as_slice())
     }
 
     /// Parse a recording from text already in memory.

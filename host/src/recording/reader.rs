@@ -1,19 +1,62 @@
-//! Streaming reader: one pass over the lines, no whole-file buffer.
+//! Streaming reader: one pass over the lines, no whole-file buffer, and [`Limits`] on what it
+//! holds in memory so a huge or binary file is refused instead of exhausting memory.
 
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 use std::path::Path;
 
 use super::meta::parse_number;
 use super::{Channels, Column, Meta, Recording, RecordingError, REQUIRED_COLUMNS, TEMP_COLUMN};
 
-/// Read and validate the recording at `path`.
+/// How much the reader accepts. The recording is held in memory as `f64` columns, so both the
+/// input and the values kept are bounded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Largest input, in bytes.
+    pub max_bytes: u64,
+    /// Most values (rows times columns) kept.
+    pub max_values: u64,
+    /// Longest line, in bytes.
+    pub max_line_bytes: usize,
+}
+
+impl Limits {
+    /// 1 GiB of text, 2^27 values (1 GiB of `f64`), 1 MiB lines: an hour at 1 kHz of the
+    /// logger's 18 columns is ~0.6 GB of text and 65 M values.
+    pub const DEFAULT: Limits = Limits {
+        max_bytes: 1 << 30,
+        max_values: 1 << 27,
+        max_line_bytes: 1 << 20,
+    };
+}
+
+/// Read and validate the recording at `path`; errors name the file.
 pub fn read(path: &Path) -> Result<Recording, RecordingError> {
+    read_with(path, Limits::DEFAULT)
+}
+
+/// [`read`] with other limits. A regular file over `max_bytes` is refused before reading.
+pub fn read_with(path: &Path, limits: Limits) -> Result<Recording, RecordingError> {
+    let name = path.display().to_string();
     let io = |source| RecordingError::Io {
-        path: path.display().to_string(),
+        path: name.clone(),
         source,
     };
+    let in_file = |e: RecordingError| match e {
+        RecordingError::Io { source, .. } => io(source),
+        e => RecordingError::InFile {
+            path: name.clone(),
+            source: Box::new(e),
+        },
+    };
     let file = std::fs::File::open(path).map_err(io)?;
-    read_from(std::io::BufReader::with_capacity(1 << 16, file))
+    let bytes = file.metadata().map_err(io)?.len();
+    if bytes > limits.max_bytes {
+        return Err(in_file(RecordingError::TooLarge {
+            bytes,
+            limit_bytes: limits.max_bytes,
+        }));
+    }
+    read_from_with(std::io::BufReader::with_capacity(1 << 16, file), limits).map_err(in_file)
 }
 
 /// Where each header column goes.
@@ -24,29 +67,132 @@ enum Slot {
     Extra(usize),
 }
 
-/// Read and validate a recording from any buffered source.
-pub fn read_from<R: BufRead>(mut input: R) -> Result<Recording, RecordingError> {
-    let mut buf = Vec::with_capacity(256);
-    let mut line_no = 0usize;
+/// Read and validate a recording from any buffered source, with [`Limits::DEFAULT`].
+pub fn read_from<R: BufRead>(input: R) -> Result<Recording, RecordingError> {
+    read_from_with(input, Limits::DEFAULT)
+}
+
+/// One line of the input.
+struct Line<'b> {
+    no: usize,
+    bytes: &'b [u8],
+    /// Whether it ended with `\n` (a torn last line does not).
+    terminated: bool,
+}
+
+/// Lines of the input, counting bytes against the limits.
+struct Lines<R> {
+    input: R,
+    buf: Vec<u8>,
+    no: usize,
+    total: u64,
+    limits: Limits,
+}
+
+impl<R: BufRead> Lines<R> {
+    /// The next line without its line end, or `None` at the end of the input.
+    fn next(&mut self) -> Result<Option<Line<'_>>, RecordingError> {
+        self.buf.clear();
+        let cap = self.limits.max_line_bytes as u64 + 1;
+        let n = (&mut self.input)
+            .take(cap)
+            .read_until(b'\n', &mut self.buf)
+            .map_err(|source| RecordingError::Io {
+                path: "<input>".into(),
+                source,
+            })?;
+        if n == 0 {
+            return Ok(None);
+        }
+        self.no += 1;
+        self.total += n as u64;
+        if self.total > self.limits.max_bytes {
+            return Err(RecordingError::TooLarge {
+                bytes: self.total,
+                limit_bytes: self.limits.max_bytes,
+            });
+        }
+        let terminated = self.buf.last() == Some(&b'\n');
+        if !terminated && n as u64 == cap {
+            return Err(RecordingError::LineTooLong {
+                line: self.no,
+                limit_bytes: self.limits.max_line_bytes,
+            });
+        }
+        let mut bytes = &self.buf[..];
+        if self.no == 1 {
+            bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        }
+        let bytes = bytes.strip_suffix(b"\n").unwrap_or(bytes);
+        let bytes = bytes.strip_suffix(b"\r").unwrap_or(bytes);
+        Ok(Some(Line {
+            no: self.no,
+            bytes,
+            terminated,
+        }))
+    }
+}
+
+impl<'b> Line<'b> {
+    /// The line as UTF-8; `columns` (the header, once known) lets the error name the field.
+    fn text(&self, columns: &[String]) -> Result<&'b str, RecordingError> {
+        std::str::from_utf8(self.bytes).map_err(|e| {
+            let at = e.valid_up_to();
+            let commas = self.bytes[..at].iter().filter(|&&b| b == b',').count();
+            RecordingError::NotUtf8 {
+                line: self.no,
+                field: columns.get(commas).cloned(),
+                byte: self.bytes[at],
+                hint: encoding_hint(self.bytes, self.no),
+            }
+        })
+    }
+}
+
+/// A guess at what non-UTF-8 bytes are, for the error message.
+fn encoding_hint(bytes: &[u8], line: usize) -> &'static str {
+    if line == 1 && (bytes.starts_with(b"\xFF\xFE") || bytes.starts_with(b"\xFE\xFF")) {
+        "UTF-16 text (byte-order mark)"
+    } else if bytes.contains(&0) {
+        "NUL bytes: binary data or UTF-16 text"
+    } else {
+        "Latin-1/Windows-1252 text or binary data"
+    }
+}
+
+/// [`read_from`] with other limits.
+pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording, RecordingError> {
+    let mut lines = Lines {
+        input,
+        buf: Vec::with_capacity(256),
+        no: 0,
+        total: 0,
+        limits,
+    };
     let mut pairs = Vec::new();
     // Metadata and comments up to the header.
-    let header = loop {
-        let Some(line) = next_line(&mut input, &mut buf, &mut line_no)? else {
+    let (header, header_line) = loop {
+        let Some(line) = lines.next()? else {
             return Err(RecordingError::Empty);
         };
-        let line = line.trim();
-        if line.is_empty() {
+        let text = line.text(&[])?.trim();
+        if text.is_empty() {
             continue;
         }
-        if let Some(comment) = line.strip_prefix('#') {
+        if let Some(comment) = text.strip_prefix('#') {
             if let Some((k, v)) = comment.split_once('=') {
-                pairs.push((line_no, k.trim().to_string(), v.trim().to_string()));
+                pairs.push((line.no, k.trim().to_string(), v.trim().to_string()));
             }
             continue;
         }
-        break line.to_string();
+        if !line.terminated {
+            return Err(RecordingError::Unterminated {
+                line: line.no,
+                field: "header".into(),
+            });
+        }
+        break (text.to_string(), line.no);
     };
-    let header_line = line_no;
     let meta = Meta::from_pairs(pairs, header_line)?;
     let (names, slots) = parse_header(&header, header_line)?;
     let mut rec = Recording::new(meta);
@@ -63,42 +209,31 @@ pub fn read_from<R: BufRead>(mut input: R) -> Result<Recording, RecordingError> 
         })
         .collect();
     let mut previous_t = f64::NEG_INFINITY;
-    let mut row = [f64::NAN; 6];
-    while let Some(line) = next_line(&mut input, &mut buf, &mut line_no)? {
-        let line = line.trim_end_matches(['\r', '\n']);
-        if line.trim().is_empty() {
+    let mut values = 0u64;
+    while let Some(line) = lines.next()? {
+        let text = line.text(&names)?;
+        if text.trim().is_empty() {
             continue;
         }
-        let mut found = 0;
-        for (i, field) in line.split(',').enumerate() {
-            found += 1;
-            let Some(&slot) = slots.get(i) else { continue };
-            let value = parse_field(field).ok_or_else(|| RecordingError::NotNumeric {
-                line: line_no,
-                column: names[i].clone(),
-                value: field.to_string(),
-            })?;
-            match slot {
-                Slot::Required(k) => row[k] = value,
-                Slot::Temp => {
-                    if let Some(t) = rec.temp_c.as_mut() {
-                        t.push(value);
-                    }
-                }
-                Slot::Extra(k) => rec.extra[k].values.push(value),
-            }
-        }
-        if found != slots.len() {
-            return Err(RecordingError::FieldCount {
-                line: line_no,
-                expected: slots.len(),
-                found,
+        if !line.terminated {
+            let reached = text.split(',').count().min(names.len()) - 1;
+            return Err(RecordingError::Unterminated {
+                line: line.no,
+                field: names[reached].clone(),
             });
         }
-        let t = row[0];
+        values += slots.len() as u64;
+        if values > limits.max_values {
+            return Err(RecordingError::TooManyValues {
+                line: line.no,
+                limit: limits.max_values,
+            });
+        }
+        let row = parse_row(text, line.no, &names, &slots)?;
+        let t = row.required[0];
         if t < previous_t {
             return Err(RecordingError::DecreasingTime {
-                line: line_no,
+                line: line.no,
                 t_s: t,
                 previous_t_s: previous_t,
             });
@@ -106,50 +241,66 @@ pub fn read_from<R: BufRead>(mut input: R) -> Result<Recording, RecordingError> 
         if !t.is_nan() {
             previous_t = t;
         }
-        push_row(&mut rec.channels, &row);
+        row.push_into(&mut rec);
     }
     Ok(rec)
 }
 
-fn push_row(c: &mut Channels, row: &[f64; 6]) {
-    c.t_s.push(row[0]);
-    c.rod_mm.push(row[1]);
-    c.load_n.push(row[2]);
-    c.fz_v.push(row[3]);
-    c.mx_v.push(row[4]);
-    c.my_v.push(row[5]);
+/// One parsed data row.
+struct Row {
+    required: [f64; 6],
+    temp: f64,
+    extra: Vec<f64>,
 }
 
-/// The next line as UTF-8 (without the line end), or `None` at the end of the input.
-fn next_line<'b, R: BufRead>(
-    input: &mut R,
-    buf: &'b mut Vec<u8>,
-    line_no: &mut usize,
-) -> Result<Option<&'b str>, RecordingError> {
-    buf.clear();
-    let n = input
-        .read_until(b'\n', buf)
-        .map_err(|source| RecordingError::Io {
-            path: "<input>".into(),
-            source,
+impl Row {
+    fn push_into(self, rec: &mut Recording) {
+        let c: &mut Channels = &mut rec.channels;
+        let r = self.required;
+        c.t_s.push(r[0]);
+        c.rod_mm.push(r[1]);
+        c.load_n.push(r[2]);
+        c.fz_v.push(r[3]);
+        c.mx_v.push(r[4]);
+        c.my_v.push(r[5]);
+        if let Some(t) = rec.temp_c.as_mut() {
+            t.push(self.temp);
+        }
+        for (col, v) in rec.extra.iter_mut().zip(self.extra) {
+            col.values.push(v);
+        }
+    }
+}
+
+/// Split and parse a data row; the whole row is checked before any of it is kept.
+fn parse_row(text: &str, line: usize, names: &[String], slots: &[Slot]) -> Result<Row, RecordingError> {
+    let found = text.split(',').count();
+    if found != slots.len() {
+        return Err(RecordingError::FieldCount {
+            line,
+            expected: slots.len(),
+            found,
+        });
+    }
+    let n_extra = slots.iter().filter(|s| matches!(s, Slot::Extra(_))).count();
+    let mut row = Row {
+        required: [f64::NAN; 6],
+        temp: f64::NAN,
+        extra: vec![f64::NAN; n_extra],
+    };
+    for ((field, slot), name) in text.split(',').zip(slots).zip(names) {
+        let value = parse_field(field).ok_or_else(|| RecordingError::NotNumeric {
+            line,
+            column: name.clone(),
+            value: field.to_string(),
         })?;
-    if n == 0 {
-        return Ok(None);
+        match *slot {
+            Slot::Required(k) => row.required[k] = value,
+            Slot::Temp => row.temp = value,
+            Slot::Extra(k) => row.extra[k] = value,
+        }
     }
-    *line_no += 1;
-    let mut bytes = &buf[..];
-    if *line_no == 1 {
-        bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    }
-    while let Some(rest) = bytes
-        .strip_suffix(b"\n")
-        .or_else(|| bytes.strip_suffix(b"\r"))
-    {
-        bytes = rest;
-    }
-    std::str::from_utf8(bytes)
-        .map(Some)
-        .map_err(|_| RecordingError::NotUtf8 { line: *line_no })
+    Ok(row)
 }
 
 fn parse_header(header: &str, line: usize) -> Result<(Vec<String>, Vec<Slot>), RecordingError> {
@@ -187,7 +338,7 @@ fn parse_header(header: &str, line: usize) -> Result<(Vec<String>, Vec<Slot>), R
 /// A data field: a finite decimal number, or `NaN` for missing (empty, `nan`, `NaN`).
 fn parse_field(field: &str) -> Option<f64> {
     let f = field.trim();
-    if f.is_empty() || f.eq_ignore_ascii_case("nan") {
+    if f.is_empty() || f == "nan" || f == "NaN" {
         return Some(f64::NAN);
     }
     parse_number(f)

@@ -4,8 +4,9 @@ use std::io::Write;
 
 use super::{Meta, REQUIRED_COLUMNS, TEMP_COLUMN};
 
-/// Writes a recording row by row. Buffer `out` yourself if it is unbuffered (a `File`): the
-/// writer wraps it in a `BufWriter` and [`flush`](Self::flush) pushes everything out.
+/// Writes a recording row by row. The writer buffers `out` itself (64 KiB, so a `File` needs no
+/// `BufWriter`); each row is formatted whole and handed over in one piece, so `out` only ever
+/// receives whole lines, and [`flush`](Self::flush) pushes everything out.
 pub struct RecordingWriter<W: Write> {
     out: std::io::BufWriter<W>,
     with_temp: bool,

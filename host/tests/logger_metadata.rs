@@ -1,0 +1,67 @@
+//! What the logger writes besides the samples: every metadata key of recording-v1 it can know,
+//! the firmware filter the diagnosis models (`firmware_smoother_alpha`), and `temp_C` from ADC
+//! channel 3 through the board's temperature sensor of `hardware/frontend.toml`.
+
+use std::time::{Duration, UNIX_EPOCH};
+
+use host::device::{Event, Frame, Scale};
+use host::logger::{Recorder, Setup};
+use protocol::{encode_vec, FilterConfig, Message, Status};
+use tests::check::scratch;
+use tests::emu::{info_for, truth_frame, EmuConfig};
+
+#[test]
+fn the_logger_writes_contract_keys_filter_and_temperature() {
+    let dir = scratch("logger-meta");
+    let cfg = EmuConfig::new(dir.join("unused"));
+    let mut info = info_for(&cfg);
+    info.filter = FilterConfig { smoother_alpha: 0.2, butterworth_order: 2, cutoff_hz: 50.0 };
+    info.pga_gain[3] = 2;
+    let setup = Setup::from_hardware("unit test".into()).unwrap();
+    let hw = hardware::Params::load_default().unwrap();
+    let sensor = &hw.frontend.temperature;
+    // The code the ADC gives for 31.5 degC at the sensor: V = V0 + S T, code = V / (V per code).
+    let t_true_c = 31.5;
+    let v = sensor.offset_v + sensor.slope_v_per_c * t_true_c;
+    let code = (v / Scale::from_info(&info).temp_volts_per_code).round() as i32;
+
+    let start = UNIX_EPOCH + Duration::from_secs(1_800_000_000);
+    let path = dir.join("r.csv");
+    let mut rec = Recorder::create(&path, &info, &setup, start).unwrap();
+    let mut frame = truth_frame(1, cfg.batch, cfg.rate_hz, Status::default());
+    frame.temp = code;
+    let mut raw = encode_vec(&Message::Sample(frame.clone())).unwrap();
+    raw.pop();
+    rec.on_event(&Event::Frame(Frame {
+        seq: 1,
+        t_device_us: u64::from(frame.t_us),
+        host_time: start,
+        session: 0,
+        frame,
+        raw,
+    }))
+    .unwrap();
+    rec.flush().unwrap();
+
+    let r = host::recording::read(&path).unwrap();
+    let m = &r.meta;
+    assert_eq!(m.sample_rate_hz, f64::from(cfg.rate_hz));
+    assert_eq!([m.gain_fz, m.gain_mx, m.gain_my], [3000.0, 1000.0, 1000.0]);
+    assert_eq!(m.excitation_v, 3.3, "the f32 of the info frame as configured, not 3.2999…");
+    assert_eq!(m.contact_angle_deg, hw.fingertip.test.contact_angle_deg);
+    assert_eq!(m.azimuth_deg, hw.fingertip.test.azimuth_deg);
+    assert_eq!(m.fingertip_radius_mm, hw.fingertip.radius_mm);
+    assert_eq!(m.rod_speed_mm_per_min, Some(hw.fingertip.test.rod_speed_mm_per_min));
+    assert_eq!(m.source.as_deref(), Some("unit test"));
+    assert_eq!(m.get(host::diagnosis::baseline::SMOOTHER_KEY), Some("0.2"));
+    assert_eq!(m.get("firmware_butterworth_order"), Some("2"));
+    assert_eq!(m.get("firmware_cutoff_hz"), Some("50"));
+    assert_eq!(m.get("chip_serial"), Some(format!("{:08x}", cfg.chip_serial).as_str()));
+
+    let temp = r.temp_c.as_ref().expect("a temp_C column");
+    assert_eq!(temp.len(), usize::from(cfg.batch));
+    // One code of the 24-bit ADC at PGA 2 is 0.07 uV, i.e. 7 u°C.
+    assert!(temp.iter().all(|t| (t - t_true_c).abs() < 1e-4), "{temp:?}");
+    assert_eq!(r.column("temp_code").unwrap()[0], f64::from(code));
+    let _ = std::fs::remove_dir_all(&dir);
+}
