@@ -208,11 +208,12 @@ pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
             let signal = rec.column("fz_N").unwrap_or(&rec.channels.fz_v);
             xcorr_offset(&rec.channels.t_s, signal, reference, max_lag_s).unwrap_or(0.0)
         }
-        Align::Start => rec
-            .rows
-            .iter()
-            .find(|row| row.iter().skip(3).take(3).any(|v| v.is_finite()))
-            .map_or(0.0, |row| -row[ti]),
+        Align::Start => {
+            let c = &rec.channels;
+            (0..c.len())
+                .find(|&i| [c.fz_v[i], c.mx_v[i], c.my_v[i]].iter().any(|v| v.is_finite()))
+                .map_or(0.0, |i| -c.t_s[i])
+        }
     };
     let c = &mut rec.channels;
     for i in 0..c.len() {
@@ -266,19 +267,28 @@ mod tests {
     /// A triggered machine's time zero is the first sample, wherever the recording's clock was.
     #[test]
     fn start_alignment_puts_machine_zero_on_the_first_sample() {
-        let rows = (0..5)
-            .map(|i| {
-                let t = 0.94 + 0.002 * i as f64;
-                vec![t, f64::NAN, f64::NAN, 0.1, 0.2, 0.3]
-            })
-            .collect();
-        let mut rec = Recording {
-            meta: Vec::new(),
-            columns: ["t_s", "rod_mm", "load_N", "fz_V", "mx_V", "my_V"]
-                .map(String::from)
-                .to_vec(),
-            rows,
-        };
+        let mut rec = Recording::new(crate::recording::Meta {
+            sample_rate_hz: 500.0,
+            contact_angle_deg: 20.0,
+            azimuth_deg: 60.0,
+            fingertip_radius_mm: 20.0,
+            gain_fz: 1.0,
+            gain_mx: 1.0,
+            gain_my: 1.0,
+            excitation_v: 3.3,
+            rod_speed_mm_per_min: None,
+            source: None,
+            other: Vec::new(),
+        });
+        for i in 0..5 {
+            let c = &mut rec.channels;
+            c.t_s.push(0.94 + 0.002 * i as f64);
+            c.rod_mm.push(f64::NAN);
+            c.load_n.push(f64::NAN);
+            c.fz_v.push(0.1);
+            c.mx_v.push(0.2);
+            c.my_v.push(0.3);
+        }
         let t_s: Vec<f64> = (0..10).map(|i| 0.002 * i as f64).collect();
         let r = Reference {
             rod_mm: t_s.iter().map(|t| 100.0 * t).collect(),
@@ -287,9 +297,10 @@ mod tests {
         };
         let offset = merge(&mut rec, &r, Align::Start);
         assert!((offset + 0.94).abs() < 1e-12);
-        for (i, row) in rec.rows.iter().enumerate() {
-            assert!((row[1] - 0.2 * i as f64).abs() < 1e-9, "rod at row {i}");
-            assert!((row[2] - 2.0 * i as f64).abs() < 1e-9, "load at row {i}");
+        let c = &rec.channels;
+        for i in 0..c.len() {
+            assert!((c.rod_mm[i] - 0.2 * i as f64).abs() < 1e-9, "rod at row {i}");
+            assert!((c.load_n[i] - 2.0 * i as f64).abs() < 1e-9, "load at row {i}");
         }
     }
 
