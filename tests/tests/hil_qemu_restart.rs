@@ -15,7 +15,6 @@ use std::path::Path;
 use std::time::{Duration, Instant, SystemTime};
 
 use host::device::{Counters, Device, Event, Frame, GapKind, OpenOptions, PortSpec, Scale};
-use host::logger::csv::read_recording;
 use host::logger::{gap_code, Recorder, Setup};
 use protocol::NullState;
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
@@ -108,7 +107,7 @@ fn check_values(frames: &[Frame]) -> u64 {
 /// The CSV holds exactly the received samples in order, with the two gap rows between the
 /// sessions, and reads back with the contract's reader.
 fn check_recording(path: &Path, log: &Log, scale: &Scale) {
-    let rec = read_recording(path).expect("the recording reads back with the contract's reader");
+    let rec = host::recording::read(path).expect("the recording reads back with the contract's reader");
     let col = |n: &str| rec.column(n).unwrap_or_else(|| panic!("column {n}"));
     let (seq, session, gap, missing) = (col("seq"), col("session"), col("gap"), col("missing"));
     let volts = [col("fz_V"), col("mx_V"), col("my_V")];
@@ -120,19 +119,16 @@ fn check_recording(path: &Path, log: &Log, scale: &Scale) {
             .collect::<Vec<_>>()
     });
     let mut gaps = Vec::new();
-    for (i, row) in rec.rows.iter().enumerate() {
-        if row[gap] != gap_code::NONE {
-            assert!(
-                row[volts[0]].is_nan(),
-                "row {i}: a gap row carries no value"
-            );
-            gaps.push((row[gap], row[missing].is_nan(), row[session] as u32));
+    for i in 0..rec.channels.len() {
+        if gap[i] != gap_code::NONE {
+            assert!(volts[0][i].is_nan(), "row {i}: a gap row carries no value");
+            gaps.push((gap[i], missing[i].is_nan(), session[i] as u32));
             continue;
         }
         let (s, q, codes) = samples.next().expect("no more rows than samples");
-        assert_eq!((row[session] as u32, row[seq] as u32), (s, q), "row {i}");
+        assert_eq!((session[i] as u32, seq[i] as u32), (s, q), "row {i}");
         for ch in 0..3 {
-            let code = (row[volts[ch]] / scale.volts_per_code[ch]).round() as i32;
+            let code = (volts[ch][i] / scale.volts_per_code[ch]).round() as i32;
             assert_eq!(code, codes[ch], "row {i} channel {ch}");
         }
     }
