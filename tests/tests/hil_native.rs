@@ -245,9 +245,11 @@ fn hil_native_firmware_library_against_the_emulated_sensor_over_a_pty() {
             "{name}: max error {} V > {tol} V",
             s.max_abs
         );
+        // The load must move the channel well clear of the tolerance, so the comparison above
+        // resolves the signal to 1 % (an absolute floor would track the front end's gains).
         assert!(
-            peak[ch] > 0.2,
-            "{name}: the load must move the channel ({})",
+            tol < 0.01 * peak[ch],
+            "{name}: peak {} V is not 100x the tolerance {tol} V",
             peak[ch]
         );
     }
