@@ -28,19 +28,11 @@ const MIN_TETS: usize = 10_000;
 
 fn nominal(hw: &hardware::Fingertip, material: Material, mesh_size_mm: f64) -> Config {
     Config {
-        radius_mm: hw.radius_mm,
-        youngs_modulus_pa: hw.youngs_modulus_pa,
-        poisson: hw.poisson,
         material,
-        mesh_size_mm,
         rod_radius_mm: hw.radius_mm,
         contact_angle_deg: 0.0,
         azimuth_deg: 0.0,
-        friction_mu: 0.0,
-        inclusion_half_width_mm: hw.inclusion_radius_mm * std::f64::consts::PI.sqrt() / 2.0,
-        inclusion_height_mm: hw.inclusion_height_mm,
-        load_steps: 40,
-        rod_speed_mm_per_s: hw.test.rod_speed_mm_per_min / 60.0,
+        ..Config::from_hardware(hw, mesh_size_mm)
     }
 }
 

@@ -9,24 +9,16 @@
 
 use std::fmt::Write as _;
 
-use fingertip::{Config, Curve, Fingertip, Material};
+use fingertip::{Config, Curve, Fingertip};
 use plotters::prelude::*;
 
 fn config(hw: &hardware::Fingertip, mesh_mm: f64, theta: f64, phi: f64) -> Config {
     Config {
-        radius_mm: hw.radius_mm,
-        youngs_modulus_pa: hw.youngs_modulus_pa,
-        poisson: hw.poisson,
-        material: Material::NeoHookean,
-        mesh_size_mm: mesh_mm,
         rod_radius_mm: hw.radius_mm,
         contact_angle_deg: theta,
         azimuth_deg: phi,
-        friction_mu: 0.0,
-        inclusion_half_width_mm: hw.inclusion_radius_mm * std::f64::consts::PI.sqrt() / 2.0,
-        inclusion_height_mm: hw.inclusion_height_mm,
         load_steps: 30,
-        rod_speed_mm_per_s: hw.test.rod_speed_mm_per_min / 60.0,
+        ..Config::from_hardware(hw, mesh_mm)
     }
 }
 

@@ -136,6 +136,28 @@ fn check(field: &'static str, value: f64, lo: f64, hi: f64) -> Result<(), Error>
 }
 
 impl Config {
+    /// The fingertip of `hardware/fingertip.toml` under its standard compression test: gel,
+    /// radius, rod, angles and speed from the file; neo-Hookean, frictionless, 40 load steps.
+    /// The FE's package is square: a half width of r·√π/2 gives it the area of the file's
+    /// round package, which the chip's mean traction is taken over.
+    pub fn from_hardware(hw: &hardware::Fingertip, mesh_size_mm: f64) -> Config {
+        Config {
+            radius_mm: hw.radius_mm,
+            youngs_modulus_pa: hw.youngs_modulus_pa,
+            poisson: hw.poisson,
+            material: Material::NeoHookean,
+            mesh_size_mm,
+            rod_radius_mm: hw.rod_radius_mm,
+            contact_angle_deg: hw.test.contact_angle_deg,
+            azimuth_deg: hw.test.azimuth_deg,
+            friction_mu: 0.0,
+            inclusion_half_width_mm: hw.inclusion_radius_mm * std::f64::consts::PI.sqrt() / 2.0,
+            inclusion_height_mm: hw.inclusion_height_mm,
+            load_steps: 40,
+            rod_speed_mm_per_s: hw.test.rod_speed_mm_per_min / 60.0,
+        }
+    }
+
     /// Reject values outside the ranges the model is built for.
     pub fn validate(&self) -> Result<(), Error> {
         check("radius_mm", self.radius_mm, 1.0, 1000.0)?;

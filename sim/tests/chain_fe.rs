@@ -16,21 +16,9 @@ fn fe_rows(
 ) -> Vec<(f64, f64, f64, [f64; 3])> {
     let f = &p.fingertip;
     let config = fingertip::Config {
-        radius_mm: f.radius_mm,
-        youngs_modulus_pa: f.youngs_modulus_pa,
-        poisson: f.poisson,
-        material: fingertip::Material::NeoHookean,
-        mesh_size_mm: 5.0,
         rod_radius_mm,
         contact_angle_deg,
-        azimuth_deg: f.test.azimuth_deg,
-        friction_mu: 0.0,
-        // The FE's package is square; this half width gives it the area of fingertip.toml's disc,
-        // which is what the mean traction is taken over (as `tactile fe` does).
-        inclusion_half_width_mm: f.inclusion_radius_mm * std::f64::consts::PI.sqrt() / 2.0,
-        inclusion_height_mm: f.inclusion_height_mm,
-        load_steps: 40,
-        rod_speed_mm_per_s: f.test.rod_speed_mm_per_min / 60.0,
+        ..fingertip::Config::from_hardware(f, 5.0)
     };
     let mut ft = fingertip::Fingertip::new(config).expect("fingertip model");
     let curve = ft

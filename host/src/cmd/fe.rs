@@ -111,10 +111,8 @@ pub fn config(args: &Args, hw: &hardware::Fingertip) -> Result<(Config, f64), Fe
         contact_angle_deg: in_range("--contact-angle", args.contact_angle.unwrap_or(hw.test.contact_angle_deg), 0.0, 60.0)?,
         azimuth_deg: in_range("--azimuth", args.azimuth.unwrap_or(hw.test.azimuth_deg), -360.0, 360.0)?,
         friction_mu: in_range("--friction", friction, 0.0, 2.0)?,
-        inclusion_half_width_mm: hw.inclusion_radius_mm * std::f64::consts::PI.sqrt() / 2.0,
-        inclusion_height_mm: hw.inclusion_height_mm,
         load_steps: in_range("--load-steps", args.load_steps as f64, 1.0, 10_000.0)? as usize,
-        rod_speed_mm_per_s: hw.test.rod_speed_mm_per_min / 60.0,
+        ..Config::from_hardware(hw, args.mesh_size)
     };
     let peak = in_range("--peak-load", args.peak_load.unwrap_or(hw.test.peak_load_n), 1e-6, 1e4)?;
     Ok((config, peak))

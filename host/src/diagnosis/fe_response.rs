@@ -13,7 +13,7 @@
 //! emulated sensor takes: [`chip_load`] is the only place that knows what the FE's loads mean.
 //! FE curves are cached on disk ([`super::fe_cache`]).
 
-use fingertip::{Config, Fingertip, Material};
+use fingertip::{Config, Fingertip};
 
 use super::baseline::{FingertipResponse, ResponseTable, UnitResponse};
 use super::fe_cache::{self, RawCurve};
@@ -87,21 +87,14 @@ impl FeSource {
     /// (friction is a catalogue effect), the package as a square inclusion of the same area as
     /// the toml's round one.
     pub fn config(&self, radius_mm: f64, theta_deg: f64, phi_deg: f64) -> Config {
-        let h = &self.fingertip;
         Config {
             radius_mm,
-            youngs_modulus_pa: h.youngs_modulus_pa,
-            poisson: h.poisson,
-            material: Material::NeoHookean,
             mesh_size_mm: MESH_FRACTION_OF_RADIUS * radius_mm,
             rod_radius_mm: radius_mm,
             contact_angle_deg: theta_deg,
             azimuth_deg: phi_deg,
-            friction_mu: 0.0,
-            inclusion_half_width_mm: h.inclusion_radius_mm * std::f64::consts::PI.sqrt() / 2.0,
-            inclusion_height_mm: h.inclusion_height_mm,
             load_steps: 1,
-            rod_speed_mm_per_s: h.test.rod_speed_mm_per_min / 60.0,
+            ..Config::from_hardware(&self.fingertip, 0.0)
         }
     }
 
