@@ -38,12 +38,32 @@ pub struct Ldlt {
     factor_mem: MemBuffer,
     solve_mem: MemBuffer,
     par: Par,
+    solve_par: Par,
     factored: Option<Precision>,
 }
 
 impl std::fmt::Debug for Ldlt {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Ldlt").field("n", &self.symbolic.nrows()).field("factor_nnz", &self.symbolic.len_val()).field("factored", &self.factored).finish()
+    }
+}
+
+/// Minimum rayon threads before the numeric factorisation runs in parallel.
+const PARALLEL_FACTOR_MIN_THREADS: usize = 4;
+
+/// Parallelism of the factorisation and of the single-column solves. faer splits the
+/// elimination tree between threads; on the 2-core machine that cost more in synchronisation
+/// (threads yielding and waking) than it gained: the 60 N curve's factorisations took
+/// 1.58–1.67 s in parallel against 1.33–1.42 s sequentially, its solves 2.2–2.3 s against
+/// 1.5–1.8 s, and the assembly beside them slowed from ~1.2 to ~1.8 s. One-column triangular
+/// solves are memory-bound and stay sequential everywhere; the factorisation goes parallel
+/// from `PARALLEL_FACTOR_MIN_THREADS` threads. `FINGERTIP_SEQ=1` forces sequential.
+fn parallelism() -> (Par, Par) {
+    let threads = rayon::current_num_threads();
+    if std::env::var_os("FINGERTIP_SEQ").is_some() || threads < PARALLEL_FACTOR_MIN_THREADS {
+        (Par::Seq, Par::Seq)
+    } else {
+        (Par::rayon(threads), Par::Seq)
     }
 }
 
@@ -71,9 +91,9 @@ impl Ldlt {
             None => factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Amd, CholeskySymbolicParams::default()),
         }
         .map_err(|e| Error::LinearSolver(format!("symbolic analysis: {e:?}")))?;
-        let par = if std::env::var_os("FINGERTIP_SEQ").is_some() { Par::Seq } else { Par::rayon(0) };
+        let (par, solve_par) = parallelism();
         let factor_mem = workspace(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()).or(symbolic.factorize_numeric_ldlt_scratch::<f32>(par, Default::default())))?;
-        let solve_mem = workspace(symbolic.solve_in_place_scratch::<f64>(64, par).or(symbolic.solve_in_place_scratch::<f32>(1, par)))?;
+        let solve_mem = workspace(symbolic.solve_in_place_scratch::<f64>(64, par).or(symbolic.solve_in_place_scratch::<f32>(1, solve_par)))?;
         Ok(Ldlt {
             pattern,
             symbolic,
@@ -84,6 +104,7 @@ impl Ldlt {
             factor_mem,
             solve_mem,
             par,
+            solve_par,
             factored: None,
         })
     }
@@ -134,7 +155,7 @@ impl Ldlt {
                     self.rhs_f32.clear();
                     self.rhs_f32.extend(col.iter().map(|&v| v as f32));
                     let m = MatMut::from_column_major_slice_mut(&mut self.rhs_f32[..], n, 1);
-                    ldlt.solve_in_place_with_conj(Conj::No, m, self.par, MemStack::new(&mut self.solve_mem));
+                    ldlt.solve_in_place_with_conj(Conj::No, m, self.solve_par, MemStack::new(&mut self.solve_mem));
                     col.iter_mut().zip(&self.rhs_f32).for_each(|(c, &v)| *c = v as f64);
                 }
             }
@@ -156,6 +177,36 @@ impl Ldlt {
     pub fn factor_nnz(&self) -> usize {
         self.symbolic.len_val()
     }
+}
+
+/// A fill-reducing ordering of the dofs from AMD on the graph of their owners (nodes):
+/// `owner[d]` is the node of dof d. Every node's dofs stay together, in their given order.
+pub fn blocked_amd(col_ptr: &[usize], row_idx: &[usize], owner: &[usize], n_owners: usize) -> Result<Vec<usize>, Error> {
+    let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n_owners];
+    for c in 0..owner.len() {
+        for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
+            let (a, b) = (owner[r].min(owner[c]), owner[r].max(owner[c]));
+            adj[b].push(a);
+        }
+    }
+    let mut cp = vec![0usize];
+    let mut ri = Vec::new();
+    for list in &mut adj {
+        list.sort_unstable();
+        list.dedup();
+        ri.extend_from_slice(list);
+        cp.push(ri.len());
+    }
+    let nnz = ri.len();
+    let graph = SymbolicSparseColMat::new_checked(n_owners, n_owners, cp, None, ri);
+    let (mut perm, mut inv) = (vec![0usize; n_owners], vec![0usize; n_owners]);
+    let mut mem = workspace(faer::sparse::linalg::amd::order_scratch::<usize>(n_owners, nnz))?;
+    faer::sparse::linalg::amd::order(&mut perm, &mut inv, graph.as_ref(), Default::default(), MemStack::new(&mut mem)).map_err(|e| Error::LinearSolver(format!("AMD: {e:?}")))?;
+    let mut dofs_of: Vec<Vec<usize>> = vec![Vec::new(); n_owners];
+    for (d, &o) in owner.iter().enumerate() {
+        dofs_of[o].push(d);
+    }
+    Ok(perm.iter().flat_map(|&o| dofs_of[o].iter().copied()).collect())
 }
 
 #[cfg(test)]

