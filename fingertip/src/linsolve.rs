@@ -13,6 +13,8 @@ use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbol
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::perm::PermRef;
 use faer::{Conj, MatMut, Par, Side};
+use std::sync::Arc;
+use std::thread::JoinHandle;
 
 use crate::Error;
 
@@ -27,8 +29,8 @@ pub enum Precision {
 
 /// A symmetric (upper-stored) sparse matrix factoriser with a fixed pattern.
 pub struct Ldlt {
-    pattern: SymbolicSparseColMat<usize>,
-    symbolic: SymbolicCholesky<usize>,
+    pattern: Arc<SymbolicSparseColMat<usize>>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
     l_values: Vec<f64>,
     l_values_f32: Vec<f32>,
     /// The matrix values rounded to f32 (kept to avoid an allocation per factorisation).
@@ -40,6 +42,19 @@ pub struct Ldlt {
     par: Par,
     solve_par: Par,
     factored: Option<Precision>,
+    /// A single-precision factorisation running on its own thread, and the buffers it will
+    /// hand back.
+    pending: Option<JoinHandle<Background>>,
+    spare: Option<Background>,
+}
+
+/// What a background factorisation owns: the matrix in f32, the factor, its workspace, and
+/// whether it succeeded.
+struct Background {
+    a_f32: Vec<f32>,
+    l_f32: Vec<f32>,
+    mem: MemBuffer,
+    ok: bool,
 }
 
 impl std::fmt::Debug for Ldlt {
@@ -95,8 +110,8 @@ impl Ldlt {
         let factor_mem = workspace(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()).or(symbolic.factorize_numeric_ldlt_scratch::<f32>(par, Default::default())))?;
         let solve_mem = workspace(symbolic.solve_in_place_scratch::<f64>(64, par).or(symbolic.solve_in_place_scratch::<f32>(1, solve_par)))?;
         Ok(Ldlt {
-            pattern,
-            symbolic,
+            pattern: Arc::new(pattern),
+            symbolic: Arc::new(symbolic),
             l_values: Vec::new(),
             l_values_f32: Vec::new(),
             a_f32: Vec::new(),
@@ -106,15 +121,18 @@ impl Ldlt {
             par,
             solve_par,
             factored: None,
+            pending: None,
+            spare: None,
         })
     }
 
     /// Double-precision numeric factorisation of the matrix with these values in the
     /// analysed pattern.
     pub fn factorize(&mut self, values: &[f64]) -> Result<(), Error> {
+        self.discard_background();
         self.factored = None;
         self.l_values.resize(self.symbolic.len_val(), 0.0);
-        let a = SparseColMatRef::new(self.pattern.as_ref(), values);
+        let a = SparseColMatRef::new((*self.pattern).as_ref(), values);
         self.symbolic
             .factorize_numeric_ldlt(&mut self.l_values, a, Side::Upper, LdltRegularization::default(), self.par, MemStack::new(&mut self.factor_mem), Default::default())
             .map_err(|e| Error::LinearSolver(format!("LDLT: {e:?}")))?;
@@ -124,16 +142,73 @@ impl Ldlt {
 
     /// Single-precision numeric factorisation (a preconditioner, see the module notes).
     pub fn factorize_single(&mut self, values: &[f64]) -> Result<(), Error> {
+        self.discard_background();
         self.factored = None;
         self.l_values_f32.resize(self.symbolic.len_val(), 0.0);
         self.a_f32.clear();
         self.a_f32.extend(values.iter().map(|&v| v as f32));
-        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.a_f32[..]);
+        let a = SparseColMatRef::new((*self.pattern).as_ref(), &self.a_f32[..]);
         self.symbolic
             .factorize_numeric_ldlt(&mut self.l_values_f32, a, Side::Upper, LdltRegularization::default(), self.par, MemStack::new(&mut self.factor_mem), Default::default())
             .map_err(|e| Error::LinearSolver(format!("LDLT (f32): {e:?}")))?;
         self.factored = Some(Precision::Single);
         Ok(())
+    }
+
+    /// Start a single-precision factorisation of these values on a thread of its own, unless
+    /// one is running; the held factor stays in use until [`Ldlt::adopt_background`] swaps
+    /// the new one in. Why: the factorisation and the one-column solves are sequential, so on
+    /// two cores the second core idles through them; a refreshed preconditioner a Newton
+    /// iteration late costs a GMRES iteration or two, far less than waiting for it.
+    pub fn factorize_single_in_background(&mut self, values: &[f64]) -> Result<(), Error> {
+        if self.pending.is_some() {
+            return Ok(());
+        }
+        let mut job = match self.spare.take() {
+            Some(b) => b,
+            None => Background { a_f32: Vec::new(), l_f32: Vec::new(), mem: workspace(self.symbolic.factorize_numeric_ldlt_scratch::<f32>(Par::Seq, Default::default()))?, ok: false },
+        };
+        job.a_f32.clear();
+        job.a_f32.extend(values.iter().map(|&v| v as f32));
+        job.l_f32.resize(self.symbolic.len_val(), 0.0);
+        let (pattern, symbolic) = (Arc::clone(&self.pattern), Arc::clone(&self.symbolic));
+        self.pending = Some(std::thread::spawn(move || {
+            let a = SparseColMatRef::new((*pattern).as_ref(), &job.a_f32[..]);
+            job.ok = symbolic
+                .factorize_numeric_ldlt(&mut job.l_f32, a, Side::Upper, LdltRegularization::default(), Par::Seq, MemStack::new(&mut job.mem), Default::default())
+                .is_ok();
+            job
+        }));
+        Ok(())
+    }
+
+    /// If a background factorisation has finished (or `wait`), make it the held factor.
+    /// Returns whether a new factor was adopted.
+    pub fn adopt_background(&mut self, wait: bool) -> bool {
+        match &self.pending {
+            Some(h) if wait || h.is_finished() => {}
+            _ => return false,
+        }
+        let Some(Ok(mut job)) = self.pending.take().map(JoinHandle::join) else { return false };
+        let adopted = job.ok;
+        if adopted {
+            std::mem::swap(&mut self.l_values_f32, &mut job.l_f32);
+            self.factored = Some(Precision::Single);
+        }
+        self.spare = Some(job);
+        adopted
+    }
+
+    /// Whether a background factorisation is running.
+    pub fn background_pending(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// Wait for a running background factorisation and drop its result.
+    fn discard_background(&mut self) {
+        if let Some(Ok(job)) = self.pending.take().map(JoinHandle::join) {
+            self.spare = Some(job);
+        }
     }
 
     /// Solve A X = B in place for the columns of `rhs` (column-major, `n x k`) with the held
