@@ -37,16 +37,23 @@ fn base(material: Material, mesh_size_mm: f64) -> Config {
 /// asserts the corrected law within 5 % and prints both. The mesh is refined at the pole by
 /// shrinking the chip inclusion (the cap inherits the chip's lateral spacing).
 ///
-/// Resolution: the contact is node-to-rod, and the pole's nodes lie on rings that enter the
-/// contact one at a time, so the force is only as good as the number of rings inside the
-/// contact radius a = sqrt(R d). Below ~5 node spacings (d/R < 0.007 on this mesh, a < 1.7 mm
-/// against a 0.33 mm pole spacing) the ring quantisation is +6..+9 % and does not shrink
-/// steadily with a finer pole (0.22 mm gave +8.9 % at d/R = 0.0025: a ring sits just outside
-/// the patch); those points are printed, and the 5 % is asserted where a spans >= 5 spacings.
+/// Resolution: what the small-indentation points need is a fine bulk, not a finer contact.
+/// On the h = 2 mm mesh (88,800 tets) the points at d/R = 0.0025 and 0.005 (a = 3 and 4 pole
+/// spacings) were +7.5 and +6.5 % above the corrected law; contact integrated over the
+/// surface triangles instead of node by node gave the same numbers to 0.1 %, so ring
+/// quantisation was not the cause. At h = 1.4 mm (210,912 tets, same 0.33 mm pole spacing)
+/// they are +1.3 and +1.9 %, and every point from 0.0025 to 0.02 is within 5 %:
+/// +1.3, +1.9, -2.5, -1.5, -1.8, -4.1, -4.9, -4.5 % (raw Hertz +8..+13 %).
+///
+/// What is left: from d/R ~ 0.015 the FE falls 4–5 % below the corrected law, and further as
+/// the bulk is refined (-1.0 % at h = 2 mm, -4.5 % at 1.4 mm at d/R = 0.02). The correction
+/// takes the base's stiffening from the half-space's field at depth R, but a hemisphere lacks
+/// the half-space's material beside the axis, so it is stiffened less: the correction is an
+/// upper estimate whose error grows with d/R. Minutes in release (5 on the 2-core machine).
 #[test]
 #[ignore]
 fn hertz_limit_at_small_indentation() {
-    let mut c = base(Material::Linear, 2.0);
+    let mut c = base(Material::Linear, 1.4);
     c.inclusion_half_width_mm = 0.3;
     c.inclusion_height_mm = 0.3;
     let nu = c.poisson;
@@ -57,29 +64,22 @@ fn hertz_limit_at_small_indentation() {
     let spacing = pole_spacing_m(&ft.solver.model.mesh);
     println!("{:?}; pole node spacing {:.3} mm", ft.quality(), spacing * 1e3);
     let mut worst: f64 = 0.0;
-    let mut asserted = 0;
     for d_over_r in [0.0025, 0.005, 0.0075, 0.01, 0.0125, 0.015, 0.0175, 0.02] {
         let p = ft.step_to(d_over_r * 20.0, 1.0).unwrap();
         let d = d_over_r * r;
         let hertz = 4.0 / 3.0 * e_star * r.sqrt() * d.powf(1.5);
         let corrected = hertz * (1.0 + bonded * d_over_r.sqrt()).powf(1.5);
         let (raw, err) = (p.force_n / hertz - 1.0, p.force_n / corrected - 1.0);
-        let spacings = (r * d).sqrt() / spacing;
-        let resolved = spacings >= 5.0;
         println!(
-            "d/R {d_over_r:.4}: F {:.5} N, Hertz {hertz:.5} N ({:+.2} %), bonded-base Hertz {corrected:.5} N ({:+.2} %), {} contact nodes, a = {spacings:.1} spacings{}",
+            "d/R {d_over_r:.4}: F {:.5} N, Hertz {hertz:.5} N ({:+.2} %), bonded-base Hertz {corrected:.5} N ({:+.2} %), {} contact nodes, a = {:.1} pole spacings",
             p.force_n,
             100.0 * raw,
             100.0 * err,
             p.contact_nodes,
-            if resolved { "" } else { " (not resolved: printed only)" }
+            (r * d).sqrt() / spacing
         );
-        if resolved {
-            worst = worst.max(err.abs());
-            asserted += 1;
-        }
+        worst = worst.max(err.abs());
     }
-    assert!(asserted >= 4, "too few resolved points");
     assert!(worst < 0.05, "bonded-base Hertz error {worst}");
 }
 
