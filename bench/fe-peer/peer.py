@@ -72,12 +72,13 @@ def solve(args):
     w = args.inclusion_half_width_mm * 1e-3
     h = args.inclusion_height_mm * 1e-3
     size = args.mesh_mm * 1e-3
-    pts, tets = mesh_hemisphere(radius, w, h, size, 0.5 * size)
+    pole = (args.pole_mm if args.pole_mm else 0.5 * args.mesh_mm) * 1e-3
+    pts, tets = mesh_hemisphere(radius, w, h, size, pole)
     mesh = skfem.MeshTet(pts.T.copy(), tets.T.copy())
     basis = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTetP2()))
     lam, mu = lame_parameters(args.youngs_modulus, args.poisson)
     K = linear_elasticity(lam, mu).assemble(basis).tocsr()
-    print(f"peer mesh {args.mesh_mm} mm: {mesh.t.shape[1]} tets, {mesh.p.shape[1]} vertices, {K.shape[0]} P2 dofs")
+    print(f"peer mesh {args.mesh_mm} mm (pole {pole * 1e3:g} mm): {mesh.t.shape[1]} tets, {mesh.p.shape[1]} vertices, {K.shape[0]} P2 dofs")
 
     x = basis.doflocs  # (3, ndofs): location of every dof
     tol = 1e-9 * radius
@@ -128,6 +129,7 @@ def main():
     ap.add_argument("--youngs-modulus", type=float, required=True)
     ap.add_argument("--poisson", type=float, required=True)
     ap.add_argument("--mesh-mm", type=float, required=True)
+    ap.add_argument("--pole-mm", type=float, default=None, help="element size within 0.3 R of the pole and the chip (default: half of --mesh-mm)")
     ap.add_argument("--inclusion-half-width-mm", type=float, required=True)
     ap.add_argument("--inclusion-height-mm", type=float, required=True)
     ap.add_argument("--travels-mm", type=float, nargs="+", required=True)

@@ -7,7 +7,9 @@
 //! cargo bench -p fingertip --bench fe_bench -- peer         # peer only (venv already made)
 //! PEER_MESH_MM=5 OUR_MESH_MM=4 cargo bench -p fingertip --bench fe_bench -- peer
 //! ```
-//! (peer mesh 3 mm did not finish in 30 min on the shared 2-core machine.)
+//! The peer section takes ~13 minutes on 2 cores, nearly all of it the peer's fine run
+//! (42,582 P2 dofs, one sparse LU per active-set change); a peer mesh of 3 mm everywhere did
+//! not finish in 30 minutes.
 //!
 //! Parameters come from `hardware/fingertip.toml` (gel, radius, package); the rod is a platen
 //! of radius R (the toml's 5 mm rod cannot reach 60 N without the gel wrapping round it, see
@@ -142,65 +144,110 @@ fn cpu_s() -> f64 {
     f.get(10).zip(f.get(11)).map_or(f64::NAN, |(u, s)| (u + s) / 100.0)
 }
 
-/// The scikit-fem peer on the same linear-elastic problem, if its venv exists.
+/// Rod travels of the peer comparison, mm.
+const PEER_TRAVELS_MM: [f64; 4] = [0.5, 1.0, 1.5, 2.0];
+/// The goal for the difference of the converged curves.
+const PEER_DIFFERENCE_GOAL: f64 = 0.03;
+/// A curve point counts as converged when it moved less than this between the two meshes.
+const CONVERGED_CHANGE: f64 = 0.02;
+
+/// One force–travel curve and what it cost.
+struct Run {
+    forces: Vec<f64>,
+    wall_s: f64,
+    cpu_s: f64,
+    mesh: String,
+}
+
+fn env_mm(name: &str, default: f64) -> f64 {
+    std::env::var(name).ok().and_then(|s| s.parse().ok()).unwrap_or(default)
+}
+
+/// Our linear curve at nominal mesh size `h_mm`.
+fn our_run(hw: &hardware::Fingertip, h_mm: f64) -> Run {
+    let t0 = Instant::now();
+    let c0 = cpu_s();
+    let mut ft = Fingertip::new(nominal(hw, Material::Linear, h_mm)).expect("model");
+    let forces = PEER_TRAVELS_MM.iter().map(|&d| ft.step_to(d, 1.0).expect("step").force_n).collect();
+    let q = ft.quality();
+    Run { forces, wall_s: t0.elapsed().as_secs_f64(), cpu_s: cpu_s() - c0, mesh: format!("fingertip {h_mm} mm: {} tets, {} nodes", q.tets, q.nodes) }
+}
+
+/// The peer's curve (a separate process), or why it failed.
+fn peer_run(hw: &hardware::Fingertip, mesh_mm: f64, pole_mm: f64) -> Result<Run, String> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let config = nominal(hw, Material::Linear, mesh_mm);
+    let out = Command::new(root.join("bench/fe-peer/.venv/bin/python"))
+        .arg(root.join("bench/fe-peer/peer.py"))
+        .args(["--radius-mm", &config.radius_mm.to_string(), "--youngs-modulus", &config.youngs_modulus_pa.to_string()])
+        .args(["--poisson", &config.poisson.to_string(), "--mesh-mm", &mesh_mm.to_string(), "--pole-mm", &pole_mm.to_string()])
+        .args(["--inclusion-half-width-mm", &config.inclusion_half_width_mm.to_string(), "--inclusion-height-mm", &config.inclusion_height_mm.to_string()])
+        .arg("--travels-mm")
+        .args(PEER_TRAVELS_MM.iter().map(|t| t.to_string()))
+        .output()
+        .map_err(|e| format!("running the peer: {e}"))?;
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).into_owned());
+    }
+    let mut run = Run { forces: Vec::new(), wall_s: f64::NAN, cpu_s: f64::NAN, mesh: String::new() };
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let value = |rest: &str| rest.split_whitespace().last().and_then(|s| s.parse::<f64>().ok()).unwrap_or(f64::NAN);
+        if let Some(rest) = line.strip_prefix("force ") {
+            run.forces.push(value(rest));
+        } else if let Some(rest) = line.strip_prefix("wall_s ") {
+            run.wall_s = value(rest);
+        } else if let Some(rest) = line.strip_prefix("cpu_s ") {
+            run.cpu_s = value(rest);
+        } else {
+            run.mesh.push_str(line);
+        }
+    }
+    match run.forces.len() == PEER_TRAVELS_MM.len() {
+        true => Ok(run),
+        false => Err(format!("the peer printed {} forces for {} travels", run.forces.len(), PEER_TRAVELS_MM.len())),
+    }
+}
+
+/// The scikit-fem peer on the same linear-elastic problem, if its venv exists: each side on a
+/// coarse and a fine mesh (ours: nominal size halved; the peer: P2 elements, its size under
+/// the contact halved), the fine curves compared where both moved < CONVERGED_CHANGE, and the
+/// wall-time ratios at both levels.
 fn peer_bench(hw: &hardware::Fingertip) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let python = root.join("bench/fe-peer/.venv/bin/python");
-    let script = root.join("bench/fe-peer/peer.py");
-    if !python.exists() {
+    if !root.join("bench/fe-peer/.venv/bin/python").exists() {
         println!("== peer: skipped, run bench/fe-peer/run.sh to create the venv ==");
         return;
     }
-    let peer_h = std::env::var("PEER_MESH_MM").ok().and_then(|s| s.parse().ok()).unwrap_or(4.0);
-    let travels = [0.5, 1.0, 1.5, 2.0];
-    let config = nominal(hw, Material::Linear, std::env::var("OUR_MESH_MM").ok().and_then(|s| s.parse().ok()).unwrap_or(4.0));
-    let t0 = Instant::now();
-    let c0 = cpu_s();
-    let mut ft = Fingertip::new(config.clone()).expect("model");
-    let ours: Vec<f64> = travels.iter().map(|&d| ft.step_to(d, 1.0).expect("step").force_n).collect();
-    let our_s = t0.elapsed().as_secs_f64();
-    let our_cpu = cpu_s() - c0;
-    let out = Command::new(&python)
-        .arg(&script)
-        .args(["--radius-mm", &config.radius_mm.to_string(), "--youngs-modulus", &config.youngs_modulus_pa.to_string()])
-        .args(["--poisson", &config.poisson.to_string(), "--mesh-mm", &peer_h.to_string()])
-        .args(["--inclusion-half-width-mm", &config.inclusion_half_width_mm.to_string(), "--inclusion-height-mm", &config.inclusion_height_mm.to_string()])
-        .arg("--travels-mm")
-        .args(travels.iter().map(|t| t.to_string()))
-        .output()
-        .expect("running the peer");
-    if !out.status.success() {
-        println!("== peer failed ==\n{}", String::from_utf8_lossy(&out.stderr));
-        return;
-    }
-    let text = String::from_utf8_lossy(&out.stdout);
-    let mut peer = Vec::new();
-    let mut peer_s = f64::NAN;
-    let mut peer_cpu = f64::NAN;
-    let mut peer_info = String::new();
-    for line in text.lines() {
-        if let Some(rest) = line.strip_prefix("force ") {
-            peer.push(rest.split_whitespace().nth(1).and_then(|s| s.parse::<f64>().ok()).unwrap_or(f64::NAN));
-        } else if let Some(rest) = line.strip_prefix("wall_s ") {
-            peer_s = rest.trim().parse().unwrap_or(f64::NAN);
-        } else if let Some(rest) = line.strip_prefix("cpu_s ") {
-            peer_cpu = rest.trim().parse().unwrap_or(f64::NAN);
-        } else {
-            peer_info.push_str(line);
-            peer_info.push('\n');
+    let peer_h = env_mm("PEER_MESH_MM", 4.0);
+    let (peer_pole_coarse, peer_pole_fine) = (env_mm("PEER_POLE_MM", peer_h / 2.0), env_mm("PEER_FINE_POLE_MM", peer_h / 4.0));
+    let (our_coarse, our_fine) = (env_mm("OUR_MESH_MM", 4.0), env_mm("OUR_FINE_MESH_MM", 2.0));
+    let ours = [our_run(hw, our_coarse), our_run(hw, our_fine)];
+    let peer = match (peer_run(hw, peer_h, peer_pole_coarse), peer_run(hw, peer_h, peer_pole_fine)) {
+        (Ok(a), Ok(b)) => [a, b],
+        (Err(e), _) | (_, Err(e)) => {
+            println!("== peer failed ==\n{e}");
+            return;
         }
-    }
+    };
     println!("== peer: scikit-fem (P2 tets, gmsh mesh, exact active-set contact) vs fingertip (P1 nodal-pressure tets, penalty) ==");
-    print!("{peer_info}");
-    let q = ft.quality();
-    println!("fingertip mesh {:.2} mm: {} tets, {} nodes", config.mesh_size_mm, q.tets, q.nodes);
-    println!("travel_mm  fingertip_n  peer_n  difference_%");
-    for (i, d) in travels.iter().enumerate() {
-        let p = peer.get(i).copied().unwrap_or(f64::NAN);
-        println!("{d:9.3}  {:11.5}  {p:6.5}  {:+8.2}", ours[i], 100.0 * (ours[i] - p) / p);
+    for r in ours.iter().chain(&peer) {
+        println!("{}", r.mesh);
     }
-    println!("wall: fingertip {our_s:.3} s, peer {peer_s:.3} s; speed ratio peer/fingertip = {:.1}x (goal >= 20)", peer_s / our_s);
-    println!("cpu:  fingertip {our_cpu:.2} s, peer {peer_cpu:.2} s; cpu ratio peer/fingertip = {:.1}x", peer_cpu / our_cpu);
+    println!("travel_mm  ours_coarse  ours_fine  change_%  peer_coarse  peer_fine  change_%  fine_difference_%  converged");
+    let mut worst: f64 = 0.0;
+    for (i, d) in PEER_TRAVELS_MM.iter().enumerate() {
+        let (o0, o1, p0, p1) = (ours[0].forces[i], ours[1].forces[i], peer[0].forces[i], peer[1].forces[i]);
+        let (co, cp, diff) = (o1 / o0 - 1.0, p1 / p0 - 1.0, o1 / p1 - 1.0);
+        let converged = co.abs() < CONVERGED_CHANGE && cp.abs() < CONVERGED_CHANGE;
+        if converged {
+            worst = worst.max(diff.abs());
+        }
+        println!("{d:9.3}  {o0:11.5}  {o1:9.5}  {:+8.2}  {p0:11.5}  {p1:9.5}  {:+8.2}  {:+17.2}  {converged}", 100.0 * co, 100.0 * cp, 100.0 * diff);
+    }
+    println!("largest difference where both moved < {:.0} %: {:.2} % (goal <= {:.0} %)", 100.0 * CONVERGED_CHANGE, 100.0 * worst, 100.0 * PEER_DIFFERENCE_GOAL);
+    for (level, o, p) in [("coarse", &ours[0], &peer[0]), ("fine", &ours[1], &peer[1])] {
+        println!("{level}: wall fingertip {:.3} s, peer {:.3} s, speed ratio peer/fingertip = {:.1}x (goal >= 20); cpu {:.2} s vs {:.2} s = {:.1}x", o.wall_s, p.wall_s, p.wall_s / o.wall_s, o.cpu_s, p.cpu_s, p.cpu_s / o.cpu_s);
+    }
 }
 
 fn main() {

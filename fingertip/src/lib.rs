@@ -29,8 +29,9 @@
 //! - chip ([`loads`]): the package + pillar is rigid (silicon/epoxy vs a 0.1 MPa gel, ratio
 //!   ~1e4) and clamped to the mount; the chip's loads are the reactions on its top face only
 //!   (the pillar's), the side walls load the mount through the package;
-//! - linear algebra ([`linsolve`], [`krylov`], [`solver`]): one symbolic analysis, Newton
-//!   systems by GMRES preconditioned with a kept single-precision factor, inexact Newton;
+//! - linear algebra ([`linsolve`], [`krylov`], [`solver`]): one symbolic analysis (AMD on the
+//!   node graph), Newton systems by GMRES preconditioned with a kept single-precision factor
+//!   that is refreshed on a background thread, inexact Newton;
 //! - haptic ([`haptic`]): Schur complement of the tangent onto the contact normals.
 //!
 //! Data note: with the nominal gel (E = 0.1 MPa) a 5 mm-radius flat rod cannot carry 60 N
