@@ -182,12 +182,11 @@ impl Ldlt {
         Ok(())
     }
 
-    /// If a background factorisation has finished (or `wait`), make it the held factor.
-    /// Returns whether a new factor was adopted.
-    pub fn adopt_background(&mut self, wait: bool) -> bool {
-        match &self.pending {
-            Some(h) if wait || h.is_finished() => {}
-            _ => return false,
+    /// If a background factorisation has finished, make it the held factor. Returns whether a
+    /// new factor was adopted.
+    pub fn adopt_background(&mut self) -> bool {
+        if !self.pending.as_ref().is_some_and(JoinHandle::is_finished) {
+            return false;
         }
         let Some(Ok(mut job)) = self.pending.take().map(JoinHandle::join) else { return false };
         let adopted = job.ok;
@@ -197,11 +196,6 @@ impl Ldlt {
         }
         self.spare = Some(job);
         adopted
-    }
-
-    /// Whether a background factorisation is running.
-    pub fn background_pending(&self) -> bool {
-        self.pending.is_some()
     }
 
     /// Wait for a running background factorisation and drop its result.
@@ -311,5 +305,54 @@ mod tests {
         for i in 0..3 {
             assert!((b[i] - x[i]).abs() < 1e-6);
         }
+    }
+
+    /// The node-blocked ordering is a permutation that keeps each node's dofs together.
+    #[test]
+    fn blocked_amd_keeps_each_nodes_dofs_together() {
+        // A path of 4 nodes with 2 dofs each (dof 2k, 2k+1 on node k), upper CSC.
+        let owner = [0, 0, 1, 1, 2, 2, 3, 3];
+        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+        for c in 0..8 {
+            for r in 0..=c {
+                if (owner[r] as i64 - owner[c] as i64).abs() <= 1 {
+                    row_idx.push(r);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let perm = blocked_amd(&col_ptr, &row_idx, &owner, 4).unwrap();
+        let mut seen = perm.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..8).collect::<Vec<_>>());
+        for pair in perm.chunks(2) {
+            assert_eq!(owner[pair[0]], owner[pair[1]]);
+            assert!(pair[0] < pair[1]);
+        }
+    }
+
+    /// A factor built in the background is adopted once done and then solves like one built
+    /// in the foreground.
+    #[test]
+    fn background_factor_is_adopted_and_solves() {
+        let col_ptr = [0, 1, 3, 6];
+        let row_idx = [0, 0, 1, 0, 1, 2];
+        let vals = [4.0, 1.0, 3.0, 1.0, 1.0, -0.5];
+        let mut s = Ldlt::new(3, &col_ptr, &row_idx, None).unwrap();
+        s.factorize_single(&[1.0, 0.0, 1.0, 0.0, 0.0, -1.0]).unwrap();
+        s.factorize_single_in_background(&vals).unwrap();
+        let adopted = (0..5000).any(|_| {
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            s.adopt_background()
+        });
+        assert!(adopted, "the background factor never arrived");
+        let x = [1.0, -2.0, 0.5];
+        let a = [[4.0, 1.0, 1.0], [1.0, 3.0, 1.0], [1.0, 1.0, -0.5]];
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i][j] * x[j]).sum()).collect();
+        s.solve_in_place(&mut b, 1);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < 1e-6);
+        }
+        assert!(!s.adopt_background(), "nothing left to adopt");
     }
 }

@@ -293,7 +293,7 @@ impl Solver {
                 self.factor_single()?;
                 fresh = true;
             } else {
-                if self.ldlt.adopt_background(false) {
+                if self.ldlt.adopt_background() {
                     self.stats.factorizations += 1;
                     self.stats.background_factorizations += 1;
                 }
