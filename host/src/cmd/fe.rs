@@ -157,8 +157,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             q.nodes, q.tets, curve.dofs, q.min_dihedral_deg, q.max_dihedral_deg, q.max_aspect_ratio, q.volume_ratio
         );
         eprintln!(
-            "# time: setup {:.3} s, solve {:.3} s ({} steps, {} Newton iterations, {} factorisations, {} cutbacks; assembly {:.3} s, factor {:.3} s)",
-            curve.setup_s, curve.solve_s, curve.points.len() - 1, s.newton_iterations, s.factorizations, s.cutbacks, s.assembly_s, s.factor_s
+            "# time: setup {:.3} s, solve {:.3} s ({} steps, {} Newton iterations, {} factorisations of which {} in the background, {} cutbacks; assembly {:.3} s, factor {:.3} s on the Newton path)",
+            curve.setup_s,
+            curve.solve_s,
+            curve.points.len() - 1,
+            s.newton_iterations,
+            s.factorizations,
+            s.background_factorizations,
+            s.cutbacks,
+            s.assembly_s,
+            s.factor_s
         );
     }
     Ok(())
