@@ -282,29 +282,31 @@ pub fn blocked_amd(col_ptr: &[usize], row_idx: &[usize], owner: &[usize], n_owne
 mod tests {
     use super::*;
 
-    /// A quasi-definite 3x3 (SPD block, negative pressure-like diagonal) is solved exactly.
+    /// A quasi-definite 3x3 (SPD block, negative pressure-like diagonal), upper CSC.
+    const COL_PTR: [usize; 4] = [0, 1, 3, 6];
+    const ROW_IDX: [usize; 6] = [0, 0, 1, 0, 1, 2];
+    const VALS: [f64; 6] = [4.0, 1.0, 3.0, 1.0, 1.0, -0.5];
+    const A: [[f64; 3]; 3] = [[4.0, 1.0, 1.0], [1.0, 3.0, 1.0], [1.0, 1.0, -0.5]];
+
+    /// The held factor solves A x = b for a known x to within `tol`.
+    fn assert_solves(s: &mut Ldlt, tol: f64) {
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| A[i][j] * x[j]).sum()).collect();
+        s.solve_in_place(&mut b, 1);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < tol, "x[{i}] = {} against {}", b[i], x[i]);
+        }
+    }
+
+    /// The double factor solves the quasi-definite system exactly, the single one to f32
+    /// accuracy.
     #[test]
     fn solves_a_quasi_definite_system() {
-        // [[4, 1, 1], [1, 3, 1], [1, 1, -0.5]] upper CSC
-        let col_ptr = [0, 1, 3, 6];
-        let row_idx = [0, 0, 1, 0, 1, 2];
-        let vals = [4.0, 1.0, 3.0, 1.0, 1.0, -0.5];
-        let mut s = Ldlt::new(3, &col_ptr, &row_idx, None).unwrap();
-        s.factorize(&vals).unwrap();
-        let x = [1.0, -2.0, 0.5];
-        let a = [[4.0, 1.0, 1.0], [1.0, 3.0, 1.0], [1.0, 1.0, -0.5]];
-        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i][j] * x[j]).sum()).collect();
-        s.solve_in_place(&mut b, 1);
-        for i in 0..3 {
-            assert!((b[i] - x[i]).abs() < 1e-12);
-        }
-        // The single-precision factor solves it to f32 accuracy.
-        s.factorize_single(&vals).unwrap();
-        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i][j] * x[j]).sum()).collect();
-        s.solve_in_place(&mut b, 1);
-        for i in 0..3 {
-            assert!((b[i] - x[i]).abs() < 1e-6);
-        }
+        let mut s = Ldlt::new(3, &COL_PTR, &ROW_IDX, None).unwrap();
+        s.factorize(&VALS).unwrap();
+        assert_solves(&mut s, 1e-12);
+        s.factorize_single(&VALS).unwrap();
+        assert_solves(&mut s, 1e-6);
     }
 
     /// The node-blocked ordering is a permutation that keeps each node's dofs together.
@@ -335,24 +337,15 @@ mod tests {
     /// in the foreground.
     #[test]
     fn background_factor_is_adopted_and_solves() {
-        let col_ptr = [0, 1, 3, 6];
-        let row_idx = [0, 0, 1, 0, 1, 2];
-        let vals = [4.0, 1.0, 3.0, 1.0, 1.0, -0.5];
-        let mut s = Ldlt::new(3, &col_ptr, &row_idx, None).unwrap();
+        let mut s = Ldlt::new(3, &COL_PTR, &ROW_IDX, None).unwrap();
         s.factorize_single(&[1.0, 0.0, 1.0, 0.0, 0.0, -1.0]).unwrap();
-        s.factorize_single_in_background(&vals).unwrap();
+        s.factorize_single_in_background(&VALS).unwrap();
         let adopted = (0..5000).any(|_| {
             std::thread::sleep(std::time::Duration::from_millis(1));
             s.adopt_background()
         });
         assert!(adopted, "the background factor never arrived");
-        let x = [1.0, -2.0, 0.5];
-        let a = [[4.0, 1.0, 1.0], [1.0, 3.0, 1.0], [1.0, 1.0, -0.5]];
-        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| a[i][j] * x[j]).sum()).collect();
-        s.solve_in_place(&mut b, 1);
-        for i in 0..3 {
-            assert!((b[i] - x[i]).abs() < 1e-6);
-        }
+        assert_solves(&mut s, 1e-6);
         assert!(!s.adopt_background(), "nothing left to adopt");
     }
 }
