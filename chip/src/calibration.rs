@@ -91,7 +91,10 @@ pub fn fit(samples: &[Sample], with_temperature: bool) -> Result<Fit, FitError> 
     let p = if with_temperature { 5 } else { 4 };
     let n = samples.len();
     if n <= p {
-        return Err(FitError::TooFewSamples { samples: n, parameters: p });
+        return Err(FitError::TooFewSamples {
+            samples: n,
+            parameters: p,
+        });
     }
     if let Some(index) = samples.iter().position(|s| !finite(s)) {
         return Err(FitError::NonFinite { index });
@@ -118,8 +121,9 @@ pub fn fit(samples: &[Sample], with_temperature: bool) -> Result<Fit, FitError> 
         }
     }
     let inv = invert(xtx).ok_or(FitError::Singular)?;
-    let beta: Vec<[f64; 3]> =
-        (0..p).map(|i| [0, 1, 2].map(|c| (0..p).map(|k| inv[i][k] * xty[k][c]).sum())).collect();
+    let beta: Vec<[f64; 3]> = (0..p)
+        .map(|i| [0, 1, 2].map(|c| (0..p).map(|k| inv[i][k] * xty[k][c]).sum()))
+        .collect();
     let mut rss = [0.0; 3];
     for s in samples {
         let x = row(s);
@@ -160,8 +164,9 @@ fn invert(mut a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
             a[i][j] /= d[i] * d[j];
         }
     }
-    let mut inv: Vec<Vec<f64>> =
-        (0..p).map(|i| (0..p).map(|j| f64::from(u8::from(i == j))).collect()).collect();
+    let mut inv: Vec<Vec<f64>> = (0..p)
+        .map(|i| (0..p).map(|j| f64::from(u8::from(i == j))).collect())
+        .collect();
     for col in 0..p {
         let pivot = (col..p).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
         if a[pivot][col].abs() < 1e-12 {

@@ -36,7 +36,10 @@ impl FrameOptions {
     /// thickness) instead of a rigid block. A stub of beam theory is more flexible than the
     /// solid block it stands for, so this bounds the block's flexibility from above.
     pub fn with_real_block() -> Self {
-        Self { real_block: true, ..Self::default() }
+        Self {
+            real_block: true,
+            ..Self::default()
+        }
     }
 }
 
@@ -112,9 +115,21 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
     }
     let g = &p.geometry;
     let (e, gs) = (p.silicon.youngs_modulus_pa, p.silicon.shear_modulus_pa);
-    let beam_section = rectangle(g.beam_width_m, g.beam_thickness_m, e, gs, opt.shear_deformation);
+    let beam_section = rectangle(
+        g.beam_width_m,
+        g.beam_thickness_m,
+        e,
+        gs,
+        opt.shear_deformation,
+    );
     let block_section = if opt.real_block {
-        rectangle(2.0 * g.block_half_width_m, g.block_thickness_m, e, gs, opt.shear_deformation)
+        rectangle(
+            2.0 * g.block_half_width_m,
+            g.block_thickness_m,
+            e,
+            gs,
+            opt.shear_deformation,
+        )
     } else {
         let f = opt.block_stiffness_factor;
         SectionStiffness {
@@ -152,8 +167,9 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
     force[2] = -load.fz_n; // pressing along -z
     force[3] = load.mx_nm;
     force[4] = load.my_nm;
-    let clamped: Vec<bool> =
-        (0..n_dof).map(|d| (0..4).any(|k| d / DOF == node_of(k, 0, n))).collect();
+    let clamped: Vec<bool> = (0..n_dof)
+        .map(|d| (0..4).any(|k| d / DOF == node_of(k, 0, n)))
+        .collect();
     let displacement = solve_clamped(&stiffness, &force, &clamped)?;
     Ok(FrameSolution {
         n_per_beam: n,
@@ -172,7 +188,11 @@ fn rectangle(width: f64, thickness: f64, e: f64, g: f64, shear: bool) -> Section
         gj: g * rectangle_torsion_factor_m4(width, thickness),
         ei_y: e * width * thickness.powi(3) / 12.0,
         ei_z: e * thickness * width.powi(3) / 12.0,
-        kga: if shear { SHEAR_CORRECTION * g * area } else { f64::INFINITY },
+        kga: if shear {
+            SHEAR_CORRECTION * g * area
+        } else {
+            f64::INFINITY
+        },
     }
 }
 
@@ -182,8 +202,17 @@ fn element(nodes: [usize; 2], coords: &[[f64; 3]], s: &SectionStiffness) -> Elem
     let length_m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     let x = [d[0] / length_m, d[1] / length_m, d[2] / length_m];
     let z = [0.0, 0.0, 1.0];
-    let y = [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]];
-    Element { nodes, length_m, axes: [x, y, z], k_local: local_stiffness(length_m, s) }
+    let y = [
+        z[1] * x[2] - z[2] * x[1],
+        z[2] * x[0] - z[0] * x[2],
+        z[0] * x[1] - z[1] * x[0],
+    ];
+    Element {
+        nodes,
+        length_m,
+        axes: [x, y, z],
+        k_local: local_stiffness(length_m, s),
+    }
 }
 
 /// The 12x12 local stiffness of a two-node frame element (Przemieniecki), dofs

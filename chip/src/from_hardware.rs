@@ -52,7 +52,11 @@ impl TryFrom<&hardware::Chip> for ChipParams {
             pi_t_per_pa: c.pi_t_per_pa,
             fracture_strength_pa: c.fracture_strength_pa,
         };
-        let bridges = [bridge(&c.bridges[0])?, bridge(&c.bridges[1])?, bridge(&c.bridges[2])?];
+        let bridges = [
+            bridge(&c.bridges[0])?,
+            bridge(&c.bridges[1])?,
+            bridge(&c.bridges[2])?,
+        ];
         Ok(Self {
             geometry,
             silicon,
@@ -73,7 +77,10 @@ impl ChipParams {
 
 fn bridge(b: &hardware::ChipBridge) -> Result<Bridge, FromHardwareError> {
     let r = |i: usize| resistor(&b.resistors[i]);
-    Ok(Bridge { resistors: [r(0)?, r(1)?, r(2)?, r(3)?], fixed_ohm: b.fixed_ohm })
+    Ok(Bridge {
+        resistors: [r(0)?, r(1)?, r(2)?, r(3)?],
+        fixed_ohm: b.fixed_ohm,
+    })
 }
 
 fn resistor(r: &hardware::ChipResistor) -> Result<Resistor, FromHardwareError> {
@@ -96,5 +103,10 @@ fn resistor(r: &hardware::ChipResistor) -> Result<Resistor, FromHardwareError> {
         "lower_right" => Arm::LowerRight,
         other => return Err(FromHardwareError::UnknownArm(other.into())),
     };
-    Ok(Resistor { beam, x_m: r.x_um * UM, orientation, arm })
+    Ok(Resistor {
+        beam,
+        x_m: r.x_um * UM,
+        orientation,
+        arm,
+    })
 }

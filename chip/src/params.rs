@@ -53,7 +53,12 @@ pub enum Arm {
 
 impl Arm {
     /// Arms in the order of [`Bridge::fixed_ohm`].
-    pub const ALL: [Arm; 4] = [Arm::UpperLeft, Arm::LowerLeft, Arm::UpperRight, Arm::LowerRight];
+    pub const ALL: [Arm; 4] = [
+        Arm::UpperLeft,
+        Arm::LowerLeft,
+        Arm::UpperRight,
+        Arm::LowerRight,
+    ];
 
     /// Index into [`Bridge::fixed_ohm`].
     pub fn index(self) -> usize {

@@ -9,8 +9,11 @@ use crate::piezo::resistor_change;
 pub type Matrix3 = [[f64; 3]; 3];
 
 /// Unit loads: 1 N of Fz, 1 N·m of Mx, 1 N·m of My.
-const UNIT_LOADS: [Load; 3] =
-    [Load::new(1.0, 0.0, 0.0), Load::new(0.0, 1.0, 0.0), Load::new(0.0, 0.0, 1.0)];
+const UNIT_LOADS: [Load; 3] = [
+    Load::new(1.0, 0.0, 0.0),
+    Load::new(0.0, 1.0, 0.0),
+    Load::new(0.0, 0.0, 1.0),
+];
 
 /// S[i][j] = d(output of bridge i) / d(load component j), rows Fz, Mx, My bridges, columns
 /// Fz (V/N), Mx (V/(N·m)), My (V/(N·m)). Exact for the linearised bridges: the stresses are
@@ -43,8 +46,10 @@ pub fn determinant(m: &Matrix3) -> f64 {
 /// 1 for orthogonal rows) must exceed 1e-12.
 pub fn inverse(m: &Matrix3) -> Option<Matrix3> {
     let det = determinant(m);
-    let row_norms: f64 =
-        m.iter().map(|r| libm::sqrt(r.iter().map(|v| v * v).sum::<f64>())).product();
+    let row_norms: f64 = m
+        .iter()
+        .map(|r| libm::sqrt(r.iter().map(|v| v * v).sum::<f64>()))
+        .product();
     if !det.is_finite() || row_norms == 0.0 || det.abs() <= 1e-12 * row_norms {
         return None;
     }

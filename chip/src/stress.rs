@@ -8,7 +8,10 @@ use crate::params::{Beam, ChipParams, Load};
 /// Rotations of the block (theta_x, theta_y) for a load.
 pub fn block_rotations_rad(p: &ChipParams, load: Load) -> (f64, f64) {
     let (g, si) = (&p.geometry, &p.silicon);
-    (moment::block_rotation_rad(g, si, load.mx_nm), moment::block_rotation_rad(g, si, load.my_nm))
+    (
+        moment::block_rotation_rad(g, si, load.mx_nm),
+        moment::block_rotation_rad(g, si, load.my_nm),
+    )
 }
 
 /// Outward slope of the block edge under `beam`: w = theta_x y - theta_y x on the block, so

@@ -84,10 +84,24 @@ fn curve_bench(hw: &hardware::Fingertip) {
     );
     println!("wall {wall:.3} s (assembly {:.3} s, factor {:.3} s on the Newton path, solve {:.3} s), rayon threads {}", s.assembly_s, s.factor_s, s.solve_s, rayon::current_num_threads());
     let last = curve.points.last().expect("points");
-    println!("peak: travel {:.3} mm (d/R {:.3}), force {:.3} N, Fz {:.4} N", last.rod_mm, last.rod_mm / hw.radius_mm, last.force_n, last.fz_n);
-    println!("ratio wall / {CURVE_LIMIT_S} s limit = {:.2} (goal <= 1)", wall / CURVE_LIMIT_S);
+    println!(
+        "peak: travel {:.3} mm (d/R {:.3}), force {:.3} N, Fz {:.4} N",
+        last.rod_mm,
+        last.rod_mm / hw.radius_mm,
+        last.force_n,
+        last.fz_n
+    );
+    println!(
+        "ratio wall / {CURVE_LIMIT_S} s limit = {:.2} (goal <= 1)",
+        wall / CURVE_LIMIT_S
+    );
     println!("cpu {cpu:.2} s over all threads (the machine is shared: wall > cpu / threads means we were starved)");
-    println!("load average at the end: {}", std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim());
+    println!(
+        "load average at the end: {}",
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+    );
 }
 
 fn haptic_bench(hw: &hardware::Fingertip) {
@@ -111,9 +125,21 @@ fn haptic_bench(hw: &hardware::Fingertip) {
     }
     let per = t1.elapsed().as_secs_f64() / n as f64;
     println!("== haptic mode ==");
-    println!("{} condensed contact dofs, condensation {:.3} s; mean update {:.2} us (checksum {acc:.3})", h.len(), setup, per * 1e6);
-    println!("ratio update / {:.1} ms goal = {:.3} (goal <= 1)", HAPTIC_LIMIT_S * 1e3, per / HAPTIC_LIMIT_S);
-    println!("ratio literature 10.62 ms/frame (300-tet projective dynamics) / update = {:.0}x", LITERATURE_FRAME_S / per);
+    println!(
+        "{} condensed contact dofs, condensation {:.3} s; mean update {:.2} us (checksum {acc:.3})",
+        h.len(),
+        setup,
+        per * 1e6
+    );
+    println!(
+        "ratio update / {:.1} ms goal = {:.3} (goal <= 1)",
+        HAPTIC_LIMIT_S * 1e3,
+        per / HAPTIC_LIMIT_S
+    );
+    println!(
+        "ratio literature 10.62 ms/frame (300-tet projective dynamics) / update = {:.0}x",
+        LITERATURE_FRAME_S / per
+    );
     literature_full_step(hw);
 }
 
@@ -129,19 +155,29 @@ fn literature_full_step(hw: &hardware::Fingertip) {
     let n = 20;
     let t0 = Instant::now();
     for k in 0..n {
-        ft.step_to(1.0 + 0.05 * (k + 1) as f64, 0.15).expect("frame");
+        ft.step_to(1.0 + 0.05 * (k + 1) as f64, 0.15)
+            .expect("frame");
     }
     let per = t0.elapsed().as_secs_f64() / n as f64;
-    println!("full nonlinear step on {tets} tets: {:.2} ms; ratio 10.62 ms / step = {:.1}x", per * 1e3, LITERATURE_FRAME_S / per);
+    println!(
+        "full nonlinear step on {tets} tets: {:.2} ms; ratio 10.62 ms / step = {:.1}x",
+        per * 1e3,
+        LITERATURE_FRAME_S / per
+    );
 }
 
 /// CPU time of this process (all threads), s, from /proc (Linux; 100 ticks per second).
 fn cpu_s() -> f64 {
     let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
     let after = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<f64> = after.split_whitespace().filter_map(|s| s.parse().ok()).collect();
+    let f: Vec<f64> = after
+        .split_whitespace()
+        .filter_map(|s| s.parse().ok())
+        .collect();
     // Fields after the command: state is not numeric, so utime/stime are at 10/11 here.
-    f.get(10).zip(f.get(11)).map_or(f64::NAN, |(u, s)| (u + s) / 100.0)
+    f.get(10)
+        .zip(f.get(11))
+        .map_or(f64::NAN, |(u, s)| (u + s) / 100.0)
 }
 
 /// Rod travels of the peer comparison, mm.
@@ -160,7 +196,10 @@ struct Run {
 }
 
 fn env_mm(name: &str, default: f64) -> f64 {
-    std::env::var(name).ok().and_then(|s| s.parse().ok()).unwrap_or(default)
+    std::env::var(name)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
 }
 
 /// Our linear curve at nominal mesh size `h_mm`.
@@ -168,9 +207,17 @@ fn our_run(hw: &hardware::Fingertip, h_mm: f64) -> Run {
     let t0 = Instant::now();
     let c0 = cpu_s();
     let mut ft = Fingertip::new(nominal(hw, Material::Linear, h_mm)).expect("model");
-    let forces = PEER_TRAVELS_MM.iter().map(|&d| ft.step_to(d, 1.0).expect("step").force_n).collect();
+    let forces = PEER_TRAVELS_MM
+        .iter()
+        .map(|&d| ft.step_to(d, 1.0).expect("step").force_n)
+        .collect();
     let q = ft.quality();
-    Run { forces, wall_s: t0.elapsed().as_secs_f64(), cpu_s: cpu_s() - c0, mesh: format!("fingertip {h_mm} mm: {} tets, {} nodes", q.tets, q.nodes) }
+    Run {
+        forces,
+        wall_s: t0.elapsed().as_secs_f64(),
+        cpu_s: cpu_s() - c0,
+        mesh: format!("fingertip {h_mm} mm: {} tets, {} nodes", q.tets, q.nodes),
+    }
 }
 
 /// The peer's curve (a separate process), or why it failed.
@@ -179,9 +226,26 @@ fn peer_run(hw: &hardware::Fingertip, mesh_mm: f64, pole_mm: f64) -> Result<Run,
     let config = nominal(hw, Material::Linear, mesh_mm);
     let out = Command::new(root.join("bench/fe-peer/.venv/bin/python"))
         .arg(root.join("bench/fe-peer/peer.py"))
-        .args(["--radius-mm", &config.radius_mm.to_string(), "--youngs-modulus", &config.youngs_modulus_pa.to_string()])
-        .args(["--poisson", &config.poisson.to_string(), "--mesh-mm", &mesh_mm.to_string(), "--pole-mm", &pole_mm.to_string()])
-        .args(["--inclusion-half-width-mm", &config.inclusion_half_width_mm.to_string(), "--inclusion-height-mm", &config.inclusion_height_mm.to_string()])
+        .args([
+            "--radius-mm",
+            &config.radius_mm.to_string(),
+            "--youngs-modulus",
+            &config.youngs_modulus_pa.to_string(),
+        ])
+        .args([
+            "--poisson",
+            &config.poisson.to_string(),
+            "--mesh-mm",
+            &mesh_mm.to_string(),
+            "--pole-mm",
+            &pole_mm.to_string(),
+        ])
+        .args([
+            "--inclusion-half-width-mm",
+            &config.inclusion_half_width_mm.to_string(),
+            "--inclusion-height-mm",
+            &config.inclusion_height_mm.to_string(),
+        ])
         .arg("--travels-mm")
         .args(PEER_TRAVELS_MM.iter().map(|t| t.to_string()))
         .output()
@@ -189,9 +253,19 @@ fn peer_run(hw: &hardware::Fingertip, mesh_mm: f64, pole_mm: f64) -> Result<Run,
     if !out.status.success() {
         return Err(String::from_utf8_lossy(&out.stderr).into_owned());
     }
-    let mut run = Run { forces: Vec::new(), wall_s: f64::NAN, cpu_s: f64::NAN, mesh: String::new() };
+    let mut run = Run {
+        forces: Vec::new(),
+        wall_s: f64::NAN,
+        cpu_s: f64::NAN,
+        mesh: String::new(),
+    };
     for line in String::from_utf8_lossy(&out.stdout).lines() {
-        let value = |rest: &str| rest.split_whitespace().last().and_then(|s| s.parse::<f64>().ok()).unwrap_or(f64::NAN);
+        let value = |rest: &str| {
+            rest.split_whitespace()
+                .last()
+                .and_then(|s| s.parse::<f64>().ok())
+                .unwrap_or(f64::NAN)
+        };
         if let Some(rest) = line.strip_prefix("force ") {
             run.forces.push(value(rest));
         } else if let Some(rest) = line.strip_prefix("wall_s ") {
@@ -204,7 +278,11 @@ fn peer_run(hw: &hardware::Fingertip, mesh_mm: f64, pole_mm: f64) -> Result<Run,
     }
     match run.forces.len() == PEER_TRAVELS_MM.len() {
         true => Ok(run),
-        false => Err(format!("the peer printed {} forces for {} travels", run.forces.len(), PEER_TRAVELS_MM.len())),
+        false => Err(format!(
+            "the peer printed {} forces for {} travels",
+            run.forces.len(),
+            PEER_TRAVELS_MM.len()
+        )),
     }
 }
 
@@ -219,10 +297,16 @@ fn peer_bench(hw: &hardware::Fingertip) {
         return;
     }
     let peer_h = env_mm("PEER_MESH_MM", 4.0);
-    let (peer_pole_coarse, peer_pole_fine) = (env_mm("PEER_POLE_MM", peer_h / 2.0), env_mm("PEER_FINE_POLE_MM", peer_h / 4.0));
+    let (peer_pole_coarse, peer_pole_fine) = (
+        env_mm("PEER_POLE_MM", peer_h / 2.0),
+        env_mm("PEER_FINE_POLE_MM", peer_h / 4.0),
+    );
     let (our_coarse, our_fine) = (env_mm("OUR_MESH_MM", 4.0), env_mm("OUR_FINE_MESH_MM", 2.0));
     let ours = [our_run(hw, our_coarse), our_run(hw, our_fine)];
-    let peer = match (peer_run(hw, peer_h, peer_pole_coarse), peer_run(hw, peer_h, peer_pole_fine)) {
+    let peer = match (
+        peer_run(hw, peer_h, peer_pole_coarse),
+        peer_run(hw, peer_h, peer_pole_fine),
+    ) {
         (Ok(a), Ok(b)) => [a, b],
         (Err(e), _) | (_, Err(e)) => {
             println!("== peer failed ==\n{e}");
@@ -236,7 +320,12 @@ fn peer_bench(hw: &hardware::Fingertip) {
     println!("travel_mm  ours_coarse  ours_fine  change_%  peer_coarse  peer_fine  change_%  fine_difference_%  converged");
     let mut worst: f64 = 0.0;
     for (i, d) in PEER_TRAVELS_MM.iter().enumerate() {
-        let (o0, o1, p0, p1) = (ours[0].forces[i], ours[1].forces[i], peer[0].forces[i], peer[1].forces[i]);
+        let (o0, o1, p0, p1) = (
+            ours[0].forces[i],
+            ours[1].forces[i],
+            peer[0].forces[i],
+            peer[1].forces[i],
+        );
         let (co, cp, diff) = (o1 / o0 - 1.0, p1 / p0 - 1.0, o1 / p1 - 1.0);
         let converged = co.abs() < CONVERGED_CHANGE && cp.abs() < CONVERGED_CHANGE;
         if converged {
@@ -244,17 +333,33 @@ fn peer_bench(hw: &hardware::Fingertip) {
         }
         println!("{d:9.3}  {o0:11.5}  {o1:9.5}  {:+8.2}  {p0:11.5}  {p1:9.5}  {:+8.2}  {:+17.2}  {converged}", 100.0 * co, 100.0 * cp, 100.0 * diff);
     }
-    println!("largest difference where both moved < {:.0} %: {:.2} % (goal <= {:.0} %)", 100.0 * CONVERGED_CHANGE, 100.0 * worst, 100.0 * PEER_DIFFERENCE_GOAL);
+    println!(
+        "largest difference where both moved < {:.0} %: {:.2} % (goal <= {:.0} %)",
+        100.0 * CONVERGED_CHANGE,
+        100.0 * worst,
+        100.0 * PEER_DIFFERENCE_GOAL
+    );
     for (level, o, p) in [("coarse", &ours[0], &peer[0]), ("fine", &ours[1], &peer[1])] {
         println!("{level}: wall fingertip {:.3} s, peer {:.3} s, speed ratio peer/fingertip = {:.1}x (goal >= 20); cpu {:.2} s vs {:.2} s = {:.1}x", o.wall_s, p.wall_s, p.wall_s / o.wall_s, o.cpu_s, p.cpu_s, p.cpu_s / o.cpu_s);
     }
 }
 
 fn main() {
-    let hw = hardware::Params::load_default().expect("hardware/").fingertip;
-    let only: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let hw = hardware::Params::load_default()
+        .expect("hardware/")
+        .fingertip;
+    let only: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
     let want = |name: &str| only.is_empty() || only.iter().any(|o| o == name);
-    println!("machine: {} threads, {}", std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1), std::env::consts::ARCH);
+    println!(
+        "machine: {} threads, {}",
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1),
+        std::env::consts::ARCH
+    );
     if want("curve") {
         curve_bench(&hw);
     }

@@ -6,7 +6,11 @@ use fingertip::{compress, Config, Material};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let num = |i: usize, d: f64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
-    let material = if args.get(3).map(String::as_str) == Some("linear") { Material::Linear } else { Material::NeoHookean };
+    let material = if args.get(3).map(String::as_str) == Some("linear") {
+        Material::Linear
+    } else {
+        Material::NeoHookean
+    };
     let config = Config {
         radius_mm: 20.0,
         youngs_modulus_pa: 0.15e6,
@@ -24,10 +28,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let curve = compress(&config, num(4, 60.0))?;
     println!("{:?}", curve.quality);
-    println!("factor nnz {} dofs {} setup {:.3} s solve {:.3} s {:?}", curve.factor_nnz, curve.dofs, curve.setup_s, curve.solve_s, curve.stats);
+    println!(
+        "factor nnz {} dofs {} setup {:.3} s solve {:.3} s {:?}",
+        curve.factor_nnz, curve.dofs, curve.setup_s, curve.solve_s, curve.stats
+    );
     println!("rod_mm,force_n,fz_n,mx_nm,my_nm,contact_nodes");
     for p in &curve.points {
-        println!("{:.4},{:.5},{:.5},{:.6e},{:.6e},{}", p.rod_mm, p.force_n, p.fz_n, p.mx_nm, p.my_nm, p.contact_nodes);
+        println!(
+            "{:.4},{:.5},{:.5},{:.6e},{:.6e},{}",
+            p.rod_mm, p.force_n, p.fz_n, p.mx_nm, p.my_nm, p.contact_nodes
+        );
     }
     Ok(())
 }

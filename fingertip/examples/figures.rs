@@ -25,8 +25,12 @@ fn config(hw: &hardware::Fingertip, mesh_mm: f64, theta: f64, phi: f64) -> Confi
 /// Least-squares exponent n of |y| = c x^n over the points above 10 % of the final travel.
 fn power_law_exponent(curve: &Curve, f: impl Fn(&fingertip::CurvePoint) -> f64) -> f64 {
     let dmax = curve.points.last().map_or(0.0, |p| p.rod_mm);
-    let pts: Vec<(f64, f64)> =
-        curve.points.iter().filter(|p| p.rod_mm > 0.1 * dmax && f(p).abs() > 0.0).map(|p| (p.rod_mm.ln(), f(p).abs().ln())).collect();
+    let pts: Vec<(f64, f64)> = curve
+        .points
+        .iter()
+        .filter(|p| p.rod_mm > 0.1 * dmax && f(p).abs() > 0.0)
+        .map(|p| (p.rod_mm.ln(), f(p).abs().ln()))
+        .collect();
     let n = pts.len() as f64;
     let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
     let (mx, my) = (sx / n, sy / n);
@@ -43,31 +47,58 @@ fn tilt_moment(p: &fingertip::CurvePoint, phi_deg: f64) -> f64 {
 
 type Series<'a> = (&'a str, Vec<(f64, f64)>, RGBColor);
 
-fn plot(path: &str, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<(), Box<dyn std::error::Error>> {
+fn plot(
+    path: &str,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+) -> Result<(), Box<dyn std::error::Error>> {
     let root = SVGBackend::new(path, (720, 480)).into_drawing_area();
     root.fill(&WHITE)?;
-    let xmax = series.iter().flat_map(|s| s.1.iter().map(|p| p.0)).fold(0.0, f64::max);
-    let (ymin, ymax) = series.iter().flat_map(|s| s.1.iter().map(|p| p.1)).fold((0.0f64, 0.0f64), |a, y| (a.0.min(y), a.1.max(y)));
+    let xmax = series
+        .iter()
+        .flat_map(|s| s.1.iter().map(|p| p.0))
+        .fold(0.0, f64::max);
+    let (ymin, ymax) = series
+        .iter()
+        .flat_map(|s| s.1.iter().map(|p| p.1))
+        .fold((0.0f64, 0.0f64), |a, y| (a.0.min(y), a.1.max(y)));
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 18))
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
         .build_cartesian_2d(0.0..xmax * 1.02, (ymin * 1.05)..(ymax * 1.05))?;
-    chart.configure_mesh().x_desc(x_label).y_desc(y_label).draw()?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .draw()?;
     for (name, pts, color) in series {
         let c = *color;
-        chart.draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?.label(*name).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c));
+        chart
+            .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
+            .label(*name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c));
         chart.draw_series(pts.iter().map(|p| Circle::new(*p, 2, c.filled())))?;
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).position(SeriesLabelPosition::UpperLeft).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()?;
     root.present()?;
     Ok(())
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let hw = hardware::Params::load_default()?.fingertip;
-    let mesh_mm: f64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(5.0);
+    let mesh_mm: f64 = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(5.0);
     let peak = hw.test.peak_load_n;
     let phi = hw.test.azimuth_deg;
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/figures");
@@ -110,13 +141,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         power_law_exponent(c20, |p| p.mx_nm),
         power_law_exponent(c20, |p| p.my_nm)
     )?;
-    let (p0, p20) = (c0.points.last().ok_or("empty")?, c20.points.last().ok_or("empty")?);
-    writeln!(summary, "Fz(20 deg)/Fz(0 deg) at {peak} N along the rod = {:.4} (paper: larger than 1)", p20.fz_n / p0.fz_n)?;
-    writeln!(summary, "at phi = {phi} deg, theta 20: |Mx|/|My| = {:.3} (paper: Mx > My; tan(phi) = {:.3})", p20.mx_nm.abs() / p20.my_nm.abs(), phi.to_radians().tan())?;
+    let (p0, p20) = (
+        c0.points.last().ok_or("empty")?,
+        c20.points.last().ok_or("empty")?,
+    );
+    writeln!(
+        summary,
+        "Fz(20 deg)/Fz(0 deg) at {peak} N along the rod = {:.4} (paper: larger than 1)",
+        p20.fz_n / p0.fz_n
+    )?;
+    writeln!(
+        summary,
+        "at phi = {phi} deg, theta 20: |Mx|/|My| = {:.3} (paper: Mx > My; tan(phi) = {:.3})",
+        p20.mx_nm.abs() / p20.my_nm.abs(),
+        phi.to_radians().tan()
+    )?;
     print!("{summary}");
     std::fs::write(format!("{dir}/summary.txt"), &summary)?;
 
-    let xy = |c: &Curve, f: &dyn Fn(&fingertip::CurvePoint) -> f64| c.points.iter().map(|p| (p.rod_mm, f(p))).collect::<Vec<_>>();
+    let xy = |c: &Curve, f: &dyn Fn(&fingertip::CurvePoint) -> f64| {
+        c.points
+            .iter()
+            .map(|p| (p.rod_mm, f(p)))
+            .collect::<Vec<_>>()
+    };
     plot(
         &format!("{dir}/force_fz_vs_travel.svg"),
         "Rod force and chip Fz against rod travel (neo-Hookean)",
@@ -134,16 +182,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &format!("Chip moments at theta 20, phi {phi} (N mm)"),
         "rod travel (mm)",
         "N mm",
-        &[("Mx", xy(c20, &|p| 1e3 * p.mx_nm), RED), ("My", xy(c20, &|p| 1e3 * p.my_nm), BLUE), ("Mx at theta 0", xy(c0, &|p| 1e3 * p.mx_nm), BLACK)],
+        &[
+            ("Mx", xy(c20, &|p| 1e3 * p.mx_nm), RED),
+            ("My", xy(c20, &|p| 1e3 * p.my_nm), BLUE),
+            ("Mx at theta 0", xy(c0, &|p| 1e3 * p.mx_nm), BLACK),
+        ],
     )?;
-    let tilt: Vec<(f64, f64)> = thetas.iter().zip(&curves).filter_map(|(t, c)| c.points.last().map(|p| (*t, 1e3 * tilt_moment(p, phi).abs()))).collect();
-    let fz: Vec<(f64, f64)> = thetas.iter().zip(&curves).filter_map(|(t, c)| c.points.last().map(|p| (*t, -10.0 * p.fz_n))).collect();
+    let tilt: Vec<(f64, f64)> = thetas
+        .iter()
+        .zip(&curves)
+        .filter_map(|(t, c)| {
+            c.points
+                .last()
+                .map(|p| (*t, 1e3 * tilt_moment(p, phi).abs()))
+        })
+        .collect();
+    let fz: Vec<(f64, f64)> = thetas
+        .iter()
+        .zip(&curves)
+        .filter_map(|(t, c)| c.points.last().map(|p| (*t, -10.0 * p.fz_n)))
+        .collect();
     plot(
         &format!("{dir}/tilt_moment_vs_angle.svg"),
         &format!("At {peak} N: tilt-plane moment and Fz against theta_p"),
         "theta_p (deg)",
         "N mm  /  N x 10",
-        &[("|tilt-plane moment| (N mm)", tilt, RED), ("-Fz x 10 (N)", fz, BLUE)],
+        &[
+            ("|tilt-plane moment| (N mm)", tilt, RED),
+            ("-Fz x 10 (N)", fz, BLUE),
+        ],
     )?;
     Ok(())
 }

@@ -20,8 +20,16 @@ pub struct State {
 
 impl State {
     pub fn reference(model: &Model) -> State {
-        let history = if model.material.prony.is_empty() { Vec::new() } else { vec![ElementHistory::default(); model.gel.len()] };
-        State { x: model.mesh.nodes.clone(), p: vec![0.0; model.mesh.nodes.len()], history }
+        let history = if model.material.prony.is_empty() {
+            Vec::new()
+        } else {
+            vec![ElementHistory::default(); model.gel.len()]
+        };
+        State {
+            x: model.mesh.nodes.clone(),
+            p: vec![0.0; model.mesh.nodes.len()],
+            history,
+        }
     }
 }
 
@@ -62,12 +70,20 @@ fn element(model: &Model, state: &State, k: usize, dt_s: f64, out: &mut [f64]) -
     let v = model.volume[k];
     let f = deformation_gradient(nodes.map(|a| state.x[a]), g);
     let (_, mut p, mut a) = match state.history.get(k) {
-        Some(_) => deviatoric(mat.kinematics, mat.mu_pa / viscoelastic::g_inf(&mat.prony), &f),
+        Some(_) => deviatoric(
+            mat.kinematics,
+            mat.mu_pa / viscoelastic::g_inf(&mat.prony),
+            &f,
+        ),
         None => deviatoric(mat.kinematics, mat.mu_pa, &f),
     };
     if let Some(hist) = state.history.get(k) {
         let (beta, q) = viscoelastic::step_coefficients(&mat.prony, hist, dt_s);
-        let fk = if mat.kinematics == Kinematics::Linear { [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] } else { f };
+        let fk = if mat.kinematics == Kinematics::Linear {
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+        } else {
+            f
+        };
         viscoelastic::apply(&fk, beta, &q, &mut p, &mut a);
     }
     let vm = volume_measure(mat.kinematics, &f);
@@ -108,7 +124,9 @@ fn element(model: &Model, state: &State, k: usize, dt_s: f64, out: &mut [f64]) -
             let row = 4 * an + i;
             for b in an..4 {
                 for kk in 0..3 {
-                    let s: f64 = (0..3).map(|jj| g[an][jj] * ag[3 * i + jj][3 * b + kk]).sum();
+                    let s: f64 = (0..3)
+                        .map(|jj| g[an][jj] * ag[3 * i + jj][3 * b + kk])
+                        .sum();
                     kmat[row * LOCAL + 4 * b + kk] = v * s;
                     kmat[(4 * b + kk) * LOCAL + row] = v * s;
                 }
@@ -144,7 +162,10 @@ pub struct Partial {
 impl Partial {
     fn reset(&mut self, model: &Model) {
         let n = model.mesh.nodes.len();
-        for (v, len) in [(&mut self.residual, model.n_dofs), (&mut self.values, model.row_idx.len())] {
+        for (v, len) in [
+            (&mut self.residual, model.n_dofs),
+            (&mut self.values, model.row_idx.len()),
+        ] {
             v.clear();
             v.resize(len, 0.0);
         }
@@ -188,7 +209,13 @@ impl Partial {
 /// The elements are split into one contiguous range per thread; each thread computes and
 /// scatters its range into its own [`Partial`] (no locking, no colouring), and the partial
 /// sums are added, in thread order so that a run is reproducible.
-pub fn assemble(model: &Model, state: &State, dt_s: f64, out: &mut Assembled, parts: &mut Vec<Partial>) {
+pub fn assemble(
+    model: &Model,
+    state: &State,
+    dt_s: f64,
+    out: &mut Assembled,
+    parts: &mut Vec<Partial>,
+) {
     let threads = rayon::current_num_threads().max(1);
     parts.resize_with(threads, Partial::default);
     let per = model.gel.len().div_ceil(threads);
@@ -205,17 +232,31 @@ pub fn assemble(model: &Model, state: &State, dt_s: f64, out: &mut Assembled, pa
     out.pillar_force.clone_from(&first.pillar_force);
     out.min_j = parts.iter().map(|p| p.min_j).fold(f64::INFINITY, f64::min);
     out.values.resize(model.row_idx.len(), 0.0);
-    out.values.par_chunks_mut(1 << 14).enumerate().for_each(|(c, chunk)| {
-        let at = c << 14;
-        chunk.copy_from_slice(&first.values[at..at + chunk.len()]);
-        for p in rest {
-            chunk.iter_mut().zip(&p.values[at..]).for_each(|(v, pv)| *v += pv);
-        }
-    });
+    out.values
+        .par_chunks_mut(1 << 14)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            let at = c << 14;
+            chunk.copy_from_slice(&first.values[at..at + chunk.len()]);
+            for p in rest {
+                chunk
+                    .iter_mut()
+                    .zip(&p.values[at..])
+                    .for_each(|(v, pv)| *v += pv);
+            }
+        });
     for p in rest {
-        out.residual.iter_mut().zip(&p.residual).for_each(|(v, pv)| *v += pv);
-        for (acc, part) in [(&mut out.node_force, &p.node_force), (&mut out.pillar_force, &p.pillar_force)] {
-            acc.iter_mut().zip(part).for_each(|(v, pv)| (0..3).for_each(|d| v[d] += pv[d]));
+        out.residual
+            .iter_mut()
+            .zip(&p.residual)
+            .for_each(|(v, pv)| *v += pv);
+        for (acc, part) in [
+            (&mut out.node_force, &p.node_force),
+            (&mut out.pillar_force, &p.pillar_force),
+        ] {
+            acc.iter_mut()
+                .zip(part)
+                .for_each(|(v, pv)| (0..3).for_each(|d| v[d] += pv[d]));
         }
     }
     nodal_pressure_terms(model, state, out);
@@ -244,13 +285,21 @@ pub fn advance_history(model: &Model, state: &mut State, dt_s: f64) {
     let mat = &model.material;
     let mu0 = mat.mu_pa / viscoelastic::g_inf(&mat.prony);
     let x = &state.x;
-    state.history.par_iter_mut().enumerate().for_each(|(k, hist)| {
-        let nodes = model.mesh.tets[model.gel[k]];
-        let f = deformation_gradient(nodes.map(|a| x[a]), &model.grads[k]);
-        let (_, p, _) = deviatoric(mat.kinematics, mu0, &f);
-        let s0 = if mat.kinematics == Kinematics::Linear { p } else { second_piola(&f, &p) };
-        viscoelastic::advance(&mat.prony, hist, s0, dt_s);
-    });
+    state
+        .history
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(k, hist)| {
+            let nodes = model.mesh.tets[model.gel[k]];
+            let f = deformation_gradient(nodes.map(|a| x[a]), &model.grads[k]);
+            let (_, p, _) = deviatoric(mat.kinematics, mu0, &f);
+            let s0 = if mat.kinematics == Kinematics::Linear {
+                p
+            } else {
+                second_piola(&f, &p)
+            };
+            viscoelastic::advance(&mat.prony, hist, s0, dt_s);
+        });
 }
 
 /// S = F^{-1} P.

@@ -52,7 +52,12 @@ pub struct NodeContact {
 impl Rod {
     pub fn new(theta_deg: f64, phi_deg: f64, radius_m: f64, face_m: f64, mu: f64) -> Rod {
         let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-        Rod { axis: [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()], radius_m, face_m, mu }
+        Rod {
+            axis: [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()],
+            radius_m,
+            face_m,
+            mu,
+        }
     }
 
     /// Penetration of point `x` into the rod body (None when outside).
@@ -67,20 +72,29 @@ impl Rod {
         let rf = FILLET_FRACTION * self.radius_m;
         let rc = self.radius_m - rf;
         if rho <= rc {
-            return Some(NodeContact { penetration_m: s - self.face_m, normal: [-e[0], -e[1], -e[2]] });
+            return Some(NodeContact {
+                penetration_m: s - self.face_m,
+                normal: [-e[0], -e[1], -e[2]],
+            });
         }
         let rhat = radial.map(|v| v / rho);
         let (ds, dr) = (s - (self.face_m + rf), rho - rc);
         if ds >= 0.0 {
             // Beside the cylinder wall.
-            return (rho < self.radius_m).then_some(NodeContact { penetration_m: self.radius_m - rho, normal: rhat });
+            return (rho < self.radius_m).then_some(NodeContact {
+                penetration_m: self.radius_m - rho,
+                normal: rhat,
+            });
         }
         let dist = (ds * ds + dr * dr).sqrt();
         if dist >= rf {
             return None;
         }
         let n = [0, 1, 2].map(|k| (ds * e[k] + dr * rhat[k]) / dist);
-        Some(NodeContact { penetration_m: rf - dist, normal: n })
+        Some(NodeContact {
+            penetration_m: rf - dist,
+            normal: n,
+        })
     }
 
     pub fn slip_regularisation_m(&self) -> f64 {
@@ -103,7 +117,13 @@ pub fn normal_law(g: f64, k: f64, ramp: f64) -> (f64, f64) {
 /// Contact force on one node and its tangent (-d force / d x), for a node of penalty
 /// stiffness `k` (N/m) and onset length `ramp` (m) that has moved `slip` (m) relative to the
 /// rod during the step.
-pub fn node_response(c: &NodeContact, k: f64, ramp: f64, slip: [f64; 3], rod: &Rod) -> ([f64; 3], [[f64; 3]; 3]) {
+pub fn node_response(
+    c: &NodeContact,
+    k: f64,
+    ramp: f64,
+    slip: [f64; 3],
+    rod: &Rod,
+) -> ([f64; 3], [[f64; 3]; 3]) {
     let n = c.normal;
     let (fn_, kn) = normal_law(c.penetration_m, k, ramp);
     let mut f = n.map(|v| fn_ * v);

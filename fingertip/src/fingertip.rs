@@ -90,9 +90,24 @@ impl Fingertip {
             Material::NeoHookean => (Kinematics::NeoHookean, Vec::new()),
             Material::ViscoNeoHookean(terms) => (Kinematics::NeoHookean, terms.clone()),
         };
-        let model = Model::new(mesh, MaterialData { kinematics, mu_pa: mu, kappa_pa: kappa, prony });
+        let model = Model::new(
+            mesh,
+            MaterialData {
+                kinematics,
+                mu_pa: mu,
+                kappa_pa: kappa,
+                prony,
+            },
+        );
         let solver = Solver::new(model, config.youngs_modulus_pa)?;
-        let mut ft = Fingertip { config, solver, travel_m: 0.0, t_s: 0.0, setup_s: 0.0, previous: None };
+        let mut ft = Fingertip {
+            config,
+            solver,
+            travel_m: 0.0,
+            t_s: 0.0,
+            setup_s: 0.0,
+            previous: None,
+        };
         let rod = ft.rod_at(0.0);
         ft.solver.evaluate(&rod, 0.0);
         ft.setup_s = t0.elapsed().as_secs_f64();
@@ -110,7 +125,13 @@ impl Fingertip {
 
     pub fn rod_at(&self, travel_m: f64) -> Rod {
         let c = &self.config;
-        Rod::new(c.contact_angle_deg, c.azimuth_deg, c.rod_radius_mm * 1e-3, c.radius_mm * 1e-3 - travel_m, c.friction_mu)
+        Rod::new(
+            c.contact_angle_deg,
+            c.azimuth_deg,
+            c.rod_radius_mm * 1e-3,
+            c.radius_mm * 1e-3 - travel_m,
+            c.friction_mu,
+        )
     }
 
     /// Advance the rod to `travel_mm` over `dt_s` seconds, cutting the step back if needed.
@@ -144,7 +165,11 @@ impl Fingertip {
                 self.solver.state = saved;
                 self.solver.evaluate(&self.rod_at(self.travel_m), 0.0);
                 Err(match err {
-                    Error::NotConverged { iterations, .. } => Error::NotConverged { iterations, travel_mm: target_m * 1e3, force_n: self.point().force_n },
+                    Error::NotConverged { iterations, .. } => Error::NotConverged {
+                        iterations,
+                        travel_mm: target_m * 1e3,
+                        force_n: self.point().force_n,
+                    },
                     other => other,
                 })
             }
@@ -154,7 +179,9 @@ impl Fingertip {
     /// Linear extrapolation of the last converged increment to the new rod position: most of
     /// the step's displacement is then known before Newton starts.
     fn predict(&mut self, target_m: f64) {
-        let Some((x_prev, p_prev, travel_prev)) = &self.previous else { return };
+        let Some((x_prev, p_prev, travel_prev)) = &self.previous else {
+            return;
+        };
         let span = self.travel_m - travel_prev;
         if span.abs() < 1e-15 {
             return;
@@ -218,7 +245,10 @@ impl Fingertip {
     /// in at least `config.load_steps` steps sized from the local power law of the curve.
     pub fn compress_to_peak(&mut self, peak_load_n: f64) -> Result<Curve, Error> {
         if !(peak_load_n.is_finite() && peak_load_n > 0.0) {
-            return Err(Error::InvalidConfig { field: "peak_load_n", reason: format!("{peak_load_n} must be positive") });
+            return Err(Error::InvalidConfig {
+                field: "peak_load_n",
+                reason: format!("{peak_load_n} must be positive"),
+            });
         }
         let t0 = Instant::now();
         let c = self.config.clone();
@@ -236,7 +266,8 @@ impl Fingertip {
             let last = *points.last().unwrap_or(&CurvePoint::default());
             let done = step as f64;
             let remaining = ((n as f64 - done).max(1.0)).max(1.0);
-            let mut target = self.travel_m + ((d_final - self.travel_m) / remaining).max(1e-3 * d_final);
+            let mut target =
+                self.travel_m + ((d_final - self.travel_m) / remaining).max(1e-3 * d_final);
             target = target.min(max_travel);
             let dt = (target - self.travel_m) / speed;
             let saved = (self.solver.state.clone(), self.travel_m, self.t_s);
@@ -264,11 +295,16 @@ impl Fingertip {
                 break;
             }
             if target >= max_travel {
-                return Err(Error::PeakNotReached { peak_n: peak_load_n, reached_n: p.force_n, travel_mm: target * 1e3 });
+                return Err(Error::PeakNotReached {
+                    peak_n: peak_load_n,
+                    reached_n: p.force_n,
+                    travel_mm: target * 1e3,
+                });
             }
             // Re-estimate the final travel from the local power law F ~ d^n.
             if last.force_n > 0.0 && p.force_n > last.force_n {
-                let expo = ((p.force_n / last.force_n).ln() / (target / (last.rod_mm * 1e-3)).ln()).clamp(0.8, 4.0);
+                let expo = ((p.force_n / last.force_n).ln() / (target / (last.rod_mm * 1e-3)).ln())
+                    .clamp(0.8, 4.0);
                 d_final = (target * (peak_load_n / p.force_n).powf(1.0 / expo)).min(max_travel);
             } else if p.force_n > 0.0 {
                 d_final = (target * (peak_load_n / p.force_n).powf(1.0 / 1.5)).min(max_travel);
@@ -292,7 +328,10 @@ impl Fingertip {
         for &(t, d_mm) in history {
             let dt = t - self.t_s;
             if !(dt.is_finite() && dt >= 0.0 && d_mm.is_finite()) {
-                return Err(Error::InvalidConfig { field: "history", reason: format!("time {t} s / travel {d_mm} mm not increasing or not finite") });
+                return Err(Error::InvalidConfig {
+                    field: "history",
+                    reason: format!("time {t} s / travel {d_mm} mm not increasing or not finite"),
+                });
             }
             self.advance(d_mm * 1e-3, dt, 0)?;
             out.push(self.point());

@@ -94,7 +94,10 @@ impl Haptic {
             }
         }
         // Gel tangent without contact at the converged state.
-        let rod_away = Rod { face_m: f64::INFINITY, ..rod };
+        let rod_away = Rod {
+            face_m: f64::INFINITY,
+            ..rod
+        };
         s.evaluate(&rod_away, 0.0);
         s.ldlt.factorize(&s.asm.values)?;
         let model = &s.model;
@@ -112,7 +115,9 @@ impl Haptic {
         for i in 0..nc {
             for (j, &a) in cand.iter().enumerate() {
                 // Displacement of node a along -e (closing the gap) due to unit force at i.
-                w[j * nc + i] = -(0..3).map(|d| rhs[i * n + model.dof_x[a][d] as usize] * e[d]).sum::<f64>();
+                w[j * nc + i] = -(0..3)
+                    .map(|d| rhs[i * n + model.dof_x[a][d] as usize] * e[d])
+                    .sum::<f64>();
             }
         }
         let g = chip_sensitivity(ft, &cand, &rhs)?;
@@ -124,11 +129,19 @@ impl Haptic {
             let x = s.state.x[a];
             let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
             let pen = along - rod.face_m;
-            let f = if pen > 0.0 { crate::contact::normal_law(pen, s.contact_k[a], s.contact_ramp[a]).0 } else { 0.0 };
+            let f = if pen > 0.0 {
+                crate::contact::normal_law(pen, s.contact_k[a], s.contact_ramp[a]).0
+            } else {
+                0.0
+            };
             gap0.push(-pen);
             f0.push(f);
             // Nodes in contact follow the penalty line through their base state.
-            shift.push(if f > 0.0 { f / s.contact_k[a] - pen } else { 0.0 });
+            shift.push(if f > 0.0 {
+                f / s.contact_k[a] - pen
+            } else {
+                0.0
+            });
         }
         // Restore the assembled contact state of the full model.
         s.evaluate(&rod, 0.0);
@@ -184,7 +197,12 @@ impl Haptic {
             }
             if feasible {
                 let o: Vec<f64> = (0..4).map(|k| aff.out_a[k] + dd * aff.out_b[k]).collect();
-                return HapticSample { force_n: o[0], fz_n: o[1], mx_nm: o[2], my_nm: o[3] };
+                return HapticSample {
+                    force_n: o[0],
+                    fz_n: o[1],
+                    mx_nm: o[2],
+                    my_nm: o[3],
+                };
             }
             self.affine = self.affine_solution(next);
         }
@@ -199,7 +217,9 @@ impl Haptic {
         let mut alpha = vec![0.0; nc];
         let mut beta = vec![0.0; nc];
         if na > 0 {
-            let m = Mat::from_fn(na, na, |r, c| self.w[idx[r] * nc + idx[c]] + if r == c { self.inv_k[idx[r]] } else { 0.0 });
+            let m = Mat::from_fn(na, na, |r, c| {
+                self.w[idx[r] * nc + idx[c]] + if r == c { self.inv_k[idx[r]] } else { 0.0 }
+            });
             let llt = m.llt(Side::Lower).ok()?;
             let rhs = Mat::from_fn(na, 2, |r, c| {
                 let i = idx[r];
@@ -227,14 +247,28 @@ impl Haptic {
             delta[i] = -1.0 + wb;
         }
         let sum0: f64 = self.f0.iter().sum();
-        let mut out_a = [self.force0_n + alpha.iter().sum::<f64>() - sum0, 0.0, 0.0, 0.0];
+        let mut out_a = [
+            self.force0_n + alpha.iter().sum::<f64>() - sum0,
+            0.0,
+            0.0,
+            0.0,
+        ];
         let mut out_b = [beta.iter().sum::<f64>(), 0.0, 0.0, 0.0];
         for k in 0..3 {
             let g = &self.g[k];
-            out_a[k + 1] = self.loads0[k] + (0..nc).map(|j| g[j] * (alpha[j] - self.f0[j])).sum::<f64>();
+            out_a[k + 1] =
+                self.loads0[k] + (0..nc).map(|j| g[j] * (alpha[j] - self.f0[j])).sum::<f64>();
             out_b[k + 1] = (0..nc).map(|j| g[j] * beta[j]).sum();
         }
-        Some(Affine { active, alpha, beta, gamma, delta, out_a, out_b })
+        Some(Affine {
+            active,
+            alpha,
+            beta,
+            gamma,
+            delta,
+            out_a,
+            out_b,
+        })
     }
 
     /// Coordinate-wise solution of the complementarity problem (robust fallback).
@@ -245,7 +279,11 @@ impl Haptic {
             let mut change: f64 = 0.0;
             for i in 0..nc {
                 let row = &self.w[i * nc..(i + 1) * nc];
-                let coupling: f64 = row.iter().zip(self.f.iter().zip(&self.f0)).map(|(w, (f, f0))| w * (f - f0)).sum();
+                let coupling: f64 = row
+                    .iter()
+                    .zip(self.f.iter().zip(&self.f0))
+                    .map(|(w, (f, f0))| w * (f - f0))
+                    .sum();
                 let h = self.f[i] * self.inv_k[i] + self.gap0[i] - dd + coupling - self.shift[i];
                 let new = (self.f[i] - h / (row[i] + self.inv_k[i])).max(0.0);
                 change = change.max((new - self.f[i]).abs());
@@ -258,15 +296,28 @@ impl Haptic {
         let df: f64 = self.f.iter().zip(&self.f0).map(|(f, f0)| f - f0).sum();
         let mut loads = self.loads0;
         for (k, l) in loads.iter_mut().enumerate() {
-            *l += self.g[k].iter().zip(self.f.iter().zip(&self.f0)).map(|(g, (f, f0))| g * (f - f0)).sum::<f64>();
+            *l += self.g[k]
+                .iter()
+                .zip(self.f.iter().zip(&self.f0))
+                .map(|(g, (f, f0))| g * (f - f0))
+                .sum::<f64>();
         }
-        HapticSample { force_n: self.force0_n + df, fz_n: loads[0], mx_nm: loads[1], my_nm: loads[2] }
+        HapticSample {
+            force_n: self.force0_n + df,
+            fz_n: loads[0],
+            mx_nm: loads[1],
+            my_nm: loads[2],
+        }
     }
 }
 
 /// G = T K_Ic K^{-1} N: chip loads per unit normal contact force at each candidate, from the
 /// displacement fields already solved (one per candidate).
-fn chip_sensitivity(ft: &Fingertip, cand: &[usize], fields: &[f64]) -> Result<[Vec<f64>; 3], Error> {
+fn chip_sensitivity(
+    ft: &Fingertip,
+    cand: &[usize],
+    fields: &[f64],
+) -> Result<[Vec<f64>; 3], Error> {
     let s = &ft.solver;
     let model = &s.model;
     let n = model.n_dofs;
@@ -274,7 +325,11 @@ fn chip_sensitivity(ft: &Fingertip, cand: &[usize], fields: &[f64]) -> Result<[V
         .filter(|&k| model.pillar[k])
         .map(|k| (k, crate::assembly::element_tangent(model, &s.state, k)))
         .collect();
-    let mut g = [vec![0.0; cand.len()], vec![0.0; cand.len()], vec![0.0; cand.len()]];
+    let mut g = [
+        vec![0.0; cand.len()],
+        vec![0.0; cand.len()],
+        vec![0.0; cand.len()],
+    ];
     for j in 0..cand.len() {
         let du = &fields[j * n..(j + 1) * n];
         let mut load = [0.0; 3];
@@ -290,7 +345,13 @@ fn chip_sensitivity(ft: &Fingertip, cand: &[usize], fields: &[f64]) -> Result<[V
 
 /// Add the (Fz, Mx, My) on the inclusion produced by displacement increment `du` through
 /// element `k`'s tangent.
-fn element_reaction(model: &crate::model::Model, k: usize, kmat: &[f64], du: &[f64], load: &mut [f64; 3]) {
+fn element_reaction(
+    model: &crate::model::Model,
+    k: usize,
+    kmat: &[f64],
+    du: &[f64],
+    load: &mut [f64; 3],
+) {
     let nodes = model.mesh.tets[model.gel[k]];
     let dofs = model.element_dofs(k);
     for (a, &node) in nodes.iter().enumerate() {

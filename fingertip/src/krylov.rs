@@ -36,7 +36,17 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// similar to K M^{-1} (≈ I), so the scaling changes the norm but not the convergence.
 /// Returns the iterations used, or None without convergence.
 #[allow(clippy::too_many_arguments)]
-pub fn gmres(col_ptr: &[usize], row_idx: &[usize], values: &[f64], m: &mut Ldlt, w: &[f64], b: &[f64], x: &mut [f64], rtol: f64, max_iter: usize) -> Option<usize> {
+pub fn gmres(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    values: &[f64],
+    m: &mut Ldlt,
+    w: &[f64],
+    b: &[f64],
+    x: &mut [f64],
+    rtol: f64,
+    max_iter: usize,
+) -> Option<usize> {
     let n = b.len();
     let wb: Vec<f64> = b.iter().zip(w).map(|(bi, wi)| bi * wi).collect();
     let beta = dot(&wb, &wb).sqrt();
@@ -53,7 +63,10 @@ pub fn gmres(col_ptr: &[usize], row_idx: &[usize], values: &[f64], m: &mut Ldlt,
     let mut kz = vec![0.0; n];
     let mut k = 0;
     while k < max_iter {
-        z.iter_mut().zip(&v[k]).zip(w).for_each(|((zj, vj), wj)| *zj = vj / wj);
+        z.iter_mut()
+            .zip(&v[k])
+            .zip(w)
+            .for_each(|((zj, vj), wj)| *zj = vj / wj);
         m.solve_in_place(&mut z, 1);
         sym_matvec(col_ptr, row_idx, values, &z, &mut kz);
         kz.iter_mut().zip(w).for_each(|(k, wi)| *k *= wi);
@@ -128,7 +141,10 @@ mod tests {
         sym_matvec(&col_ptr, &row_idx, &a, &xs, &mut b);
         let mut x = vec![0.0; n];
         let weights = [1.0, 2.0, 0.5, 1.0, 3.0];
-        let its = gmres(&col_ptr, &row_idx, &a, &mut m, &weights, &b, &mut x, 1e-12, 10).expect("converges");
+        let its = gmres(
+            &col_ptr, &row_idx, &a, &mut m, &weights, &b, &mut x, 1e-12, 10,
+        )
+        .expect("converges");
         assert!(its <= n);
         for i in 0..n {
             assert!((x[i] - xs[i]).abs() < 1e-9, "{x:?}");

@@ -119,10 +119,18 @@ pub enum Error {
     /// Newton did not converge even after the step cutbacks (`travel_mm` is the rod travel
     /// it was heading for, 0 when unknown; `force_n` the last converged rod force).
     #[error("Newton did not converge after {iterations} iterations and all step cutbacks, going to rod travel {travel_mm:.3} mm (last converged force {force_n:.3} N)")]
-    NotConverged { iterations: usize, travel_mm: f64, force_n: f64 },
+    NotConverged {
+        iterations: usize,
+        travel_mm: f64,
+        force_n: f64,
+    },
     /// The rod travelled close to the base without reaching the requested load.
     #[error("peak load {peak_n} N not reached: {reached_n:.3} N at rod travel {travel_mm:.2} mm")]
-    PeakNotReached { peak_n: f64, reached_n: f64, travel_mm: f64 },
+    PeakNotReached {
+        peak_n: f64,
+        reached_n: f64,
+        travel_mm: f64,
+    },
     /// Writing an output file failed.
     #[error("writing output: {0}")]
     Io(#[from] std::io::Error),
@@ -132,7 +140,10 @@ fn check(field: &'static str, value: f64, lo: f64, hi: f64) -> Result<(), Error>
     if value.is_finite() && value >= lo && value <= hi {
         Ok(())
     } else {
-        Err(Error::InvalidConfig { field, reason: format!("{value} is outside [{lo}, {hi}]") })
+        Err(Error::InvalidConfig {
+            field,
+            reason: format!("{value} is outside [{lo}, {hi}]"),
+        })
     }
 }
 
@@ -164,13 +175,33 @@ impl Config {
         check("radius_mm", self.radius_mm, 1.0, 1000.0)?;
         check("youngs_modulus_pa", self.youngs_modulus_pa, 1e2, 1e10)?;
         check("poisson", self.poisson, 0.0, 0.4999)?;
-        check("mesh_size_mm", self.mesh_size_mm, self.radius_mm / 60.0, self.radius_mm / 2.0)?;
-        check("rod_radius_mm", self.rod_radius_mm, self.radius_mm / 50.0, 10.0 * self.radius_mm)?;
+        check(
+            "mesh_size_mm",
+            self.mesh_size_mm,
+            self.radius_mm / 60.0,
+            self.radius_mm / 2.0,
+        )?;
+        check(
+            "rod_radius_mm",
+            self.rod_radius_mm,
+            self.radius_mm / 50.0,
+            10.0 * self.radius_mm,
+        )?;
         check("contact_angle_deg", self.contact_angle_deg, 0.0, 60.0)?;
         check("azimuth_deg", self.azimuth_deg, -360.0, 360.0)?;
         check("friction_mu", self.friction_mu, 0.0, 2.0)?;
-        check("inclusion_half_width_mm", self.inclusion_half_width_mm, 0.01 * self.radius_mm, 0.3 * self.radius_mm)?;
-        check("inclusion_height_mm", self.inclusion_height_mm, 0.01 * self.radius_mm, 0.3 * self.radius_mm)?;
+        check(
+            "inclusion_half_width_mm",
+            self.inclusion_half_width_mm,
+            0.01 * self.radius_mm,
+            0.3 * self.radius_mm,
+        )?;
+        check(
+            "inclusion_height_mm",
+            self.inclusion_height_mm,
+            0.01 * self.radius_mm,
+            0.3 * self.radius_mm,
+        )?;
         check("load_steps", self.load_steps as f64, 1.0, 10_000.0)?;
         check("rod_speed_mm_per_s", self.rod_speed_mm_per_s, 1e-6, 1e6)?;
         if let Material::ViscoNeoHookean(terms) = &self.material {

@@ -9,9 +9,12 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, SymbolicCholesky, SymmetricOrdering};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, SymbolicCholesky,
+    SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -59,7 +62,11 @@ struct Background {
 
 impl std::fmt::Debug for Ldlt {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Ldlt").field("n", &self.symbolic.nrows()).field("factor_nnz", &self.symbolic.len_val()).field("factored", &self.factored).finish()
+        f.debug_struct("Ldlt")
+            .field("n", &self.symbolic.nrows())
+            .field("factor_nnz", &self.symbolic.len_val())
+            .field("factored", &self.factored)
+            .finish()
     }
 }
 
@@ -89,26 +96,53 @@ fn workspace(req: StackReq) -> Result<MemBuffer, Error> {
 impl Ldlt {
     /// Analyse the pattern (upper triangle, CSC), with a fill-reducing ordering `perm`
     /// (new position -> old index) or AMD when `None`.
-    pub fn new(n: usize, col_ptr: &[usize], row_idx: &[usize], perm: Option<&[usize]>) -> Result<Ldlt, Error> {
-        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr.to_vec(), None, row_idx.to_vec());
+    pub fn new(
+        n: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        perm: Option<&[usize]>,
+    ) -> Result<Ldlt, Error> {
+        let pattern =
+            SymbolicSparseColMat::new_checked(n, n, col_ptr.to_vec(), None, row_idx.to_vec());
         let symbolic = match perm {
             Some(fwd) => {
                 if fwd.len() != n {
-                    return Err(Error::LinearSolver(format!("ordering has {} entries for {n} unknowns", fwd.len())));
+                    return Err(Error::LinearSolver(format!(
+                        "ordering has {} entries for {n} unknowns",
+                        fwd.len()
+                    )));
                 }
                 let mut inv = vec![0usize; n];
                 for (new, &old) in fwd.iter().enumerate() {
                     inv[old] = new;
                 }
                 let p = PermRef::new_checked(fwd, &inv, n);
-                factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Custom(p), CholeskySymbolicParams::default())
+                factorize_symbolic_cholesky(
+                    pattern.as_ref(),
+                    Side::Upper,
+                    SymmetricOrdering::Custom(p),
+                    CholeskySymbolicParams::default(),
+                )
             }
-            None => factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, SymmetricOrdering::Amd, CholeskySymbolicParams::default()),
+            None => factorize_symbolic_cholesky(
+                pattern.as_ref(),
+                Side::Upper,
+                SymmetricOrdering::Amd,
+                CholeskySymbolicParams::default(),
+            ),
         }
         .map_err(|e| Error::LinearSolver(format!("symbolic analysis: {e:?}")))?;
         let (par, solve_par) = parallelism();
-        let factor_mem = workspace(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()).or(symbolic.factorize_numeric_ldlt_scratch::<f32>(par, Default::default())))?;
-        let solve_mem = workspace(symbolic.solve_in_place_scratch::<f64>(64, par).or(symbolic.solve_in_place_scratch::<f32>(1, solve_par)))?;
+        let factor_mem = workspace(
+            symbolic
+                .factorize_numeric_ldlt_scratch::<f64>(par, Default::default())
+                .or(symbolic.factorize_numeric_ldlt_scratch::<f32>(par, Default::default())),
+        )?;
+        let solve_mem = workspace(
+            symbolic
+                .solve_in_place_scratch::<f64>(64, par)
+                .or(symbolic.solve_in_place_scratch::<f32>(1, solve_par)),
+        )?;
         Ok(Ldlt {
             pattern: Arc::new(pattern),
             symbolic: Arc::new(symbolic),
@@ -134,7 +168,15 @@ impl Ldlt {
         self.l_values.resize(self.symbolic.len_val(), 0.0);
         let a = SparseColMatRef::new((*self.pattern).as_ref(), values);
         self.symbolic
-            .factorize_numeric_ldlt(&mut self.l_values, a, Side::Upper, LdltRegularization::default(), self.par, MemStack::new(&mut self.factor_mem), Default::default())
+            .factorize_numeric_ldlt(
+                &mut self.l_values,
+                a,
+                Side::Upper,
+                LdltRegularization::default(),
+                self.par,
+                MemStack::new(&mut self.factor_mem),
+                Default::default(),
+            )
             .map_err(|e| Error::LinearSolver(format!("LDLT: {e:?}")))?;
         self.factored = Some(Precision::Double);
         Ok(())
@@ -149,7 +191,15 @@ impl Ldlt {
         self.a_f32.extend(values.iter().map(|&v| v as f32));
         let a = SparseColMatRef::new((*self.pattern).as_ref(), &self.a_f32[..]);
         self.symbolic
-            .factorize_numeric_ldlt(&mut self.l_values_f32, a, Side::Upper, LdltRegularization::default(), self.par, MemStack::new(&mut self.factor_mem), Default::default())
+            .factorize_numeric_ldlt(
+                &mut self.l_values_f32,
+                a,
+                Side::Upper,
+                LdltRegularization::default(),
+                self.par,
+                MemStack::new(&mut self.factor_mem),
+                Default::default(),
+            )
             .map_err(|e| Error::LinearSolver(format!("LDLT (f32): {e:?}")))?;
         self.factored = Some(Precision::Single);
         Ok(())
@@ -166,7 +216,15 @@ impl Ldlt {
         }
         let mut job = match self.spare.take() {
             Some(b) => b,
-            None => Background { a_f32: Vec::new(), l_f32: Vec::new(), mem: workspace(self.symbolic.factorize_numeric_ldlt_scratch::<f32>(Par::Seq, Default::default()))?, ok: false },
+            None => Background {
+                a_f32: Vec::new(),
+                l_f32: Vec::new(),
+                mem: workspace(
+                    self.symbolic
+                        .factorize_numeric_ldlt_scratch::<f32>(Par::Seq, Default::default()),
+                )?,
+                ok: false,
+            },
         };
         job.a_f32.clear();
         job.a_f32.extend(values.iter().map(|&v| v as f32));
@@ -175,7 +233,15 @@ impl Ldlt {
         self.pending = Some(std::thread::spawn(move || {
             let a = SparseColMatRef::new((*pattern).as_ref(), &job.a_f32[..]);
             job.ok = symbolic
-                .factorize_numeric_ldlt(&mut job.l_f32, a, Side::Upper, LdltRegularization::default(), Par::Seq, MemStack::new(&mut job.mem), Default::default())
+                .factorize_numeric_ldlt(
+                    &mut job.l_f32,
+                    a,
+                    Side::Upper,
+                    LdltRegularization::default(),
+                    Par::Seq,
+                    MemStack::new(&mut job.mem),
+                    Default::default(),
+                )
                 .is_ok();
             job
         }));
@@ -188,7 +254,9 @@ impl Ldlt {
         if !self.pending.as_ref().is_some_and(JoinHandle::is_finished) {
             return false;
         }
-        let Some(Ok(mut job)) = self.pending.take().map(JoinHandle::join) else { return false };
+        let Some(Ok(mut job)) = self.pending.take().map(JoinHandle::join) else {
+            return false;
+        };
         let adopted = job.ok;
         if adopted {
             std::mem::swap(&mut self.l_values_f32, &mut job.l_f32);
@@ -215,7 +283,12 @@ impl Ldlt {
                 for chunk in rhs.chunks_mut(n * 64).take(k.div_ceil(64)) {
                     let cols = chunk.len() / n;
                     let m = MatMut::from_column_major_slice_mut(chunk, n, cols);
-                    ldlt.solve_in_place_with_conj(Conj::No, m, self.par, MemStack::new(&mut self.solve_mem));
+                    ldlt.solve_in_place_with_conj(
+                        Conj::No,
+                        m,
+                        self.par,
+                        MemStack::new(&mut self.solve_mem),
+                    );
                 }
             }
             Some(Precision::Single) => {
@@ -224,8 +297,15 @@ impl Ldlt {
                     self.rhs_f32.clear();
                     self.rhs_f32.extend(col.iter().map(|&v| v as f32));
                     let m = MatMut::from_column_major_slice_mut(&mut self.rhs_f32[..], n, 1);
-                    ldlt.solve_in_place_with_conj(Conj::No, m, self.solve_par, MemStack::new(&mut self.solve_mem));
-                    col.iter_mut().zip(&self.rhs_f32).for_each(|(c, &v)| *c = v as f64);
+                    ldlt.solve_in_place_with_conj(
+                        Conj::No,
+                        m,
+                        self.solve_par,
+                        MemStack::new(&mut self.solve_mem),
+                    );
+                    col.iter_mut()
+                        .zip(&self.rhs_f32)
+                        .for_each(|(c, &v)| *c = v as f64);
                 }
             }
             None => panic!("solve before factorize"),
@@ -250,7 +330,12 @@ impl Ldlt {
 
 /// A fill-reducing ordering of the dofs from AMD on the graph of their owners (nodes):
 /// `owner[d]` is the node of dof d. Every node's dofs stay together, in their given order.
-pub fn blocked_amd(col_ptr: &[usize], row_idx: &[usize], owner: &[usize], n_owners: usize) -> Result<Vec<usize>, Error> {
+pub fn blocked_amd(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    owner: &[usize],
+    n_owners: usize,
+) -> Result<Vec<usize>, Error> {
     let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n_owners];
     for c in 0..owner.len() {
         for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
@@ -269,13 +354,25 @@ pub fn blocked_amd(col_ptr: &[usize], row_idx: &[usize], owner: &[usize], n_owne
     let nnz = ri.len();
     let graph = SymbolicSparseColMat::new_checked(n_owners, n_owners, cp, None, ri);
     let (mut perm, mut inv) = (vec![0usize; n_owners], vec![0usize; n_owners]);
-    let mut mem = workspace(faer::sparse::linalg::amd::order_scratch::<usize>(n_owners, nnz))?;
-    faer::sparse::linalg::amd::order(&mut perm, &mut inv, graph.as_ref(), Default::default(), MemStack::new(&mut mem)).map_err(|e| Error::LinearSolver(format!("AMD: {e:?}")))?;
+    let mut mem = workspace(faer::sparse::linalg::amd::order_scratch::<usize>(
+        n_owners, nnz,
+    ))?;
+    faer::sparse::linalg::amd::order(
+        &mut perm,
+        &mut inv,
+        graph.as_ref(),
+        Default::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(|e| Error::LinearSolver(format!("AMD: {e:?}")))?;
     let mut dofs_of: Vec<Vec<usize>> = vec![Vec::new(); n_owners];
     for (d, &o) in owner.iter().enumerate() {
         dofs_of[o].push(d);
     }
-    Ok(perm.iter().flat_map(|&o| dofs_of[o].iter().copied()).collect())
+    Ok(perm
+        .iter()
+        .flat_map(|&o| dofs_of[o].iter().copied())
+        .collect())
 }
 
 #[cfg(test)]
@@ -291,10 +388,17 @@ mod tests {
     /// The held factor solves A x = b for a known x to within `tol`.
     fn assert_solves(s: &mut Ldlt, tol: f64) {
         let x = [1.0, -2.0, 0.5];
-        let mut b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| A[i][j] * x[j]).sum()).collect();
+        let mut b: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|j| A[i][j] * x[j]).sum())
+            .collect();
         s.solve_in_place(&mut b, 1);
         for i in 0..3 {
-            assert!((b[i] - x[i]).abs() < tol, "x[{i}] = {} against {}", b[i], x[i]);
+            assert!(
+                (b[i] - x[i]).abs() < tol,
+                "x[{i}] = {} against {}",
+                b[i],
+                x[i]
+            );
         }
     }
 
@@ -338,7 +442,8 @@ mod tests {
     #[test]
     fn background_factor_is_adopted_and_solves() {
         let mut s = Ldlt::new(3, &COL_PTR, &ROW_IDX, None).unwrap();
-        s.factorize_single(&[1.0, 0.0, 1.0, 0.0, 0.0, -1.0]).unwrap();
+        s.factorize_single(&[1.0, 0.0, 1.0, 0.0, 0.0, -1.0])
+            .unwrap();
         s.factorize_single_in_background(&VALS).unwrap();
         let adopted = (0..5000).any(|_| {
             std::thread::sleep(std::time::Duration::from_millis(1));

@@ -53,7 +53,13 @@ pub fn chip_loads(model: &Model, pillar_force: &[[f64; 3]]) -> ChipLoads {
         m[1] += x[2] * load[0] - x[0] * load[2];
         m[2] += x[0] * load[1] - x[1] * load[0];
     }
-    ChipLoads { fz_n: f[2], mx_nm: m[0], my_nm: m[1], fx_n: f[0], fy_n: f[1] }
+    ChipLoads {
+        fz_n: f[2],
+        mx_nm: m[0],
+        my_nm: m[1],
+        fx_n: f[0],
+        fy_n: f[1],
+    }
 }
 
 /// Total force the gel applies to the mount (bonded base and the whole inclusion), N, from the

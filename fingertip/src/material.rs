@@ -42,7 +42,8 @@ pub fn moduli(youngs_modulus_pa: f64, poisson: f64) -> (f64, f64) {
 }
 
 pub fn det(f: &Mat3) -> f64 {
-    f[0][0] * (f[1][1] * f[2][2] - f[1][2] * f[2][1]) - f[0][1] * (f[1][0] * f[2][2] - f[1][2] * f[2][0])
+    f[0][0] * (f[1][1] * f[2][2] - f[1][2] * f[2][1])
+        - f[0][1] * (f[1][0] * f[2][2] - f[1][2] * f[2][0])
         + f[0][2] * (f[1][0] * f[2][1] - f[1][1] * f[2][0])
 }
 
@@ -102,7 +103,11 @@ pub fn volume_measure(kin: Kinematics, f: &Mat3) -> VolumeMeasure {
             dj: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
             d2j: None,
         },
-        Kinematics::NeoHookean => VolumeMeasure { j: det(f), dj: cofactor(f), d2j: Some(cofactor_derivative(f)) },
+        Kinematics::NeoHookean => VolumeMeasure {
+            j: det(f),
+            dj: cofactor(f),
+            d2j: Some(cofactor_derivative(f)),
+        },
     }
 }
 
@@ -139,7 +144,8 @@ fn small_strain_deviatoric(mu: f64, f: &Mat3) -> (f64, Mat3, Tensor4) {
             for k in 0..3 {
                 for l in 0..3 {
                     let d = |x: usize, y: usize| if x == y { 1.0 } else { 0.0 };
-                    a[3 * i + j][3 * k + l] = mu * (d(i, k) * d(j, l) + d(i, l) * d(j, k)) - 2.0 * mu / 3.0 * d(i, j) * d(k, l);
+                    a[3 * i + j][3 * k + l] = mu * (d(i, k) * d(j, l) + d(i, l) * d(j, k))
+                        - 2.0 * mu / 3.0 * d(i, j) * d(k, l);
                 }
             }
         }
@@ -171,7 +177,12 @@ fn neo_hookean_deviatoric(mu: f64, f: &Mat3) -> (f64, Mat3, Tensor4) {
     for r in 0..9 {
         for c in 0..9 {
             let ident = if r == c { 2.0 * g } else { 0.0 };
-            a[r][c] = 0.5 * mu * (g2 * i1 * hl[r] * hl[c] + 2.0 * g1 * (fl[r] * hl[c] + hl[r] * fl[c]) + g1 * i1 * dh[r][c] + ident);
+            a[r][c] = 0.5
+                * mu
+                * (g2 * i1 * hl[r] * hl[c]
+                    + 2.0 * g1 * (fl[r] * hl[c] + hl[r] * fl[c])
+                    + g1 * i1 * dh[r][c]
+                    + ident);
         }
     }
     (w, p, a)

@@ -56,7 +56,9 @@ pub struct Mesh {
 /// A graded 1-D lattice on `[0, len]`: spacing varies linearly from `h0` to `h1`.
 fn graded(len: f64, h0: f64, h1: f64) -> Vec<f64> {
     let n = ((2.0 * len / (h0 + h1)).round() as usize).max(1);
-    let raw: Vec<f64> = (0..n).map(|k| h0 + (h1 - h0) * (k as f64 + 0.5) / n as f64).collect();
+    let raw: Vec<f64> = (0..n)
+        .map(|k| h0 + (h1 - h0) * (k as f64 + 0.5) / n as f64)
+        .collect();
     let scale = len / raw.iter().sum::<f64>();
     let mut out = Vec::with_capacity(n + 1);
     let mut s = 0.0;
@@ -71,8 +73,13 @@ fn graded(len: f64, h0: f64, h1: f64) -> Vec<f64> {
 /// Lattice on `[0, end]` with `fine_len` meshed uniformly at `h_fine`, then graded to `h`.
 fn half_lattice(fine_len: f64, end: f64, h_fine: f64, h: f64) -> Vec<f64> {
     let n_fine = ((fine_len / h_fine).ceil() as usize).max(2);
-    let mut out: Vec<f64> = (0..=n_fine).map(|k| fine_len * k as f64 / n_fine as f64).collect();
-    for s in graded(end - fine_len, fine_len / n_fine as f64, h).into_iter().skip(1) {
+    let mut out: Vec<f64> = (0..=n_fine)
+        .map(|k| fine_len * k as f64 / n_fine as f64)
+        .collect();
+    for s in graded(end - fine_len, fine_len / n_fine as f64, h)
+        .into_iter()
+        .skip(1)
+    {
         out.push(fine_len + s);
     }
     if let Some(last) = out.last_mut() {
@@ -112,7 +119,14 @@ struct Block<'a> {
     outer: bool,
 }
 
-const KUHN: [[usize; 3]; 6] = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+const KUHN: [[usize; 3]; 6] = [
+    [0, 1, 2],
+    [0, 2, 1],
+    [1, 0, 2],
+    [1, 2, 0],
+    [2, 0, 1],
+    [2, 1, 0],
+];
 
 fn signed_volume(p: [[f64; 3]; 4]) -> f64 {
     let d = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
@@ -122,7 +136,12 @@ fn signed_volume(p: [[f64; 3]; 4]) -> f64 {
         / 6.0
 }
 
-fn mesh_block(block: &Block, table: &mut NodeTable, tets: &mut Vec<[usize; 4]>, tris: &mut Vec<[usize; 3]>) {
+fn mesh_block(
+    block: &Block,
+    table: &mut NodeTable,
+    tets: &mut Vec<[usize; 4]>,
+    tris: &mut Vec<[usize; 3]>,
+) {
     let [n0, n1, n2] = block.dims;
     let mut id = |i: usize, j: usize, k: usize| {
         let (param, pos) = (block.point)(i, j, k);
@@ -131,7 +150,12 @@ fn mesh_block(block: &Block, table: &mut NodeTable, tets: &mut Vec<[usize; 4]>, 
     for i in 0..n0 {
         for j in 0..n1 {
             for k in 0..n2 {
-                let start = [(block.negative)(0, i), (block.negative)(1, j), (block.negative)(2, k)].map(usize::from);
+                let start = [
+                    (block.negative)(0, i),
+                    (block.negative)(1, j),
+                    (block.negative)(2, k),
+                ]
+                .map(usize::from);
                 for perm in KUHN {
                     let mut c = start;
                     let mut v = [id(i + c[0], j + c[1], k + c[2]), 0, 0, 0];
@@ -144,7 +168,8 @@ fn mesh_block(block: &Block, table: &mut NodeTable, tets: &mut Vec<[usize; 4]>, 
                 if block.outer && i + 1 == n0 {
                     let (s1, s2) = (start[1], start[2]);
                     let mut q = |a, b| id(n0, j + a, k + b);
-                    let (p00, p10, p11, p01) = (q(s1, s2), q(1 - s1, s2), q(1 - s1, 1 - s2), q(s1, 1 - s2));
+                    let (p00, p10, p11, p01) =
+                        (q(s1, s2), q(1 - s1, s2), q(1 - s1, 1 - s2), q(s1, 1 - s2));
                     tris.push([p00, p10, p11]);
                     tris.push([p00, p11, p01]);
                 }
@@ -163,16 +188,31 @@ pub fn generate(params: &MeshParams) -> Mesh {
     let h_fine = (CHIP_REFINEMENT * h).min(w / 2.0).min(hi / 2.0);
     // Lattices in units of R.
     let half = half_lattice(w, c * r, h_fine, h);
-    let lat: Vec<f64> = half.iter().rev().map(|v| -v / r).chain(half.iter().skip(1).map(|v| v / r)).collect();
-    let ver: Vec<f64> = half_lattice(hi, c * r, h_fine, h).iter().map(|v| v / r).collect();
+    let lat: Vec<f64> = half
+        .iter()
+        .rev()
+        .map(|v| -v / r)
+        .chain(half.iter().skip(1).map(|v| v / r))
+        .collect();
+    let ver: Vec<f64> = half_lattice(hi, c * r, h_fine, h)
+        .iter()
+        .map(|v| v / r)
+        .collect();
     let shell = (1.0 - c) * r;
     // Radially, grade towards the surface down to the cap's lateral spacing (h_fine / c at the
     // pole), so the elements under the contact are about isotropic.
     let h_surface = (SURFACE_REFINEMENT * h).min(h_fine / c);
-    let rad: Vec<f64> = graded(shell, h, h_surface).iter().map(|v| v / shell).collect();
+    let rad: Vec<f64> = graded(shell, h, h_surface)
+        .iter()
+        .map(|v| v / shell)
+        .collect();
 
     let r_m = r * 1e-3;
-    let mut table = NodeTable { index: HashMap::new(), nodes: Vec::new(), param: Vec::new() };
+    let mut table = NodeTable {
+        index: HashMap::new(),
+        nodes: Vec::new(),
+        param: Vec::new(),
+    };
     let mut tets = Vec::new();
     let mut tris = Vec::new();
 
@@ -183,7 +223,12 @@ pub fn generate(params: &MeshParams) -> Mesh {
     let neg = |cell: usize| lat[cell + 1] <= 0.0;
     let inner_neg = |axis: usize, cell: usize| axis < 2 && neg(cell);
     mesh_block(
-        &Block { dims: [lat.len() - 1, lat.len() - 1, ver.len() - 1], point: &inner, negative: &inner_neg, outer: false },
+        &Block {
+            dims: [lat.len() - 1, lat.len() - 1, ver.len() - 1],
+            point: &inner,
+            negative: &inner_neg,
+            outer: false,
+        },
         &mut table,
         &mut tets,
         &mut tris,
@@ -217,13 +262,29 @@ pub fn generate(params: &MeshParams) -> Mesh {
         (&ym, [nt, na, nb], &side_neg),
     ];
     for (point, dims, negative) in blocks {
-        mesh_block(&Block { dims, point, negative, outer: true }, &mut table, &mut tets, &mut tris);
+        mesh_block(
+            &Block {
+                dims,
+                point,
+                negative,
+                outer: true,
+            },
+            &mut table,
+            &mut tets,
+            &mut tris,
+        );
     }
     finish(table, tets, tris, params, r_m)
 }
 
 /// Orient elements and surface triangles, flag base and inclusion nodes.
-fn finish(table: NodeTable, mut tets: Vec<[usize; 4]>, mut tris: Vec<[usize; 3]>, params: &MeshParams, r_m: f64) -> Mesh {
+fn finish(
+    table: NodeTable,
+    mut tets: Vec<[usize; 4]>,
+    mut tris: Vec<[usize; 3]>,
+    params: &MeshParams,
+    r_m: f64,
+) -> Mesh {
     let nodes = table.nodes;
     for t in &mut tets {
         if signed_volume(t.map(|v| nodes[v])) < 0.0 {
@@ -232,8 +293,15 @@ fn finish(table: NodeTable, mut tets: Vec<[usize; 4]>, mut tris: Vec<[usize; 3]>
     }
     for t in &mut tris {
         let p = t.map(|v| nodes[v]);
-        let (u, v) = ([p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]], [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]]);
-        let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+        let (u, v) = (
+            [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]],
+            [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]],
+        );
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
         let centroid: Vec<f64> = (0..3).map(|d| p[0][d] + p[1][d] + p[2][d]).collect();
         if n[0] * centroid[0] + n[1] * centroid[1] + n[2] * centroid[2] < 0.0 {
             t.swap(1, 2);
@@ -243,8 +311,18 @@ fn finish(table: NodeTable, mut tets: Vec<[usize; 4]>, mut tris: Vec<[usize; 3]>
     let w = params.inclusion_half_width_mm * 1e-3 + tol;
     let hi = params.inclusion_height_mm * 1e-3 + tol;
     let on_base = table.param.iter().map(|p| p[2].abs() < 1e-12).collect();
-    let in_inclusion = nodes.iter().map(|x| x[0].abs() <= w && x[1].abs() <= w && x[2] <= hi).collect();
-    Mesh { nodes, tets, on_base, in_inclusion, surface_tris: tris, radius_m: r_m }
+    let in_inclusion = nodes
+        .iter()
+        .map(|x| x[0].abs() <= w && x[1].abs() <= w && x[2] <= hi)
+        .collect();
+    Mesh {
+        nodes,
+        tets,
+        on_base,
+        in_inclusion,
+        surface_tris: tris,
+        radius_m: r_m,
+    }
 }
 
 impl Mesh {
@@ -265,7 +343,11 @@ impl Mesh {
             let p = t.map(|v| self.nodes[v]);
             let u = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
             let v = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
-            let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+            let n = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
             let a = 0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             for &i in t {
                 area[i] += a / 3.0;

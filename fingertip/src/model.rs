@@ -53,8 +53,14 @@ pub struct Model {
 
 fn shape_gradients(p: [[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
     // Columns of the Jacobian are edge vectors; grads of N1..N3 are rows of its inverse.
-    let e: Vec<[f64; 3]> = (1..4).map(|a| [p[a][0] - p[0][0], p[a][1] - p[0][1], p[a][2] - p[0][2]]).collect();
-    let jm = [[e[0][0], e[1][0], e[2][0]], [e[0][1], e[1][1], e[2][1]], [e[0][2], e[1][2], e[2][2]]];
+    let e: Vec<[f64; 3]> = (1..4)
+        .map(|a| [p[a][0] - p[0][0], p[a][1] - p[0][1], p[a][2] - p[0][2]])
+        .collect();
+    let jm = [
+        [e[0][0], e[1][0], e[2][0]],
+        [e[0][1], e[1][1], e[2][1]],
+        [e[0][2], e[1][2], e[2][2]],
+    ];
     let det = crate::material::det(&jm);
     let cof = crate::material::cofactor(&jm);
     let mut g = [[0.0; 3]; 4];
@@ -72,12 +78,19 @@ fn shape_gradients(p: [[f64; 3]; 4]) -> ([[f64; 3]; 4], f64) {
 /// inclusion node): they hold the pillar top, every other element touching the inclusion holds
 /// a package side wall. The top is a lattice plane of the mesh, so the split is exact.
 fn pillar_elements(mesh: &Mesh, gel: &[usize]) -> Vec<bool> {
-    let top = mesh.nodes.iter().zip(&mesh.in_inclusion).filter(|(_, &inc)| inc).map(|(x, _)| x[2]).fold(f64::NEG_INFINITY, f64::max);
+    let top = mesh
+        .nodes
+        .iter()
+        .zip(&mesh.in_inclusion)
+        .filter(|(_, &inc)| inc)
+        .map(|(x, _)| x[2])
+        .fold(f64::NEG_INFINITY, f64::max);
     let tol = 1e-9 * mesh.radius_m;
     gel.iter()
         .map(|&e| {
             let t = mesh.tets[e];
-            t.iter().any(|&a| mesh.in_inclusion[a]) && t.iter().all(|&a| mesh.nodes[a][2] >= top - tol)
+            t.iter().any(|&a| mesh.in_inclusion[a])
+                && t.iter().all(|&a| mesh.nodes[a][2] >= top - tol)
         })
         .collect()
 }
@@ -85,7 +98,9 @@ fn pillar_elements(mesh: &Mesh, gel: &[usize]) -> Vec<bool> {
 impl Model {
     pub fn new(mesh: Mesh, material: MaterialData) -> Model {
         let n = mesh.nodes.len();
-        let gel: Vec<usize> = (0..mesh.tets.len()).filter(|&e| !mesh.tet_is_rigid(e)).collect();
+        let gel: Vec<usize> = (0..mesh.tets.len())
+            .filter(|&e| !mesh.tet_is_rigid(e))
+            .collect();
         let mut grads = Vec::with_capacity(gel.len());
         let mut volume = Vec::with_capacity(gel.len());
         let mut node_volume = vec![0.0; n];
@@ -167,7 +182,11 @@ impl Model {
             if r == NONE || c == NONE {
                 return NONE;
             }
-            let (r, c) = if r <= c { (r as usize, c as usize) } else { (c as usize, r as usize) };
+            let (r, c) = if r <= c {
+                (r as usize, c as usize)
+            } else {
+                (c as usize, r as usize)
+            };
             let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
             match rows.binary_search(&r) {
                 Ok(i) => (col_ptr[c] + i) as u32,
@@ -195,7 +214,11 @@ impl Model {
 
     /// Value slot of global upper entry (r, c) with r <= c, if stored.
     pub fn slot(&self, r: u32, c: u32) -> Option<usize> {
-        let (r, c) = if r <= c { (r as usize, c as usize) } else { (c as usize, r as usize) };
+        let (r, c) = if r <= c {
+            (r as usize, c as usize)
+        } else {
+            (c as usize, r as usize)
+        };
         let rows = &self.row_idx[self.col_ptr[c]..self.col_ptr[c + 1]];
         rows.binary_search(&r).ok().map(|i| self.col_ptr[c] + i)
     }
@@ -207,7 +230,12 @@ mod tests {
 
     #[test]
     fn shape_gradients_reproduce_a_linear_field() {
-        let p = [[0.0, 0.0, 0.0], [1.0, 0.1, 0.0], [0.2, 1.0, 0.1], [0.1, 0.3, 1.2]];
+        let p = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.1, 0.0],
+            [0.2, 1.0, 0.1],
+            [0.1, 0.3, 1.2],
+        ];
         let (g, v) = shape_gradients(p);
         assert!(v > 0.0);
         // u = 2x - y + 3z: sum_a u(p_a) grad N_a = (2, -1, 3)

@@ -25,7 +25,11 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -53,7 +57,10 @@ pub fn dihedral_angles_deg(p: [[f64; 3]; 4]) -> [f64; 6] {
 
 fn aspect_ratio(p: [[f64; 3]; 4], volume: f64) -> f64 {
     let faces = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-    let area: f64 = faces.iter().map(|f| 0.5 * norm(cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]])))).sum();
+    let area: f64 = faces
+        .iter()
+        .map(|f| 0.5 * norm(cross(sub(p[f[1]], p[f[0]]), sub(p[f[2]], p[f[0]]))))
+        .sum();
     let inradius = 3.0 * volume / area;
     let mut longest: f64 = 0.0;
     for i in 0..4 {
@@ -97,7 +104,12 @@ mod tests {
 
     #[test]
     fn regular_tetrahedron_has_the_textbook_dihedral_and_unit_aspect() {
-        let p = [[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]];
+        let p = [
+            [1.0, 1.0, 1.0],
+            [1.0, -1.0, -1.0],
+            [-1.0, 1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+        ];
         let v = (8.0f64 / 3.0).abs();
         for a in dihedral_angles_deg(p) {
             assert!((a - (1.0f64 / 3.0).acos().to_degrees()).abs() < 1e-9);

@@ -117,19 +117,39 @@ pub struct ContactTotals {
 impl Solver {
     pub fn new(model: Model, youngs_modulus_pa: f64) -> Result<Solver, Error> {
         let area = model.mesh.surface_node_areas();
-        let contact_k: Vec<f64> = area.iter().map(|&a| if a > 0.0 { PENALTY * youngs_modulus_pa * a.sqrt() } else { 0.0 }).collect();
+        let contact_k: Vec<f64> = area
+            .iter()
+            .map(|&a| {
+                if a > 0.0 {
+                    PENALTY * youngs_modulus_pa * a.sqrt()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let contact_ramp: Vec<f64> = area.iter().map(|&a| RAMP_FRACTION * a.sqrt()).collect();
-        let surface_nodes = (0..area.len()).filter(|&a| area[a] > 0.0 && model.dof_x[a][0] != NONE).collect();
+        let surface_nodes = (0..area.len())
+            .filter(|&a| area[a] > 0.0 && model.dof_x[a][0] != NONE)
+            .collect();
         let mut owner = vec![0usize; model.n_dofs];
         for a in 0..model.mesh.nodes.len() {
-            for d in model.dof_x[a].into_iter().chain([model.dof_p[a]]).filter(|&d| d != NONE) {
+            for d in model.dof_x[a]
+                .into_iter()
+                .chain([model.dof_p[a]])
+                .filter(|&d| d != NONE)
+            {
                 owner[d as usize] = a;
             }
         }
         // AMD on the node graph, each node's dofs kept together: 9 % less fill than AMD on
         // the dofs (5.0 M against 5.5 M entries on the 13,536-tet curve; a geometric nested
         // dissection gave the same 5.0 M).
-        let perm = crate::linsolve::blocked_amd(&model.col_ptr, &model.row_idx, &owner, model.mesh.nodes.len())?;
+        let perm = crate::linsolve::blocked_amd(
+            &model.col_ptr,
+            &model.row_idx,
+            &owner,
+            model.mesh.nodes.len(),
+        )?;
         let ldlt = Ldlt::new(model.n_dofs, &model.col_ptr, &model.row_idx, Some(&perm))?;
         let f_scale = youngs_modulus_pa * model.mesh.radius_m * model.mesh.radius_m;
         let mut residual_weight = vec![0.0; model.n_dofs];
@@ -143,8 +163,29 @@ impl Solver {
         }
         let state = State::reference(&model);
         let step_start = state.x.clone();
-        let asm = Assembled { residual: Vec::new(), node_force: Vec::new(), pillar_force: Vec::new(), values: Vec::new(), min_j: 1.0 };
-        Ok(Solver { model, state, contact_k, contact_ramp, surface_nodes, residual_weight, ldlt, asm, parts: Vec::new(), step_start, step_face_m: 0.0, stats: Stats::default(), direct_only: std::env::var_os("FINGERTIP_DIRECT").is_some(), background_refresh: std::env::var_os("FINGERTIP_SYNC_REFRESH").is_none() })
+        let asm = Assembled {
+            residual: Vec::new(),
+            node_force: Vec::new(),
+            pillar_force: Vec::new(),
+            values: Vec::new(),
+            min_j: 1.0,
+        };
+        Ok(Solver {
+            model,
+            state,
+            contact_k,
+            contact_ramp,
+            surface_nodes,
+            residual_weight,
+            ldlt,
+            asm,
+            parts: Vec::new(),
+            step_start,
+            step_face_m: 0.0,
+            stats: Stats::default(),
+            direct_only: std::env::var_os("FINGERTIP_DIRECT").is_some(),
+            background_refresh: std::env::var_os("FINGERTIP_SYNC_REFRESH").is_none(),
+        })
     }
 
     /// Mark the current state as the start of a load step with the rod face at `face_m`.
@@ -156,7 +197,13 @@ impl Solver {
     /// Residual and tangent at the current state with the rod at `rod`.
     pub fn evaluate(&mut self, rod: &Rod, dt_s: f64) -> ContactTotals {
         let t0 = Instant::now();
-        assemble(&self.model, &self.state, dt_s, &mut self.asm, &mut self.parts);
+        assemble(
+            &self.model,
+            &self.state,
+            dt_s,
+            &mut self.asm,
+            &mut self.parts,
+        );
         let totals = self.add_contact(rod);
         self.stats.assembly_s += t0.elapsed().as_secs_f64();
         totals
@@ -165,10 +212,13 @@ impl Solver {
     fn add_contact(&mut self, rod: &Rod) -> ContactTotals {
         let mut totals = ContactTotals::default();
         for &a in &self.surface_nodes {
-            let Some(c) = rod.probe(self.state.x[a]) else { continue };
+            let Some(c) = rod.probe(self.state.x[a]) else {
+                continue;
+            };
             // Slip relative to the rod since the step began; the rod moved by (face - face0) e.
             let rod_move = rod.face_m - self.step_face_m;
-            let slip = [0, 1, 2].map(|d| self.state.x[a][d] - self.step_start[a][d] - rod_move * rod.axis[d]);
+            let slip = [0, 1, 2]
+                .map(|d| self.state.x[a][d] - self.step_start[a][d] - rod_move * rod.axis[d]);
             let (f, kt) = node_response(&c, self.contact_k[a], self.contact_ramp[a], slip, rod);
             let dofs = self.model.dof_x[a];
             for i in 0..3 {
@@ -238,12 +288,19 @@ impl Solver {
         let mut totals = self.evaluate(rod, dt_s);
         let mut delta = vec![0.0; self.model.n_dofs];
         let mut rhs = vec![0.0; self.model.n_dofs];
-        let mut refresh = if self.ldlt.is_factored() { Refresh::Keep } else { Refresh::Now };
+        let mut refresh = if self.ldlt.is_factored() {
+            Refresh::Keep
+        } else {
+            Refresh::Now
+        };
         let trace = std::env::var_os("FINGERTIP_TRACE").is_some();
         for it in 0..MAX_NEWTON {
             let (merit, converged) = self.merit();
             if trace {
-                eprintln!("newton it {it} face {:.6e} merit {merit:.3e} minJ {:.4} contact {}", rod.face_m, self.asm.min_j, totals.nodes);
+                eprintln!(
+                    "newton it {it} face {:.6e} merit {merit:.3e} minJ {:.4} contact {}",
+                    rod.face_m, self.asm.min_j, totals.nodes
+                );
             }
             if converged && it > 0 {
                 return Ok(totals);
@@ -273,20 +330,34 @@ impl Solver {
                     self.apply(&delta, MIN_ALPHA);
                     totals = self.evaluate(rod, dt_s);
                     if self.asm.min_j <= 0.0 {
-                        return Err(Error::NotConverged { iterations: it + 1, travel_mm: 0.0, force_n: 0.0 });
+                        return Err(Error::NotConverged {
+                            iterations: it + 1,
+                            travel_mm: 0.0,
+                            force_n: 0.0,
+                        });
                     }
                     refresh = Refresh::Now;
                 }
             }
         }
-        Err(Error::NotConverged { iterations: MAX_NEWTON, travel_mm: 0.0, force_n: 0.0 })
+        Err(Error::NotConverged {
+            iterations: MAX_NEWTON,
+            travel_mm: 0.0,
+            force_n: 0.0,
+        })
     }
 
     /// Solve K delta = rhs by GMRES preconditioned with the kept single-precision factor,
     /// refactoring first when asked or when GMRES stalls on a stale factor; a double factor
     /// (exact solve) is the last resort, and the only path with `direct_only`. Returns whether
     /// the direction was computed with a factor of this very tangent, and the GMRES iterations.
-    fn newton_direction(&mut self, rhs: &[f64], delta: &mut [f64], refresh: Refresh, rtol: f64) -> Result<(bool, usize), Error> {
+    fn newton_direction(
+        &mut self,
+        rhs: &[f64],
+        delta: &mut [f64],
+        refresh: Refresh,
+        rtol: f64,
+    ) -> Result<(bool, usize), Error> {
         if !self.direct_only {
             let mut fresh = false;
             if refresh == Refresh::Now || self.ldlt.precision() != Some(Precision::Single) {
@@ -333,7 +404,17 @@ impl Solver {
     fn gmres(&mut self, rhs: &[f64], delta: &mut [f64], rtol: f64) -> Option<usize> {
         let t1 = Instant::now();
         let m = &self.model;
-        let its = crate::krylov::gmres(&m.col_ptr, &m.row_idx, &self.asm.values, &mut self.ldlt, &self.residual_weight, rhs, delta, rtol, GMRES_MAX);
+        let its = crate::krylov::gmres(
+            &m.col_ptr,
+            &m.row_idx,
+            &self.asm.values,
+            &mut self.ldlt,
+            &self.residual_weight,
+            rhs,
+            delta,
+            rtol,
+            GMRES_MAX,
+        );
         self.stats.solve_s += t1.elapsed().as_secs_f64();
         self.stats.krylov_iterations += its.unwrap_or(GMRES_MAX);
         its
@@ -341,7 +422,13 @@ impl Solver {
 
     /// Backtracking (halving) on the scaled residual norm with an inversion guard. Returns the
     /// contact totals and the new merit, or None with the state unchanged.
-    fn line_search(&mut self, delta: &[f64], merit: f64, rod: &Rod, dt_s: f64) -> Option<(ContactTotals, f64)> {
+    fn line_search(
+        &mut self,
+        delta: &[f64],
+        merit: f64,
+        rod: &Rod,
+        dt_s: f64,
+    ) -> Option<(ContactTotals, f64)> {
         let mut alpha = 1.0;
         while alpha >= MIN_ALPHA {
             self.apply(delta, alpha);

@@ -91,7 +91,8 @@ pub fn advance(terms: &[PronyTerm], hist: &mut ElementHistory, s0_new: Mat3, dt_
         let gamma = if x < 1e-12 { 1.0 } else { (1.0 - decay) / x };
         for i in 0..3 {
             for j in 0..3 {
-                hist.h[k][i][j] = decay * hist.h[k][i][j] + t.g * gamma * (s0_new[i][j] - hist.s0[i][j]);
+                hist.h[k][i][j] =
+                    decay * hist.h[k][i][j] + t.g * gamma * (s0_new[i][j] - hist.s0[i][j]);
             }
         }
     }

@@ -26,7 +26,13 @@ pub fn write(mesh: &Mesh, state: &State, out: &mut impl Write) -> std::io::Resul
     writeln!(out, "POINT_DATA {}", mesh.nodes.len())?;
     writeln!(out, "VECTORS displacement_m double")?;
     for (x, x0) in state.x.iter().zip(&mesh.nodes) {
-        writeln!(out, "{:.9e} {:.9e} {:.9e}", x[0] - x0[0], x[1] - x0[1], x[2] - x0[2])?;
+        writeln!(
+            out,
+            "{:.9e} {:.9e} {:.9e}",
+            x[0] - x0[0],
+            x[1] - x0[1],
+            x[2] - x0[2]
+        )?;
     }
     writeln!(out, "SCALARS pressure_pa double 1\nLOOKUP_TABLE default")?;
     for p in &state.p {

@@ -63,11 +63,16 @@ fn hertz_limit_at_small_indentation() {
     let nu = c.poisson;
     let youngs_pa = c.youngs_modulus_pa;
     let e_star = youngs_pa / (1.0 - nu * nu);
-    let bonded = 4.0 / 3.0 * (1.0 + nu) * (3.0 - 2.0 * nu) / (2.0 * std::f64::consts::PI * (1.0 - nu * nu));
+    let bonded =
+        4.0 / 3.0 * (1.0 + nu) * (3.0 - 2.0 * nu) / (2.0 * std::f64::consts::PI * (1.0 - nu * nu));
     let r = c.radius_mm * 1e-3;
     let mut ft = Fingertip::new(c).unwrap();
     let spacing = pole_spacing_m(&ft.solver.model.mesh);
-    println!("{:?}; pole node spacing {:.3} mm", ft.quality(), spacing * 1e3);
+    println!(
+        "{:?}; pole node spacing {:.3} mm",
+        ft.quality(),
+        spacing * 1e3
+    );
     let mut worst: f64 = 0.0;
     for d_over_r in [0.0025, 0.005, 0.0075, 0.01, 0.0125, 0.015, 0.0175, 0.02] {
         let p = ft.step_to(d_over_r * 20.0, 1.0).unwrap();
@@ -95,14 +100,21 @@ fn hertz_limit_at_small_indentation() {
 
 /// Distance from the pole (the highest node) to its nearest neighbour on the surface, m.
 fn pole_spacing_m(mesh: &fingertip::mesh::Mesh) -> f64 {
-    let pole = (0..mesh.nodes.len()).max_by(|&a, &b| mesh.nodes[a][2].total_cmp(&mesh.nodes[b][2])).expect("nodes");
+    let pole = (0..mesh.nodes.len())
+        .max_by(|&a, &b| mesh.nodes[a][2].total_cmp(&mesh.nodes[b][2]))
+        .expect("nodes");
     let q = mesh.nodes[pole];
     mesh.surface_tris
         .iter()
         .filter(|t| t.contains(&pole))
         .flat_map(|t| t.iter().copied())
         .filter(|&v| v != pole)
-        .map(|v| (0..3).map(|d| (mesh.nodes[v][d] - q[d]).powi(2)).sum::<f64>().sqrt())
+        .map(|v| {
+            (0..3)
+                .map(|d| (mesh.nodes[v][d] - q[d]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
         .fold(f64::INFINITY, f64::min)
 }
 
@@ -125,11 +137,17 @@ fn mesh_convergence_of_the_60n_indentation() {
         let prev = curve.points[curve.points.len() - 2];
         let n = (last.force_n / prev.force_n).ln() / (last.rod_mm / prev.rod_mm).ln();
         let d60 = last.rod_mm * (60.0 / last.force_n).powf(1.0 / n);
-        println!("h {h:.3} mm: {} tets, {} dofs, travel at 60 N {d60:.4} mm, Fz {:.4} N, solve {:.1} s", curve.quality.tets, curve.dofs, last.fz_n, curve.solve_s);
+        println!(
+            "h {h:.3} mm: {} tets, {} dofs, travel at 60 N {d60:.4} mm, Fz {:.4} N, solve {:.1} s",
+            curve.quality.tets, curve.dofs, last.fz_n, curve.solve_s
+        );
         travel.push(d60);
     }
     let order = ((travel[0] - travel[1]) / (travel[1] - travel[2])).ln() / 2f64.sqrt().ln();
     let extrapolated = travel[2] + (travel[2] - travel[1]) / (2f64.sqrt().powf(order) - 1.0);
     println!("observed order {order:.2}, Richardson-extrapolated travel {extrapolated:.4} mm");
-    assert!(order.is_finite() && order > 0.5, "no convergence: {travel:?}");
+    assert!(
+        order.is_finite() && order > 0.5,
+        "no convergence: {travel:?}"
+    );
 }

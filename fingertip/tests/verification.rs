@@ -50,14 +50,18 @@ fn patch_test_homogeneous_deformation_is_in_equilibrium() {
         let scale = s.model.material.mu_pa * 0.02 * 0.02;
         let mut checked = 0;
         for a in 0..s.model.mesh.nodes.len() {
-            let interior = area[a] == 0.0 && !s.model.mesh.on_base[a] && !s.model.mesh.in_inclusion[a];
+            let interior =
+                area[a] == 0.0 && !s.model.mesh.on_base[a] && !s.model.mesh.in_inclusion[a];
             if interior {
                 for d in 0..3 {
                     let r = s.asm.residual[s.model.dof_x[a][d] as usize];
                     assert!(r.abs() < 1e-12 * scale, "node {a} residual {r}");
                 }
                 let rp = s.asm.residual[s.model.dof_p[a] as usize];
-                assert!(rp.abs() < 1e-12 * s.model.node_volume[a], "volume residual {rp}");
+                assert!(
+                    rp.abs() < 1e-12 * s.model.node_volume[a],
+                    "volume residual {rp}"
+                );
                 checked += 1;
             }
         }
@@ -146,7 +150,10 @@ fn axial_load_gives_no_moment() {
     let p = ft.step_to(2.0, 1.0).unwrap();
     assert!(p.force_n > 0.1 && p.fz_n < 0.0);
     let m_scale = p.fz_n.abs() * 0.02;
-    assert!(p.mx_nm.abs() < 1e-6 * m_scale && p.my_nm.abs() < 1e-6 * m_scale, "{p:?}");
+    assert!(
+        p.mx_nm.abs() < 1e-6 * m_scale && p.my_nm.abs() < 1e-6 * m_scale,
+        "{p:?}"
+    );
 }
 
 /// Equilibrium: the mount (base + package) carries exactly the rod's push, and the chip, which
@@ -163,16 +170,24 @@ fn chip_carries_the_pillar_share_of_the_mount_reaction() {
     let axis = ft.rod_at(3e-3).axis;
     let mount = ft.mount_reaction();
     for d in 0..3 {
-        assert!((mount[d] + p.force_n * axis[d]).abs() < 1e-4 * p.force_n, "mount {mount:?} vs rod {} N along {axis:?}", p.force_n);
+        assert!(
+            (mount[d] + p.force_n * axis[d]).abs() < 1e-4 * p.force_n,
+            "mount {mount:?} vs rod {} N along {axis:?}",
+            p.force_n
+        );
     }
     let s = &ft.solver;
     let package = fingertip::loads::chip_loads(&s.model, &s.asm.node_force);
     let chip = ft.chip_loads();
     let share = chip.fz_n / mount[2];
-    let area_share = (2.0 * c.inclusion_half_width_mm).powi(2) / (std::f64::consts::PI * c.radius_mm.powi(2));
+    let area_share =
+        (2.0 * c.inclusion_half_width_mm).powi(2) / (std::f64::consts::PI * c.radius_mm.powi(2));
     println!("pillar share of the mount's Fz {share:.4} (top-face area share {area_share:.4}, whole package {:.4})", package.fz_n / mount[2]);
     assert!(share > area_share && share < 1.0, "pillar share {share}");
-    assert!((chip.fz_n - package.fz_n).abs() > 1e-3 * chip.fz_n.abs(), "the side walls carry nothing: {chip:?} vs {package:?}");
+    assert!(
+        (chip.fz_n - package.fz_n).abs() > 1e-3 * chip.fz_n.abs(),
+        "the side walls carry nothing: {chip:?} vs {package:?}"
+    );
 }
 
 /// Rotating the azimuth by 90° rotates (Mx, My) by 90° and leaves Fz and the rod force
@@ -188,12 +203,18 @@ fn azimuth_rotates_the_moment() {
     let (a, b) = (run(30.0), run(120.0));
     let m = a.mx_nm.hypot(a.my_nm);
     assert!(m > 0.0);
-    assert!((b.mx_nm + a.my_nm).abs() < 1e-5 * m && (b.my_nm - a.mx_nm).abs() < 1e-5 * m, "{a:?} {b:?}");
+    assert!(
+        (b.mx_nm + a.my_nm).abs() < 1e-5 * m && (b.my_nm - a.mx_nm).abs() < 1e-5 * m,
+        "{a:?} {b:?}"
+    );
     assert!((a.fz_n - b.fz_n).abs() < 1e-5 * a.fz_n.abs());
     // In the tilt plane at phi, the moment vector is about the in-plane normal (sin phi, -cos phi).
     let phi = 30f64.to_radians();
     let along = a.mx_nm * phi.sin() - a.my_nm * phi.cos();
-    assert!(along.abs() > 0.9 * m, "moment not about the tilt-plane normal: {a:?}");
+    assert!(
+        along.abs() > 0.9 * m,
+        "moment not about the tilt-plane normal: {a:?}"
+    );
 }
 
 /// Every stress of the model is proportional to E at fixed nu and geometry: doubling E
@@ -209,7 +230,12 @@ fn response_scales_linearly_with_youngs_modulus() {
     let (a, b) = (run(0.1e6), run(0.3e6));
     // Mx is zero by symmetry (tilt plane y = 0): compare it on the scale of the moment.
     let m = b.mx_nm.hypot(b.my_nm);
-    for (x, y, scale) in [(a.force_n, b.force_n, b.force_n), (a.fz_n, b.fz_n, b.fz_n), (a.mx_nm, b.mx_nm, m), (a.my_nm, b.my_nm, m)] {
+    for (x, y, scale) in [
+        (a.force_n, b.force_n, b.force_n),
+        (a.fz_n, b.fz_n, b.fz_n),
+        (a.mx_nm, b.mx_nm, m),
+        (a.my_nm, b.my_nm, m),
+    ] {
         assert!((y - 3.0 * x).abs() < 1e-5 * scale.abs(), "{x} {y}");
     }
 }
@@ -236,7 +262,10 @@ fn compression_reaches_the_peak_monotonically() {
     let last = curve.points.last().unwrap();
     assert!((last.force_n - 10.0).abs() < 0.05, "{last:?}");
     assert!(curve.points.len() > c.load_steps);
-    assert!(curve.points.windows(2).all(|w| w[1].force_n > w[0].force_n && w[1].rod_mm > w[0].rod_mm));
+    assert!(curve
+        .points
+        .windows(2)
+        .all(|w| w[1].force_n > w[0].force_n && w[1].rod_mm > w[0].rod_mm));
     // Tilt plane at 60°: the x moment dominates (paper observation 4).
     assert!(last.mx_nm.abs() > last.my_nm.abs());
 }
@@ -252,8 +281,15 @@ fn haptic_update_tracks_the_full_model() {
     assert!((s0.force_n - base.force_n).abs() < 1e-6 * base.force_n);
     let s1 = h.update(2.1);
     let full = ft.step_to(2.1, 1.0).unwrap();
-    assert!((s1.force_n - full.force_n).abs() < 0.02 * (full.force_n - base.force_n).abs() + 0.005 * full.force_n, "{s1:?} {full:?}");
-    assert!((s1.fz_n - full.fz_n).abs() < 0.03 * full.fz_n.abs(), "{s1:?} {full:?}");
+    assert!(
+        (s1.force_n - full.force_n).abs()
+            < 0.02 * (full.force_n - base.force_n).abs() + 0.005 * full.force_n,
+        "{s1:?} {full:?}"
+    );
+    assert!(
+        (s1.fz_n - full.fz_n).abs() < 0.03 * full.fz_n.abs(),
+        "{s1:?} {full:?}"
+    );
 }
 
 /// The mesh is valid and reasonably shaped, and its volume converges to the hemisphere's.
@@ -272,12 +308,22 @@ fn mesh_quality_is_reasonable() {
     let (q8, q4, q2) = (quality(8.0), quality(4.0), quality(2.0));
     for q in [q8, q4, q2] {
         assert!(q.min_volume_m3 > 0.0);
-        assert!(q.min_dihedral_deg > 5.0 && q.max_dihedral_deg < 170.0, "{q:?}");
+        assert!(
+            q.min_dihedral_deg > 5.0 && q.max_dihedral_deg < 170.0,
+            "{q:?}"
+        );
         assert!(q.max_aspect_ratio < 10.0, "{q:?}");
     }
     // Chords of the sphere cut volume off; the deficit falls like h^2.
-    let (e8, e4, e2) = (1.0 - q8.volume_ratio, 1.0 - q4.volume_ratio, 1.0 - q2.volume_ratio);
-    assert!(e8 > e4 && e4 > e2 && e2 > 0.0 && e2 < 0.01, "{e8} {e4} {e2}");
+    let (e8, e4, e2) = (
+        1.0 - q8.volume_ratio,
+        1.0 - q4.volume_ratio,
+        1.0 - q2.volume_ratio,
+    );
+    assert!(
+        e8 > e4 && e4 > e2 && e2 > 0.0 && e2 < 0.01,
+        "{e8} {e4} {e2}"
+    );
     assert!(q2.tets > q4.tets && q4.tets > q8.tets);
 }
 
@@ -313,13 +359,27 @@ fn viscoelastic_gel_relaxes_towards_the_elastic_response() {
     let mut elastic = Fingertip::new(coarse(Material::NeoHookean)).unwrap();
     let relaxed = elastic.step_to(2.0, 1.0).unwrap().force_n;
     let mut visco = Fingertip::new(coarse(Material::ViscoNeoHookean(terms))).unwrap();
-    let history: Vec<(f64, f64)> = [(0.05, 1.0), (0.1, 2.0), (0.6, 2.0), (1.6, 2.0), (4.0, 2.0), (30.0, 2.0)].to_vec();
+    let history: Vec<(f64, f64)> = [
+        (0.05, 1.0),
+        (0.1, 2.0),
+        (0.6, 2.0),
+        (1.6, 2.0),
+        (4.0, 2.0),
+        (30.0, 2.0),
+    ]
+    .to_vec();
     let pts = visco.follow(&history).unwrap();
     let fast = pts[1].force_n;
     assert!(fast > 1.3 * relaxed, "fast {fast} relaxed {relaxed}");
-    assert!(pts.windows(2).skip(1).all(|w| w[1].force_n < w[0].force_n), "{pts:?}");
+    assert!(
+        pts.windows(2).skip(1).all(|w| w[1].force_n < w[0].force_n),
+        "{pts:?}"
+    );
     let last = pts.last().unwrap().force_n;
-    assert!((last - relaxed).abs() < 0.01 * relaxed, "{last} vs {relaxed}");
+    assert!(
+        (last - relaxed).abs() < 0.01 * relaxed,
+        "{last} vs {relaxed}"
+    );
 }
 
 /// Coulomb friction under an axial platen holds the contact patch from spreading outwards,
@@ -335,5 +395,8 @@ fn friction_stiffens_axial_indentation_and_keeps_symmetry() {
     };
     let (a, b) = (run(0.0), run(0.5));
     assert!(b.force_n > a.force_n, "{a:?} {b:?}");
-    assert!(b.mx_nm.abs() < 1e-6 * b.fz_n.abs() * 0.02 && b.my_nm.abs() < 1e-6 * b.fz_n.abs() * 0.02, "{b:?}");
+    assert!(
+        b.mx_nm.abs() < 1e-6 * b.fz_n.abs() * 0.02 && b.my_nm.abs() < 1e-6 * b.fz_n.abs() * 0.02,
+        "{b:?}"
+    );
 }

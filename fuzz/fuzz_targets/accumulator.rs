@@ -6,7 +6,9 @@ use libfuzzer_sys::fuzz_target;
 use protocol::{encode_vec, Accumulator, Message, Outcome};
 
 fuzz_target!(|data: &[u8]| {
-    let Some((&chunk, bytes)) = data.split_first() else { return };
+    let Some((&chunk, bytes)) = data.split_first() else {
+        return;
+    };
     let mut acc = Accumulator::new();
     for c in bytes.chunks(usize::from(chunk).max(1)) {
         for outcome in acc.feed(c) {

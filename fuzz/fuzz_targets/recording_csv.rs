@@ -6,7 +6,11 @@
 use host::recording::{read_from_with, Limits, Recording};
 use libfuzzer_sys::fuzz_target;
 
-const LIMITS: Limits = Limits { max_bytes: 1 << 16, max_values: 4096, max_line_bytes: 1024 };
+const LIMITS: Limits = Limits {
+    max_bytes: 1 << 16,
+    max_values: 4096,
+    max_line_bytes: 1024,
+};
 
 fn write(rec: &Recording) -> Vec<u8> {
     let mut out = Vec::new();

@@ -142,7 +142,10 @@ impl Chip {
             }
         }
         if arm_ohm.iter().any(|&ohm| ohm <= 0.0) {
-            r.reject(&format!("bridge.{name}"), "every arm needs a resistor or a fixed resistance");
+            r.reject(
+                &format!("bridge.{name}"),
+                "every arm needs a resistor or a fixed resistance",
+            );
             return;
         }
         let (left, right) = (arm_ohm[0] / arm_ohm[1], arm_ohm[2] / arm_ohm[3]);
@@ -165,9 +168,15 @@ fn read_bridge(r: &mut Reader, name: &str) -> Bridge {
         Resistor {
             beam: r.choice(&format!("{key}.beam"), &["A", "B", "C", "D"]),
             x_um: r.f64(&format!("{key}.x_um"), 0.0..=5000.0),
-            orientation: r.choice(&format!("{key}.orientation"), &["longitudinal", "transverse"]),
+            orientation: r.choice(
+                &format!("{key}.orientation"),
+                &["longitudinal", "transverse"],
+            ),
             arm: r.choice(&format!("{key}.arm"), &ARM_NAMES),
         }
     });
-    Bridge { fixed_ohm, resistors }
+    Bridge {
+        fixed_ohm,
+        resistors,
+    }
 }

@@ -44,7 +44,10 @@ impl Fingertip {
         let mut r = Reader::open(file).map_err(|e| vec![e])?;
         let fingertip = Self::read(&mut r);
         if fingertip.inclusion_radius_mm >= fingertip.radius_mm / 2.0 {
-            r.reject("package.inclusion_radius_mm", "must be below half the hemisphere radius");
+            r.reject(
+                "package.inclusion_radius_mm",
+                "must be below half the hemisphere radius",
+            );
         }
         r.finish()?;
         Ok(fingertip)

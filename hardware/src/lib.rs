@@ -74,7 +74,14 @@ impl Params {
             (Some(fingertip), Some(chip), Some(frontend), Some(adc), Some(board), Some(sim))
                 if errors.is_empty() =>
             {
-                Ok(Self { fingertip, chip, frontend, adc, board, sim })
+                Ok(Self {
+                    fingertip,
+                    chip,
+                    frontend,
+                    adc,
+                    board,
+                    sim,
+                })
             }
             _ => Err(LoadError(errors)),
         }
@@ -132,7 +139,9 @@ impl fmt::Display for ParamError {
             ParamErrorKind::Io(e) => write!(f, "cannot read the file: {e}"),
             ParamErrorKind::Syntax(e) => write!(f, "not valid TOML: {e}"),
             ParamErrorKind::Missing => write!(f, "missing"),
-            ParamErrorKind::Unknown { suggestion: Some(s) } => {
+            ParamErrorKind::Unknown {
+                suggestion: Some(s),
+            } => {
                 write!(f, "unknown key (did you mean `{s}`?)")
             }
             ParamErrorKind::Unknown { suggestion: None } => write!(f, "unknown key"),

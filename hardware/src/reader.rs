@@ -23,7 +23,12 @@ impl Reader {
             key: String::new(),
             kind: ParamErrorKind::Syntax(e.message().to_string()),
         })?;
-        Ok(Self { file: file.to_path_buf(), table, read: BTreeSet::new(), errors: Vec::new() })
+        Ok(Self {
+            file: file.to_path_buf(),
+            table,
+            read: BTreeSet::new(),
+            errors: Vec::new(),
+        })
     }
 
     /// Open and parse `file`.
@@ -48,7 +53,11 @@ impl Reader {
     }
 
     fn fail(&mut self, key: &str, kind: ParamErrorKind) {
-        self.errors.push(ParamError { file: self.file.clone(), key: key.to_string(), kind });
+        self.errors.push(ParamError {
+            file: self.file.clone(),
+            key: key.to_string(),
+            kind,
+        });
     }
 
     /// A real number (integers accepted) within `range`, in the unit the key's name carries.
@@ -62,7 +71,12 @@ impl Reader {
             Some(toml::Value::Float(v)) => *v,
             Some(toml::Value::Integer(v)) => *v as f64,
             Some(_) => {
-                self.fail(key, ParamErrorKind::WrongType { expected: "a number" });
+                self.fail(
+                    key,
+                    ParamErrorKind::WrongType {
+                        expected: "a number",
+                    },
+                );
                 return *range.start();
             }
         };
@@ -83,13 +97,25 @@ impl Reader {
             }
             Some(toml::Value::Integer(v)) => *v,
             Some(_) => {
-                self.fail(key, ParamErrorKind::WrongType { expected: "an integer" });
+                self.fail(
+                    key,
+                    ParamErrorKind::WrongType {
+                        expected: "an integer",
+                    },
+                );
                 return *range.start();
             }
         };
         if !range.contains(&value) {
             let (min, max) = (*range.start() as f64, *range.end() as f64);
-            self.fail(key, ParamErrorKind::OutOfRange { value: value as f64, min, max });
+            self.fail(
+                key,
+                ParamErrorKind::OutOfRange {
+                    value: value as f64,
+                    min,
+                    max,
+                },
+            );
             return *range.start();
         }
         value
@@ -104,14 +130,25 @@ impl Reader {
             }
             Some(toml::Value::String(s)) => s.clone(),
             Some(_) => {
-                self.fail(key, ParamErrorKind::WrongType { expected: "a string" });
+                self.fail(
+                    key,
+                    ParamErrorKind::WrongType {
+                        expected: "a string",
+                    },
+                );
                 return allowed[0];
             }
         };
         match allowed.iter().find(|a| **a == found) {
             Some(a) => a,
             None => {
-                self.fail(key, ParamErrorKind::NotOneOf { found, allowed: allowed.join(", ") });
+                self.fail(
+                    key,
+                    ParamErrorKind::NotOneOf {
+                        found,
+                        allowed: allowed.join(", "),
+                    },
+                );
                 allowed[0]
             }
         }
@@ -126,7 +163,12 @@ impl Reader {
                 String::new()
             }
             Some(_) => {
-                self.fail(key, ParamErrorKind::WrongType { expected: "a string" });
+                self.fail(
+                    key,
+                    ParamErrorKind::WrongType {
+                        expected: "a string",
+                    },
+                );
                 String::new()
             }
         }
@@ -134,14 +176,21 @@ impl Reader {
 
     /// A fixed-length array of numbers, each within `range`.
     pub fn f64_array<const N: usize>(&mut self, key: &str, range: RangeInclusive<f64>) -> [f64; N] {
-        let items: Option<Vec<toml::Value>> =
-            self.lookup(key).map(|v| v.as_array().cloned().unwrap_or_default());
+        let items: Option<Vec<toml::Value>> = self
+            .lookup(key)
+            .map(|v| v.as_array().cloned().unwrap_or_default());
         let Some(items) = items else {
             self.fail(key, ParamErrorKind::Missing);
             return [*range.start(); N];
         };
         if items.len() != N {
-            self.fail(key, ParamErrorKind::WrongLength { expected: N, found: items.len() });
+            self.fail(
+                key,
+                ParamErrorKind::WrongLength {
+                    expected: N,
+                    found: items.len(),
+                },
+            );
             return [*range.start(); N];
         }
         let mut out = [*range.start(); N];
@@ -151,7 +200,12 @@ impl Reader {
                 toml::Value::Float(v) => *v,
                 toml::Value::Integer(v) => *v as f64,
                 _ => {
-                    self.fail(&element, ParamErrorKind::WrongType { expected: "a number" });
+                    self.fail(
+                        &element,
+                        ParamErrorKind::WrongType {
+                            expected: "a number",
+                        },
+                    );
                     continue;
                 }
             };
@@ -191,7 +245,11 @@ impl Reader {
 
 fn collect_keys(table: &toml::Table, prefix: &str, out: &mut Vec<String>) {
     for (k, v) in table {
-        let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+        let key = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
         match v {
             toml::Value::Table(t) => collect_keys(t, &key, out),
             _ => out.push(key),

@@ -50,31 +50,53 @@ fn missing_key_is_named() {
     let e = only_error(&dir);
     assert_eq!(e.key, "gel.poisson");
     assert_eq!(e.kind, ParamErrorKind::Missing);
-    assert!(e.to_string().contains("fingertip.toml: key `gel.poisson`: missing"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("fingertip.toml: key `gel.poisson`: missing"),
+        "{e}"
+    );
 }
 
 #[test]
 fn misspelled_key_is_unknown_with_a_suggestion() {
-    let dir = folder_with("fingertip.toml", |t| t.replace("poisson = 0.49", "poison = 0.49"));
+    let dir = folder_with("fingertip.toml", |t| {
+        t.replace("poisson = 0.49", "poison = 0.49")
+    });
     let err = Params::load(&dir).unwrap_err();
     let text = err.to_string();
     assert!(text.contains("key `gel.poisson`: missing"), "{text}");
-    assert!(text.contains("key `gel.poison`: unknown key (did you mean `gel.poisson`?)"), "{text}");
+    assert!(
+        text.contains("key `gel.poison`: unknown key (did you mean `gel.poisson`?)"),
+        "{text}"
+    );
 }
 
 #[test]
 fn out_of_range_value_names_the_range() {
-    let dir = folder_with("fingertip.toml", |t| t.replace("poisson = 0.49", "poisson = 0.5"));
+    let dir = folder_with("fingertip.toml", |t| {
+        t.replace("poisson = 0.49", "poisson = 0.5")
+    });
     let e = only_error(&dir);
     assert_eq!(e.key, "gel.poisson");
-    assert!(e.to_string().contains("0.5 is out of range; allowed 0 ..= 0.4999"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("0.5 is out of range; allowed 0 ..= 0.4999"),
+        "{e}"
+    );
 }
 
 #[test]
 fn wrong_type_is_named() {
-    let dir = folder_with("fingertip.toml", |t| t.replace("poisson = 0.49", "poisson = \"soft\""));
+    let dir = folder_with("fingertip.toml", |t| {
+        t.replace("poisson = 0.49", "poisson = \"soft\"")
+    });
     let e = only_error(&dir);
-    assert_eq!(e.kind, ParamErrorKind::WrongType { expected: "a number" });
+    assert_eq!(
+        e.kind,
+        ParamErrorKind::WrongType {
+            expected: "a number"
+        }
+    );
 }
 
 #[test]
@@ -91,7 +113,11 @@ fn missing_file_is_named() {
     std::fs::remove_file(dir.join("fingertip.toml")).unwrap();
     let e = only_error(&dir);
     assert!(matches!(e.kind, ParamErrorKind::Io(_)));
-    assert!(e.to_string().contains("fingertip.toml: cannot read the file"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("fingertip.toml: cannot read the file"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -110,7 +136,11 @@ fn chip_beams_must_leave_a_frame_inside_the_footprint() {
         t.replace("beam_length_um = 400.0", "beam_length_um = 950.0")
     });
     let err = Params::load(&dir).expect_err("beams wider than the die must be refused");
-    let e = err.0.iter().find(|e| e.key == "geometry.beam_length_um").expect("span rule");
+    let e = err
+        .0
+        .iter()
+        .find(|e| e.key == "geometry.beam_length_um")
+        .expect("span rule");
     assert!(matches!(e.kind, ParamErrorKind::Invalid(_)), "{e}");
     assert!(e.to_string().contains("leaves no frame"), "{e}");
 }
@@ -132,7 +162,10 @@ fn chip_resistor_must_fit_on_its_beam() {
 #[test]
 fn chip_bridge_must_be_balanced_at_zero_stress() {
     let dir = folder_with("chip.toml", |t| {
-        t.replace("fixed_ohm = [0.0, 0.0, 10000.0, 10000.0]", "fixed_ohm = [0.0, 0.0, 10000.0, 12000.0]")
+        t.replace(
+            "fixed_ohm = [0.0, 0.0, 10000.0, 10000.0]",
+            "fixed_ohm = [0.0, 0.0, 10000.0, 12000.0]",
+        )
     });
     let e = only_error(&dir);
     assert_eq!(e.key, "bridge.fz.fixed_ohm");
@@ -142,7 +175,10 @@ fn chip_bridge_must_be_balanced_at_zero_stress() {
 #[test]
 fn chip_bridge_arm_must_not_be_empty() {
     let dir = folder_with("chip.toml", |t| {
-        t.replace("fixed_ohm = [0.0, 0.0, 10000.0, 10000.0]", "fixed_ohm = [0.0, 0.0, 0.0, 0.0]")
+        t.replace(
+            "fixed_ohm = [0.0, 0.0, 10000.0, 10000.0]",
+            "fixed_ohm = [0.0, 0.0, 0.0, 0.0]",
+        )
     });
     let e = only_error(&dir);
     assert_eq!(e.key, "bridge.fz");

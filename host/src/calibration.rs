@@ -44,10 +44,16 @@ impl fmt::Display for CalibrationError {
                 write!(f, "calibration element [{row}][{col}] is not finite")
             }
             Self::NotRepresentable { row, col, value } => {
-                write!(f, "calibration element [{row}][{col}] = {value:e} does not fit an f32")
+                write!(
+                    f,
+                    "calibration element [{row}][{col}] = {value:e} does not fit an f32"
+                )
             }
             Self::NoModelMatrix => {
-                write!(f, "the chip model gives no calibration matrix for these gains")
+                write!(
+                    f,
+                    "the chip model gives no calibration matrix for these gains"
+                )
             }
         }
     }
@@ -109,7 +115,9 @@ mod tests {
         let p = ChipParams::load_default().unwrap();
         let gains = [3000.0, 1000.0, 1000.0];
         let cmd = model_set_calibration(&p, gains).unwrap();
-        let Command::SetCalibration(m) = cmd else { panic!("wrong command {cmd:?}") };
+        let Command::SetCalibration(m) = cmd else {
+            panic!("wrong command {cmd:?}")
+        };
         let c = calibration_matrix_after_gains(&p, gains).unwrap();
         for i in 0..3 {
             for j in 0..3 {
@@ -119,11 +127,18 @@ mod tests {
                 );
             }
         }
-        let msg = Message::Request(Request { tag: 7, command: cmd });
+        let msg = Message::Request(Request {
+            tag: 7,
+            command: cmd,
+        });
         let bytes = protocol::encode_vec(&msg).unwrap();
         let mut acc = Accumulator::new();
         let got: Vec<Outcome> = acc.feed(&bytes).collect();
-        assert_eq!(got, vec![Outcome::Message(msg)], "the device decodes the same matrix");
+        assert_eq!(
+            got,
+            vec![Outcome::Message(msg)],
+            "the device decodes the same matrix"
+        );
     }
 
     #[test]

@@ -69,7 +69,11 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
     if is_broken_pipe(err) {
         return ExitCode::SUCCESS;
     }
-    let line = err.chain().map(|e| e.to_string()).collect::<Vec<_>>().join(": ");
+    let line = err
+        .chain()
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join(": ");
     eprintln!("tactile: error: {line}");
     ExitCode::from(exit_code(err))
 }
@@ -84,7 +88,10 @@ pub fn report_usage(err: &clap::Error) -> ExitCode {
     }
     // One line, like every other error: clap's own first line names the flag and the value.
     let text = err.render().to_string();
-    let line = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("invalid arguments");
+    let line = text
+        .lines()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("invalid arguments");
     let line = line.trim_start_matches("error: ");
     eprintln!("tactile: error: {line} (see --help)");
     ExitCode::from(exit::USAGE)

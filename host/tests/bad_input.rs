@@ -12,7 +12,8 @@ use tests::check::scratch;
 mod common;
 use common::{fails, tactile};
 
-const HEAD: &str = "# format = tactile-recording/1\n# sample_rate_hz = 1000\n# contact_angle_deg = 0\n\
+const HEAD: &str =
+    "# format = tactile-recording/1\n# sample_rate_hz = 1000\n# contact_angle_deg = 0\n\
 # azimuth_deg = 0\n# fingertip_radius_mm = 20\n# gain_fz = 1\n# gain_mx = 1\n# gain_my = 1\n\
 # excitation_V = 3.3\nt_s,rod_mm,load_N,fz_V,mx_V,my_V\n";
 
@@ -35,7 +36,14 @@ fn readers(dir: &Path, path: &Path) -> [Output; 2] {
     let p = path.to_str().unwrap();
     let json = dir.join("d.json");
     [
-        tactile(&["plot", p, "--format", "svg", "-o", dir.join("plot").to_str().unwrap()]),
+        tactile(&[
+            "plot",
+            p,
+            "--format",
+            "svg",
+            "-o",
+            dir.join("plot").to_str().unwrap(),
+        ]),
         tactile(&["diagnose", p, "--quiet", "--json", json.to_str().unwrap()]),
     ]
 }
@@ -51,14 +59,34 @@ fn wrongly_encoded_recordings_are_refused_naming_line_field_and_encoding() {
     let dir = scratch("bad-encoding");
     let utf16: Vec<u8> = [0xFF, 0xFE]
         .into_iter()
-        .chain(format!("{HEAD}0,,,1,2,3\n").encode_utf16().flat_map(u16::to_le_bytes))
+        .chain(
+            format!("{HEAD}0,,,1,2,3\n")
+                .encode_utf16()
+                .flat_map(u16::to_le_bytes),
+        )
         .collect();
-    let latin1 = [format!("{HEAD}0,,,1,2,3\n").as_bytes(), b"0.001,,,1,\xB52,3\n"].concat();
+    let latin1 = [
+        format!("{HEAD}0,,,1,2,3\n").as_bytes(),
+        b"0.001,,,1,\xB52,3\n",
+    ]
+    .concat();
     let binary: Vec<u8> = (0..4096u32).map(|i| (i * 131 % 256) as u8).collect();
     let cases: [(&str, Vec<u8>, &[&str]); 3] = [
-        ("utf16.csv", utf16, &["utf16.csv: line 1", "UTF-16", "UTF-8"]),
-        ("latin1.csv", latin1, &["latin1.csv: line 12, field `mx_V`", "0xb5", "Latin-1"]),
-        ("binary.csv", binary, &["binary.csv: line 1", "binary", "UTF-8"]),
+        (
+            "utf16.csv",
+            utf16,
+            &["utf16.csv: line 1", "UTF-16", "UTF-8"],
+        ),
+        (
+            "latin1.csv",
+            latin1,
+            &["latin1.csv: line 12, field `mx_V`", "0xb5", "Latin-1"],
+        ),
+        (
+            "binary.csv",
+            binary,
+            &["binary.csv: line 1", "binary", "UTF-8"],
+        ),
     ];
     for (name, bytes, needles) in cases {
         let p = write(&dir, name, bytes);
@@ -83,7 +111,11 @@ fn empty_and_header_only_recordings() {
     // A header and no rows is a valid recording; the diagnosis has nothing to fit and says so.
     let header_only = write(&dir, "header-only.csv", HEAD);
     let [plot, diagnose] = readers(&dir, &header_only);
-    assert!(plot.status.success(), "{}", String::from_utf8_lossy(&plot.stderr));
+    assert!(
+        plot.status.success(),
+        "{}",
+        String::from_utf8_lossy(&plot.stderr)
+    );
     fails(&diagnose, exit::DATA, &["header-only.csv"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -92,9 +124,17 @@ fn empty_and_header_only_recordings() {
 fn a_torn_last_row_is_refused_naming_the_field_it_stops_in() {
     let dir = scratch("bad-torn");
     // 0.0012 cut to 0.00 would parse: only the missing line end shows the row is incomplete.
-    let p = write(&dir, "torn.csv", format!("{HEAD}0,,,0.0012,2,3\n0.001,,,0.00"));
+    let p = write(
+        &dir,
+        "torn.csv",
+        format!("{HEAD}0,,,0.0012,2,3\n0.001,,,0.00"),
+    );
     for out in readers(&dir, &p) {
-        fails(&out, exit::DATA, &["torn.csv: line 12, field `fz_V`", "no line end"]);
+        fails(
+            &out,
+            exit::DATA,
+            &["torn.csv: line 12, field `fz_V`", "no line end"],
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -105,7 +145,11 @@ fn files_over_the_limit_are_refused_by_size_naming_file_and_limit() {
     let csv = dir.join("huge.csv");
     sparse(&csv, HEAD.as_bytes(), HUGE_BYTES);
     for out in readers(&dir, &csv) {
-        fails(&out, exit::DATA, &["huge.csv", "1073745920 bytes", "1073741824-byte limit"]);
+        fails(
+            &out,
+            exit::DATA,
+            &["huge.csv", "1073745920 bytes", "1073741824-byte limit"],
+        );
     }
     let mcap = dir.join("huge.mcap");
     sparse(&mcap, b"\x89MCAP0\r\n", HUGE_BYTES);
@@ -126,8 +170,14 @@ fn files_over_the_limit_are_refused_by_size_naming_file_and_limit() {
 #[test]
 fn a_reference_export_in_latin1_names_its_line() {
     let dir = scratch("bad-reference");
-    let p = write(&dir, "machine.csv", b"time_s,position_mm,force_N\n0,0,0\n0.1,0,1\n# Pr\xfcfer B\n");
-    let e = host::logger::reference::read_reference(&p).unwrap_err().to_string();
+    let p = write(
+        &dir,
+        "machine.csv",
+        b"time_s,position_mm,force_N\n0,0,0\n0.1,0,1\n# Pr\xfcfer B\n",
+    );
+    let e = host::logger::reference::read_reference(&p)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("machine.csv:4") && e.contains("UTF-8"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -144,7 +194,10 @@ fn a_huge_raw_capture_streams_in_bounded_memory() {
     fails(&out, exit::DATA, &["huge.bin", "not a tactile capture"]);
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     // SAFETY: getrusage writes into the struct it is given.
-    assert_eq!(unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) }, 0);
+    assert_eq!(
+        unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) },
+        0
+    );
     let peak_mb = usage.ru_maxrss as f64 / 1024.0;
     eprintln!("replay of a {HUGE_BYTES}-byte raw capture: peak RSS {peak_mb:.1} MB");
     assert!(peak_mb < 100.0, "peak RSS {peak_mb} MB");

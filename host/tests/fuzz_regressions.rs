@@ -7,10 +7,18 @@ use host::logger::replay::replay_bytes;
 use host::logger::Setup;
 
 fn replay(name: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fuzz")
+        .join(name);
     let bytes = std::fs::read(&path).unwrap();
     let setup = Setup::from_hardware("regression".into()).unwrap();
-    match replay_bytes(&bytes, Path::new(name), Box::new(std::io::sink()), &setup, None) {
+    match replay_bytes(
+        &bytes,
+        Path::new(name),
+        Box::new(std::io::sink()),
+        &setup,
+        None,
+    ) {
         Ok(s) => format!("replayed {} frames", s.frames),
         Err(e) => e.to_string(),
     }
@@ -61,10 +69,19 @@ fn declared_lengths_are_checked_against_the_bytes_there() {
     message.extend(b"data");
     let mut huge = vec![0x05];
     huge.extend(u64::MAX.to_le_bytes());
-    let file = [MCAP_MAGIC, &record(0x04, &ok_channel), &record(0x05, &message), &huge].concat();
+    let file = [
+        MCAP_MAGIC,
+        &record(0x04, &ok_channel),
+        &record(0x05, &message),
+        &huge,
+    ]
+    .concat();
     let r = recover_bytes(Path::new("x.mcap"), &file).unwrap();
     assert_eq!(r.messages.len(), 1);
     assert_eq!((&*r.messages[0].topic, r.messages[0].publish_ns), ("/t", 6));
     assert_eq!(r.messages[0].data, b"data");
-    assert!(r.truncated.unwrap().contains("cut short"), "a record cut short");
+    assert!(
+        r.truncated.unwrap().contains("cut short"),
+        "a record cut short"
+    );
 }

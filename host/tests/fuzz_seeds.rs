@@ -21,7 +21,9 @@ const EXAMPLE: &str = "# format = tactile-recording/1\n# sample_rate_hz = 1000\n
 0.000,-0.500,0.000,0.0012,-0.0003,0.0001\n0.001,-0.500,0.000,0.0011,-0.0002,0.0000\n";
 
 fn corpus(target: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/corpus").join(target);
+    let d = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fuzz/corpus")
+        .join(target);
     std::fs::create_dir_all(&d).unwrap();
     d
 }
@@ -40,7 +42,9 @@ fn frames(cfg: &EmuConfig, n: u32) -> Vec<Frame> {
             Frame {
                 seq,
                 t_device_us: u64::from(frame.t_us),
-                host_time: UNIX_EPOCH + Duration::from_secs(1_800_000_000) + Duration::from_micros(u64::from(frame.t_us)),
+                host_time: UNIX_EPOCH
+                    + Duration::from_secs(1_800_000_000)
+                    + Duration::from_micros(u64::from(frame.t_us)),
                 session: 0,
                 frame,
                 raw,
@@ -65,15 +69,28 @@ fn logged(dir: &Path, cfg: &EmuConfig, frames: &[Frame]) -> (Vec<u8>, Vec<u8>) {
     rec.on_event(&Event::Info(info.clone())).unwrap();
     for (i, f) in frames.iter().enumerate() {
         if i == frames.len() / 2 {
-            let gap = GapKind::Reconnected { downtime: Duration::from_millis(30), missing: Some(0) };
-            rec.on_event(&Event::Gap(Gap { kind: gap, host_time: f.host_time, session: 0 })).unwrap();
+            let gap = GapKind::Reconnected {
+                downtime: Duration::from_millis(30),
+                missing: Some(0),
+            };
+            rec.on_event(&Event::Gap(Gap {
+                kind: gap,
+                host_time: f.host_time,
+                session: 0,
+            }))
+            .unwrap();
         }
         rec.on_event(&Event::Frame(f.clone())).unwrap();
         rec.flush().unwrap(); // one chunk per frame: cut points between and inside chunks
     }
     rec.detach_mcap();
     drop(rec);
-    Rc::try_unwrap(sink).ok().unwrap().into_inner().finish().unwrap();
+    Rc::try_unwrap(sink)
+        .ok()
+        .unwrap()
+        .into_inner()
+        .finish()
+        .unwrap();
     (std::fs::read(csv).unwrap(), std::fs::read(mcap).unwrap())
 }
 
@@ -101,19 +118,60 @@ fn write_seed_corpora() {
         ("example".into(), EXAMPLE.into()),
         ("example-crlf".into(), EXAMPLE.replace('\n', "\r\n").into()),
         ("example-bom".into(), format!("\u{feff}{EXAMPLE}").into()),
-        ("example-gaps".into(), format!("{EXAMPLE}0.002,,nan,NaN,,\n0.003,1,2,3,4,5\n").into()),
-        ("example-temp-extra".into(), EXAMPLE.replace("my_V\n", "my_V,temp_C,seq\n").replace("0.0001\n", "0.0001,25.5,1\n").replace("0.0000\n", "0.0000,,2\n").into()),
-        ("example-decreasing".into(), format!("{EXAMPLE}0.0005,0,0,0,0,0\n").into()),
-        ("example-latin1".into(), [EXAMPLE.as_bytes(), b"# operator = Jos\xe9\n"].concat()),
-        ("example-utf16".into(), [&b"\xff\xfe"[..], &EXAMPLE.encode_utf16().flat_map(u16::to_le_bytes).collect::<Vec<u8>>()].concat()),
+        (
+            "example-gaps".into(),
+            format!("{EXAMPLE}0.002,,nan,NaN,,\n0.003,1,2,3,4,5\n").into(),
+        ),
+        (
+            "example-temp-extra".into(),
+            EXAMPLE
+                .replace("my_V\n", "my_V,temp_C,seq\n")
+                .replace("0.0001\n", "0.0001,25.5,1\n")
+                .replace("0.0000\n", "0.0000,,2\n")
+                .into(),
+        ),
+        (
+            "example-decreasing".into(),
+            format!("{EXAMPLE}0.0005,0,0,0,0,0\n").into(),
+        ),
+        (
+            "example-latin1".into(),
+            [EXAMPLE.as_bytes(), b"# operator = Jos\xe9\n"].concat(),
+        ),
+        (
+            "example-utf16".into(),
+            [
+                &b"\xff\xfe"[..],
+                &EXAMPLE
+                    .encode_utf16()
+                    .flat_map(u16::to_le_bytes)
+                    .collect::<Vec<u8>>(),
+            ]
+            .concat(),
+        ),
         ("logger".into(), csv.clone()),
         ("empty".into(), Vec::new()),
-        ("meta-only".into(), EXAMPLE.lines().take(10).collect::<Vec<_>>().join("\n").into()),
+        (
+            "meta-only".into(),
+            EXAMPLE
+                .lines()
+                .take(10)
+                .collect::<Vec<_>>()
+                .join("\n")
+                .into(),
+        ),
     ];
     for cut in [EXAMPLE.len() - 1, EXAMPLE.len() - 7, EXAMPLE.len() / 2, 40] {
-        seeds.push((format!("example-cut{cut}"), EXAMPLE.as_bytes()[..cut].to_vec()));
+        seeds.push((
+            format!("example-cut{cut}"),
+            EXAMPLE.as_bytes()[..cut].to_vec(),
+        ));
     }
-    for cut in [csv.len() - 1, csv.len() - 20, csv_text.find("t_s,").unwrap() + 30] {
+    for cut in [
+        csv.len() - 1,
+        csv.len() - 20,
+        csv_text.find("t_s,").unwrap() + 30,
+    ] {
         seeds.push((format!("logger-cut{cut}"), csv[..cut].to_vec()));
     }
     for (name, bytes) in &seeds {
@@ -130,7 +188,10 @@ fn write_seed_corpora() {
         ("mcap".into(), mcap.clone()),
         ("raw".into(), raw.clone()),
         ("raw-damaged".into(), damaged),
-        ("raw-no-info".into(), raw_capture(&cfg, &fr)[raw.len() - fr[0].raw.len() * 2 - 2..].to_vec()),
+        (
+            "raw-no-info".into(),
+            raw_capture(&cfg, &fr)[raw.len() - fr[0].raw.len() * 2 - 2..].to_vec(),
+        ),
     ];
     for k in 1..=8 {
         let cut = mcap.len() * k / 9;
@@ -142,6 +203,11 @@ fn write_seed_corpora() {
     for (name, bytes) in &seeds {
         std::fs::write(rp.join(name), bytes).unwrap();
     }
-    eprintln!("seeds: csv {} bytes, mcap {} bytes, raw {} bytes", csv.len(), mcap.len(), raw.len());
+    eprintln!(
+        "seeds: csv {} bytes, mcap {} bytes, raw {} bytes",
+        csv.len(),
+        mcap.len(),
+        raw.len()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -15,7 +15,11 @@ fn the_logger_writes_contract_keys_filter_and_temperature() {
     let dir = scratch("logger-meta");
     let cfg = EmuConfig::new(dir.join("unused"));
     let mut info = info_for(&cfg);
-    info.filter = FilterConfig { smoother_alpha: 0.2, butterworth_order: 2, cutoff_hz: 50.0 };
+    info.filter = FilterConfig {
+        smoother_alpha: 0.2,
+        butterworth_order: 2,
+        cutoff_hz: 50.0,
+    };
     info.pga_gain[3] = 2;
     let setup = Setup::from_hardware("unit test".into()).unwrap();
     let hw = hardware::Params::load_default().unwrap();
@@ -47,16 +51,25 @@ fn the_logger_writes_contract_keys_filter_and_temperature() {
     let m = &r.meta;
     assert_eq!(m.sample_rate_hz, f64::from(cfg.rate_hz));
     assert_eq!([m.gain_fz, m.gain_mx, m.gain_my], [3000.0, 1000.0, 1000.0]);
-    assert_eq!(m.excitation_v, 3.3, "the f32 of the info frame as configured, not 3.2999…");
+    assert_eq!(
+        m.excitation_v, 3.3,
+        "the f32 of the info frame as configured, not 3.2999…"
+    );
     assert_eq!(m.contact_angle_deg, hw.fingertip.test.contact_angle_deg);
     assert_eq!(m.azimuth_deg, hw.fingertip.test.azimuth_deg);
     assert_eq!(m.fingertip_radius_mm, hw.fingertip.radius_mm);
-    assert_eq!(m.rod_speed_mm_per_min, Some(hw.fingertip.test.rod_speed_mm_per_min));
+    assert_eq!(
+        m.rod_speed_mm_per_min,
+        Some(hw.fingertip.test.rod_speed_mm_per_min)
+    );
     assert_eq!(m.source.as_deref(), Some("unit test"));
     assert_eq!(m.get(host::diagnosis::baseline::SMOOTHER_KEY), Some("0.2"));
     assert_eq!(m.get("firmware_butterworth_order"), Some("2"));
     assert_eq!(m.get("firmware_cutoff_hz"), Some("50"));
-    assert_eq!(m.get("chip_serial"), Some(format!("{:08x}", cfg.chip_serial).as_str()));
+    assert_eq!(
+        m.get("chip_serial"),
+        Some(format!("{:08x}", cfg.chip_serial).as_str())
+    );
 
     let temp = r.temp_c.as_ref().expect("a temp_C column");
     assert_eq!(temp.len(), usize::from(cfg.batch));

@@ -3,8 +3,8 @@
 
 use std::process::Command;
 
-use host::recording::read as read_recording;
 use host::logger::reference::interpolate;
+use host::recording::read as read_recording;
 use tests::check::scratch;
 use tests::emu::{EmuConfig, Emulator};
 
@@ -81,7 +81,10 @@ fn two_sensors_then_reference_merge_then_plots() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let m = read_recording(&merged).unwrap();
-    let reference = m.meta.get("reference").expect("merge noted in the metadata");
+    let reference = m
+        .meta
+        .get("reference")
+        .expect("merge noted in the metadata");
     let offset: f64 = reference
         .split("offset ")
         .nth(1)

@@ -209,10 +209,19 @@ fn bad_utf8_is_refused_naming_the_line_and_field() {
 fn utf16_is_refused_as_utf16() {
     let bytes: Vec<u8> = [0xFF, 0xFE]
         .into_iter()
-        .chain(format!("{META}{HEADER}").encode_utf16().flat_map(u16::to_le_bytes))
+        .chain(
+            format!("{META}{HEADER}")
+                .encode_utf16()
+                .flat_map(u16::to_le_bytes),
+        )
         .collect();
-    let e = host::recording::read_from(&bytes[..]).unwrap_err().to_string();
-    assert!(e.starts_with("line 1: not UTF-8 text (byte 0xff); UTF-16 text"), "{e}");
+    let e = host::recording::read_from(&bytes[..])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("line 1: not UTF-8 text (byte 0xff); UTF-16 text"),
+        "{e}"
+    );
 }
 
 /// The contract's lines end with `\n` or `\r\n`; a last row without one may have been cut
@@ -229,9 +238,15 @@ fn a_last_line_without_line_end_is_refused() {
     );
     // A complete-looking row is refused all the same: its last value may be shortened.
     let e = err(&format!("{META}{HEADER}0,0,0,0.0012,0,0.25"));
-    assert!(e.starts_with("line 12, field `my_V`: last line has no line end"), "{e}");
+    assert!(
+        e.starts_with("line 12, field `my_V`: last line has no line end"),
+        "{e}"
+    );
     let e = err(&format!("{META}{}", HEADER.trim_end()));
-    assert!(e.starts_with("line 11, field `header`: last line has no line end"), "{e}");
+    assert!(
+        e.starts_with("line 11, field `header`: last line has no line end"),
+        "{e}"
+    );
     // `\r\n` ends and trailing blank lines without an end are fine.
     ok(&format!("{META}{HEADER}0,0,0,0,0,0\r\n  "));
 }
@@ -240,14 +255,27 @@ fn a_last_line_without_line_end_is_refused() {
 fn input_over_the_byte_limit_is_refused() {
     use host::recording::{read_from_with, Limits};
     let text = format!("{META}{HEADER}0,0,0,0,0,0\n0.001,0,0,0,0,0\n");
-    let limits = Limits { max_bytes: text.len() as u64 - 1, ..Limits::DEFAULT };
+    let limits = Limits {
+        max_bytes: text.len() as u64 - 1,
+        ..Limits::DEFAULT
+    };
     let e = read_from_with(text.as_bytes(), limits).unwrap_err();
     assert!(
-        e.to_string().contains(&format!("is over the {}-byte limit", text.len() - 1)),
+        e.to_string()
+            .contains(&format!("is over the {}-byte limit", text.len() - 1)),
         "{e}"
     );
-    let exact = Limits { max_bytes: text.len() as u64, ..Limits::DEFAULT };
-    assert_eq!(read_from_with(text.as_bytes(), exact).unwrap().channels.len(), 2);
+    let exact = Limits {
+        max_bytes: text.len() as u64,
+        ..Limits::DEFAULT
+    };
+    assert_eq!(
+        read_from_with(text.as_bytes(), exact)
+            .unwrap()
+            .channels
+            .len(),
+        2
+    );
 }
 
 #[test]
@@ -257,7 +285,14 @@ fn a_file_over_the_byte_limit_is_refused_before_reading_naming_it() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("big.csv");
     std::fs::write(&path, format!("{META}{HEADER}0,0,0,0,0,0\n")).unwrap();
-    let e = read_with(&path, Limits { max_bytes: 100, ..Limits::DEFAULT }).unwrap_err();
+    let e = read_with(
+        &path,
+        Limits {
+            max_bytes: 100,
+            ..Limits::DEFAULT
+        },
+    )
+    .unwrap_err();
     let msg = e.to_string();
     assert!(msg.starts_with(&format!("{}: ", path.display())), "{msg}");
     assert!(msg.contains("over the 100-byte limit"), "{msg}");
@@ -269,11 +304,21 @@ fn a_file_over_the_byte_limit_is_refused_before_reading_naming_it() {
 fn too_many_values_and_overlong_lines_are_refused() {
     use host::recording::{read_from_with, Limits};
     let text = format!("{META}{HEADER}0,0,0,0,0,0\n0.001,0,0,0,0,0\n");
-    let few = Limits { max_values: 11, ..Limits::DEFAULT };
-    let e = read_from_with(text.as_bytes(), few).unwrap_err().to_string();
+    let few = Limits {
+        max_values: 11,
+        ..Limits::DEFAULT
+    };
+    let e = read_from_with(text.as_bytes(), few)
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("line 13: more than 11 values"), "{e}");
-    let short = Limits { max_line_bytes: 30, ..Limits::DEFAULT };
-    let e = read_from_with(text.as_bytes(), short).unwrap_err().to_string();
+    let short = Limits {
+        max_line_bytes: 30,
+        ..Limits::DEFAULT
+    };
+    let e = read_from_with(text.as_bytes(), short)
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("line 11: longer than 30 bytes"), "{e}");
 }
 

@@ -9,7 +9,10 @@ fn frame(seq: u32) -> Message {
     for k in 0..MAX_BATCH as i32 {
         let t = (seq as i32 * 16 + k) as f64 / 1000.0;
         let fz = (2.0e6 * (t * 3.0).sin()) as i32;
-        f.push(Sample { ch: [fz, fz / 3, -fz / 5] }).unwrap();
+        f.push(Sample {
+            ch: [fz, fz / 3, -fz / 5],
+        })
+        .unwrap();
     }
     Message::Sample(f)
 }
@@ -20,7 +23,7 @@ fn main() {
     for seq in 0..8 {
         let mut bytes = encode_vec(&frame(seq)).unwrap();
         match seq {
-            2 => bytes[40] ^= 0x10,              // a bit flip
+            2 => bytes[40] ^= 0x10,               // a bit flip
             4 => bytes.truncate(bytes.len() / 2), // a cable pulled mid-frame: merges with frame 5
             6 => wire.extend([0x13, 0x37, 0xFF]), // garbage before the frame
             _ => {}

@@ -44,7 +44,11 @@ impl<const N: usize> Accumulator<N> {
     /// An empty accumulator holding at most `N` encoded bytes per frame: a device that only
     /// receives short requests can use a small one.
     pub const fn with_capacity() -> Self {
-        Self { buf: [0; N], len: 0, overflowed: false }
+        Self {
+            buf: [0; N],
+            len: 0,
+            overflowed: false,
+        }
     }
 
     /// Forget any partial frame (e.g. after reopening the port).

@@ -83,9 +83,15 @@ mod tests {
     #[test]
     fn check_value_and_agreement_with_the_crc_crate() {
         assert_eq!(crc32c(b"123456789"), 0xE306_9283);
-        let data: Vec<u8> = (0..300u32).map(|i| (i.wrapping_mul(151) ^ (i >> 3)) as u8).collect();
+        let data: Vec<u8> = (0..300u32)
+            .map(|i| (i.wrapping_mul(151) ^ (i >> 3)) as u8)
+            .collect();
         for len in 0..data.len() {
-            assert_eq!(crc32c(&data[..len]), crate::CRC.checksum(&data[..len]), "len {len}");
+            assert_eq!(
+                crc32c(&data[..len]),
+                crate::CRC.checksum(&data[..len]),
+                "len {len}"
+            );
         }
     }
 }

@@ -124,8 +124,12 @@ fn encode_sample(frame: &SampleFrame, out: &mut [u8]) -> Result<usize, EncodeErr
     for s in frame.samples() {
         enc.push(&mut buf, s.ch);
     }
-    let header =
-        SampleHeader { seq: frame.seq, t_us: frame.t_us, status: frame.status, temp: frame.temp };
+    let header = SampleHeader {
+        seq: frame.seq,
+        t_us: frame.t_us,
+        status: frame.status,
+        temp: frame.temp,
+    };
     enc.finish_into(&mut buf, &header, out)
 }
 
@@ -180,7 +184,10 @@ impl fmt::Display for Malformed {
             Self::BadBatch(n) => write!(f, "sample count {n} outside 1..={MAX_BATCH}"),
             Self::ReservedBits => f.write_str("reserved bits or undefined value set"),
             Self::BadRequest { tag, opcode, code } => {
-                write!(f, "request tag {tag} opcode 0x{opcode:02x} refused: {code:?}")
+                write!(
+                    f,
+                    "request tag {tag} opcode 0x{opcode:02x} refused: {code:?}"
+                )
             }
         }
     }

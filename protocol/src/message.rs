@@ -130,7 +130,14 @@ pub const SAMPLE_LEN: usize = 9;
 impl SampleFrame {
     /// An empty frame; [`SampleFrame::push`] samples into it before encoding.
     pub fn new(seq: u32, t_us: u32, status: Status, temp: Code) -> Self {
-        Self { seq, t_us, status, temp, len: 0, samples: [Sample::default(); MAX_BATCH] }
+        Self {
+            seq,
+            t_us,
+            status,
+            temp,
+            len: 0,
+            samples: [Sample::default(); MAX_BATCH],
+        }
     }
 
     /// Add a sample; gives it back if the frame already holds [`MAX_BATCH`].
@@ -181,11 +188,15 @@ impl SampleFrame {
         }
         let expected = usize::from(n) * SAMPLE_LEN;
         if r.remaining() != expected {
-            return Err(Malformed::Length { expected: SAMPLE_HEADER_LEN + expected });
+            return Err(Malformed::Length {
+                expected: SAMPLE_HEADER_LEN + expected,
+            });
         }
         let mut frame = Self::new(seq, t_us, status, temp);
         for _ in 0..n {
-            let s = Sample { ch: [r.i24()?, r.i24()?, r.i24()?] };
+            let s = Sample {
+                ch: [r.i24()?, r.i24()?, r.i24()?],
+            };
             frame.push(s).map_err(|_| Malformed::BadBatch(n))?;
         }
         Ok(frame)
@@ -206,14 +217,22 @@ pub struct FilterConfig {
 
 impl FilterConfig {
     /// No filtering at all.
-    pub const NONE: Self = Self { smoother_alpha: 1.0, butterworth_order: 0, cutoff_hz: 0.0 };
+    pub const NONE: Self = Self {
+        smoother_alpha: 1.0,
+        butterworth_order: 0,
+        cutoff_hz: 0.0,
+    };
 
     fn encode(&self, w: &mut Writer<'_>) -> bool {
         w.f32(self.smoother_alpha) && w.u8(self.butterworth_order) && w.f32(self.cutoff_hz)
     }
 
     fn decode(r: &mut Reader<'_>) -> Result<Self, Short> {
-        Ok(Self { smoother_alpha: r.f32()?, butterworth_order: r.u8()?, cutoff_hz: r.f32()? })
+        Ok(Self {
+            smoother_alpha: r.f32()?,
+            butterworth_order: r.u8()?,
+            cutoff_hz: r.f32()?,
+        })
     }
 
     fn is_finite(&self) -> bool {
@@ -271,7 +290,8 @@ pub struct Info {
 }
 
 /// Bytes of an info body as this version writes it.
-pub const INFO_LEN: usize = 1 + 1 + 3 + 4 + 4 + 1 + 4 + 2 + 12 + 4 + 9 + 36 + 8 + 12 + 12 + 1 + 1 + 1;
+pub const INFO_LEN: usize =
+    1 + 1 + 3 + 4 + 4 + 1 + 4 + 2 + 12 + 4 + 9 + 36 + 8 + 12 + 12 + 1 + 1 + 1;
 
 impl Info {
     fn encode(&self, w: &mut Writer<'_>) -> bool {
@@ -428,7 +448,9 @@ impl Command {
         let cmd = match op {
             opcode::START => Self::Start,
             opcode::STOP => Self::Stop,
-            opcode::SET_RATE => Self::SetRate { hz: r.u32().map_err(short)? },
+            opcode::SET_RATE => Self::SetRate {
+                hz: r.u32().map_err(short)?,
+            },
             opcode::SET_FILTER => {
                 let f = FilterConfig::decode(r).map_err(short)?;
                 if !f.is_finite() {
@@ -436,7 +458,9 @@ impl Command {
                 }
                 Self::SetFilter(f)
             }
-            opcode::TARE => Self::Tare { samples: r.u16().map_err(short)? },
+            opcode::TARE => Self::Tare {
+                samples: r.u16().map_err(short)?,
+            },
             opcode::CLEAR_TARE => Self::ClearTare,
             opcode::AUTO_NULL => Self::AutoNull,
             opcode::GET_INFO => Self::GetInfo,
@@ -447,13 +471,17 @@ impl Command {
                 }
                 Self::SetCalibration(m)
             }
-            opcode::PING => Self::Ping { nonce: r.u32().map_err(short)? },
+            opcode::PING => Self::Ping {
+                nonce: r.u32().map_err(short)?,
+            },
             opcode::SET_DRIFT_TRACKING => match r.u8().map_err(short)? {
                 0 => Self::SetDriftTracking { enabled: false },
                 1 => Self::SetDriftTracking { enabled: true },
                 _ => return Err(NackCode::OutOfRange),
             },
-            opcode::SET_BATCH => Self::SetBatch { samples: r.u8().map_err(short)? },
+            opcode::SET_BATCH => Self::SetBatch {
+                samples: r.u8().map_err(short)?,
+            },
             _ => return Err(NackCode::UnknownCommand),
         };
         if r.remaining() != 0 {
@@ -564,8 +592,15 @@ impl Reply {
         let opcode = r.u8()?;
         let reply = match r.u8()? {
             0 => Self::Ack { tag, opcode },
-            1 => Self::Nack { tag, opcode, code: NackCode::from_byte(r.u8()?) },
-            2 if opcode == opcode::PING => Self::Pong { tag, nonce: r.u32()? },
+            1 => Self::Nack {
+                tag,
+                opcode,
+                code: NackCode::from_byte(r.u8()?),
+            },
+            2 if opcode == opcode::PING => Self::Pong {
+                tag,
+                nonce: r.u32()?,
+            },
             _ => return Err(Malformed::ReservedBits),
         };
         Ok(reply)
@@ -605,7 +640,9 @@ impl Message {
             kind::REPLY => {
                 let reply = Reply::decode(&mut r)?;
                 if r.remaining() != 0 {
-                    return Err(Malformed::Length { expected: body.len() - r.remaining() });
+                    return Err(Malformed::Length {
+                        expected: body.len() - r.remaining(),
+                    });
                 }
                 Self::Reply(reply)
             }

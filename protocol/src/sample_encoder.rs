@@ -18,7 +18,10 @@ pub const SAMPLE_FRAME_MAX_WIRE: usize = sample_frame_wire_len(MAX_BATCH);
 /// A buffer that holds one encoded sample frame of up to [`MAX_BATCH`] samples.
 pub type SampleFrameBuf = [u8; SAMPLE_FRAME_MAX_WIRE];
 
-const _: () = assert!(SAMPLE_FRAME_MAX_WIRE - 1 < 255, "COBS in one block needs < 254 bytes");
+const _: () = assert!(
+    SAMPLE_FRAME_MAX_WIRE - 1 < 255,
+    "COBS in one block needs < 254 bytes"
+);
 
 /// Where the body starts in the buffer: after the COBS code byte.
 const BODY_AT: usize = 1;
@@ -246,7 +249,9 @@ mod tests {
     /// The field-by-field path: `Message::encode_body`, the `crc` crate, the `cobs` crate.
     fn reference(frame: &SampleFrame) -> Vec<u8> {
         let mut body = vec![0u8; 256];
-        let n = Message::Sample(frame.clone()).encode_body(&mut body).unwrap();
+        let n = Message::Sample(frame.clone())
+            .encode_body(&mut body)
+            .unwrap();
         body.truncate(n);
         body.extend_from_slice(&CRC.checksum(&body).to_le_bytes());
         let mut out = vec![0u8; MAX_FRAME];
@@ -325,7 +330,12 @@ mod tests {
     fn full_frame_refuses_a_sample_and_empty_frame_encodes_to_nothing() {
         let mut enc = SampleFrameEncoder::new();
         let mut buf = [0u8; SAMPLE_FRAME_MAX_WIRE];
-        let header = SampleHeader { seq: 1, t_us: 2, status: Status::default(), temp: 3 };
+        let header = SampleHeader {
+            seq: 1,
+            t_us: 2,
+            status: Status::default(),
+            temp: 3,
+        };
         assert_eq!(enc.finish(&mut buf, &header), 0);
         for _ in 0..MAX_BATCH {
             assert!(enc.push(&mut buf, [-1, 0, 1]));

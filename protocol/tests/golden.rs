@@ -11,7 +11,10 @@ use protocol::{encode_vec, Accumulator, Message, Outcome, CRC};
 /// Hex digits to bytes; spaces only group fields for the reader.
 fn hex(s: &str) -> Vec<u8> {
     let digits: Vec<u8> = s.bytes().filter(|b| !b.is_ascii_whitespace()).collect();
-    digits.chunks(2).map(|d| u8::from_str_radix(std::str::from_utf8(d).unwrap(), 16).unwrap()).collect()
+    digits
+        .chunks(2)
+        .map(|d| u8::from_str_radix(std::str::from_utf8(d).unwrap(), 16).unwrap())
+        .collect()
 }
 
 const GOLDEN: &[(&str, &str)] = &[
@@ -110,7 +113,9 @@ fn crc_is_crc32c() {
 
 #[test]
 fn info_from_a_later_version_with_appended_fields_still_decodes() {
-    let Message::Info(info) = golden_messages::info() else { unreachable!() };
+    let Message::Info(info) = golden_messages::info() else {
+        unreachable!()
+    };
     let mut body = vec![0u8; 240];
     let n = Message::Info(info.clone()).encode_body(&mut body).unwrap();
     body.truncate(n);

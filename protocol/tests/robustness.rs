@@ -47,7 +47,11 @@ struct Stream {
 
 fn build(rng: &mut ChaCha8Rng, msgs: &[Message]) -> Stream {
     // A leading delimiter, as after an idle line: the first frame is then resynchronised too.
-    let mut s = Stream { bytes: vec![0], owner: vec![None], altered: vec![false] };
+    let mut s = Stream {
+        bytes: vec![0],
+        owner: vec![None],
+        altered: vec![false],
+    };
     for (i, m) in msgs.iter().enumerate() {
         for b in encode_vec(m).unwrap() {
             s.bytes.push(b);
@@ -165,7 +169,9 @@ fn a_million_damaged_streams() {
     let mut counts = Counts::default();
     let mut acc = Accumulator::new();
     for n in 0..STREAMS {
-        let msgs: Vec<Message> = (0..FRAMES_PER_STREAM).map(|_| random::message(&mut rng)).collect();
+        let msgs: Vec<Message> = (0..FRAMES_PER_STREAM)
+            .map(|_| random::message(&mut rng))
+            .collect();
         let mut s = build(&mut rng, &msgs);
         let kind = KINDS[n % KINDS.len()];
         damage(&mut rng, &mut s, kind);
@@ -194,7 +200,10 @@ fn a_million_damaged_streams() {
         }
         // Resync within one frame: every intact frame is decoded.
         for f in &expected {
-            assert!(accepted.contains(&msgs[*f]), "stream {n} ({kind:?}): intact frame {f} lost");
+            assert!(
+                accepted.contains(&msgs[*f]),
+                "stream {n} ({kind:?}): intact frame {f} lost"
+            );
         }
         counts.frames_sent += FRAMES_PER_STREAM as u64;
         counts.frames_intact += expected.len() as u64;

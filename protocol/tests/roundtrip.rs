@@ -11,7 +11,10 @@ use rand_chacha::ChaCha8Rng;
 
 fn decode_all(bytes: &[u8], chunk: usize) -> Vec<Outcome> {
     let mut acc = Accumulator::new();
-    bytes.chunks(chunk.max(1)).flat_map(|c| acc.feed(c).collect::<Vec<_>>()).collect()
+    bytes
+        .chunks(chunk.max(1))
+        .flat_map(|c| acc.feed(c).collect::<Vec<_>>())
+        .collect()
 }
 
 proptest! {
@@ -43,13 +46,19 @@ proptest! {
 #[test]
 fn a_sample_frame_holds_one_to_sixteen_samples() {
     let mut f = SampleFrame::new(0, 0, Status::default(), 0);
-    assert_eq!(encode_vec(&Message::Sample(f.clone())), Err(EncodeError::EmptyBatch));
+    assert_eq!(
+        encode_vec(&Message::Sample(f.clone())),
+        Err(EncodeError::EmptyBatch)
+    );
     for i in 0..MAX_BATCH {
         f.push(Sample { ch: [i as i32; 3] }).unwrap();
     }
     assert!(f.is_full());
     assert!(f.push(Sample::default()).is_err());
-    assert_eq!(encode_vec(&Message::Sample(f)).unwrap().len(), sample_frame_wire_len(MAX_BATCH));
+    assert_eq!(
+        encode_vec(&Message::Sample(f)).unwrap().len(),
+        sample_frame_wire_len(MAX_BATCH)
+    );
 }
 
 #[test]
@@ -65,13 +74,20 @@ fn a_bad_request_carries_tag_and_opcode_for_the_nack() {
         (&[0x04, 9, 0x7F], NackCode::UnknownCommand),
         (&[0x04, 9, opcode::SET_RATE, 1, 2], NackCode::Malformed),
         (&[0x04, 9, opcode::START, 0], NackCode::Malformed),
-        (&[0x04, 9, opcode::SET_DRIFT_TRACKING, 2], NackCode::OutOfRange),
+        (
+            &[0x04, 9, opcode::SET_DRIFT_TRACKING, 2],
+            NackCode::OutOfRange,
+        ),
     ];
     for (body, code) in cases {
         let opcode = body[2];
         assert_eq!(
             Message::decode_body(body),
-            Err(Malformed::BadRequest { tag: 9, opcode, code: *code }),
+            Err(Malformed::BadRequest {
+                tag: 9,
+                opcode,
+                code: *code
+            }),
             "{body:02x?}"
         );
     }
@@ -81,7 +97,11 @@ fn a_bad_request_carries_tag_and_opcode_for_the_nack() {
     nan_filter.extend_from_slice(&10.0f32.to_le_bytes());
     assert_eq!(
         Message::decode_body(&nan_filter),
-        Err(Malformed::BadRequest { tag: 9, opcode: opcode::SET_FILTER, code: NackCode::OutOfRange })
+        Err(Malformed::BadRequest {
+            tag: 9,
+            opcode: opcode::SET_FILTER,
+            code: NackCode::OutOfRange
+        })
     );
 }
 
@@ -91,7 +111,10 @@ fn an_overlong_frame_is_an_overflow_and_the_next_frame_decodes() {
     let mut wire = vec![0x55; MAX_ENCODED + 10];
     wire.push(0);
     wire.extend(encode_vec(&msg).unwrap());
-    assert_eq!(decode_all(&wire, 7), vec![Outcome::Overflow, Outcome::Message(msg)]);
+    assert_eq!(
+        decode_all(&wire, 7),
+        vec![Outcome::Overflow, Outcome::Message(msg)]
+    );
 }
 
 /// The acceptance figure: 921,600 baud 8N1 carries at least 8,500 samples/s in full frames.
@@ -108,7 +131,10 @@ fn full_batches_carry_at_least_8500_samples_per_second_at_921600_baud() {
     let bytes = encode_vec(&Message::Sample(frame)).unwrap().len();
     assert_eq!(bytes, 168, "SPEC.md states 168 bytes per full frame");
     let rate = 921_600.0 / 10.0 * MAX_BATCH as f64 / bytes as f64;
-    println!("{bytes} bytes per 16 samples = {:.3} bytes/sample; max lossless rate {rate:.0} samples/s", bytes as f64 / 16.0);
+    println!(
+        "{bytes} bytes per 16 samples = {:.3} bytes/sample; max lossless rate {rate:.0} samples/s",
+        bytes as f64 / 16.0
+    );
     assert!(rate >= 8500.0, "{rate}");
     assert!((max_lossless_rate_hz(921_600, MAX_BATCH) - rate).abs() < 1e-9);
 }

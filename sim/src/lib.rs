@@ -5,13 +5,13 @@
 pub mod link;
 
 pub mod ads131m04;
+#[cfg(feature = "std")]
+pub mod chain;
+#[cfg(feature = "std")]
+pub mod compression;
+#[cfg(feature = "std")]
+pub mod effects;
 pub mod frontend;
 pub mod load;
 pub mod pillar;
 pub mod temperature;
-#[cfg(feature = "std")]
-pub mod chain;
-#[cfg(feature = "std")]
-pub mod effects;
-#[cfg(feature = "std")]
-pub mod compression;

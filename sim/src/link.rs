@@ -212,7 +212,11 @@ impl FaultyLink {
                 continue;
             }
             if !self.unit.is_empty() {
-                let delivered = self.in_flight.iter().find(|(_, c)| **c == self.unit).map(|(i, _)| *i);
+                let delivered = self
+                    .in_flight
+                    .iter()
+                    .find(|(_, c)| **c == self.unit)
+                    .map(|(i, _)| *i);
                 match delivered {
                     Some(i) => {
                         // Delivered once; a copy of it later would be junk.

@@ -5,7 +5,7 @@
 
 use std::time::Duration;
 
-use protocol::{encode_vec, Accumulator, Message, Outcome, SampleFrame, Sample, Status};
+use protocol::{encode_vec, Accumulator, Message, Outcome, Sample, SampleFrame, Status};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sim::link::{FaultRates, FaultyLink, Injected};
@@ -56,7 +56,11 @@ fn run(frames: u32, rates: FaultRates, seed: u64) -> (Injected, Received) {
                 match outcome {
                     Outcome::Message(Message::Sample(f)) => {
                         let original = &sent[f.seq as usize];
-                        assert_eq!(&Message::Sample(f.clone()), original, "accepted a corrupted frame");
+                        assert_eq!(
+                            &Message::Sample(f.clone()),
+                            original,
+                            "accepted a corrupted frame"
+                        );
                         assert!(f.seq >= next_seq, "frame {} out of order or twice", f.seq);
                         got.lost_by_seq += u64::from(f.seq - next_seq);
                         next_seq = f.seq + 1;
@@ -78,13 +82,31 @@ fn run(frames: u32, rates: FaultRates, seed: u64) -> (Injected, Received) {
 }
 
 fn check(frames: u32, rate: f64, seed: u64) {
-    let (injected, got) = run(frames, FaultRates::uniform(rate, Duration::from_millis(5)), seed);
-    println!("link faults, {frames} frames at rate {rate}: injected {injected:?}; received {got:?}");
+    let (injected, got) = run(
+        frames,
+        FaultRates::uniform(rate, Duration::from_millis(5)),
+        seed,
+    );
+    println!(
+        "link faults, {frames} frames at rate {rate}: injected {injected:?}; received {got:?}"
+    );
     assert_eq!(injected.frames_in, u64::from(frames));
-    assert_eq!(got.accepted, injected.frames_delivered, "every intact frame decoded");
-    assert_eq!(got.lost_by_seq, injected.frames_lost, "lost frames as injected");
-    assert_eq!(got.rejected, injected.junk_units, "every junk unit rejected and counted");
-    assert_eq!(got.resyncs, injected.recoveries, "back on good frames where the link is");
+    assert_eq!(
+        got.accepted, injected.frames_delivered,
+        "every intact frame decoded"
+    );
+    assert_eq!(
+        got.lost_by_seq, injected.frames_lost,
+        "lost frames as injected"
+    );
+    assert_eq!(
+        got.rejected, injected.junk_units,
+        "every junk unit rejected and counted"
+    );
+    assert_eq!(
+        got.resyncs, injected.recoveries,
+        "back on good frames where the link is"
+    );
     assert!(injected.frames_lost > 0 && injected.junk_units > 0);
 }
 
@@ -98,7 +120,10 @@ fn hundred_thousand_frames_through_a_faulty_link() {
 fn a_clean_link_delivers_everything() {
     let (injected, got) = run(5_000, FaultRates::NONE, 3);
     assert_eq!(injected.frames_delivered, 5_000);
-    assert_eq!((got.accepted, got.rejected, got.lost_by_seq, got.resyncs), (5_000, 0, 0, 0));
+    assert_eq!(
+        (got.accepted, got.rejected, got.lost_by_seq, got.resyncs),
+        (5_000, 0, 0, 0)
+    );
 }
 
 #[test]

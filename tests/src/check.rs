@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use host::device::Scale;
-use host::recording::{read as read_recording, Recording};
 use host::logger::gap_code;
+use host::recording::{read as read_recording, Recording};
 
 use crate::emu::{info_for, truth_sample, truth_temp, EmuConfig};
 
@@ -27,13 +27,24 @@ fn nanos() -> u128 {
 pub fn verify_file(path: &Path, cfg: &EmuConfig) -> Result<(Recording, Verified), String> {
     let rec = read_recording(path).map_err(|e| e.to_string())?;
     let scale = Scale::from_info(&info_for(cfg));
-    let v = verify(&rec, usize::from(cfg.batch), cfg.rate_hz, scale.volts_per_code[0])?;
+    let v = verify(
+        &rec,
+        usize::from(cfg.batch),
+        cfg.rate_hz,
+        scale.volts_per_code[0],
+    )?;
     Ok((rec, v))
 }
 
 /// `tactile replay MCAP -o OUT` with the `tactile` binary at `tactile`; panics if it fails.
 pub fn replay(tactile: &Path, mcap: &Path, out: &Path) {
-    let st = Command::new(tactile).arg("replay").arg(mcap).arg("-o").arg(out).status().unwrap();
+    let st = Command::new(tactile)
+        .arg("replay")
+        .arg(mcap)
+        .arg("-o")
+        .arg(out)
+        .status()
+        .unwrap();
     assert!(st.success(), "tactile replay {} failed", mcap.display());
 }
 
@@ -122,7 +133,11 @@ pub fn verify(
         }
         let truth = truth_sample(u64::from(seq) * batch as u64 + k as u64, rate_hz);
         if temp_c[i] != f64::from(truth_temp(seq)) {
-            return Err(format!("row {i}: frame {seq}: temperature code {} != truth {}", temp_c[i], truth_temp(seq)));
+            return Err(format!(
+                "row {i}: frame {seq}: temperature code {} != truth {}",
+                temp_c[i],
+                truth_temp(seq)
+            ));
         }
         for c in 0..3 {
             let code = (ch[c][i] / volts_per_code).round() as i32;

@@ -50,7 +50,11 @@ fn recording(p: &ChipParams, seed: u64, n: usize) -> (Vec<Sample>, [f64; 3]) {
             let raw = bridge_outputs_v(p, load);
             let volts = [0, 1, 2].map(|i| GAINS[i] * raw[i] + offset_v[i] + drift_v_per_k[i] * t);
             let noisy = [0, 1, 2].map(|i| load.to_array()[i] + NOISE[i] * rng.normal());
-            Sample { volts, temperature: t, load: noisy }
+            Sample {
+                volts,
+                temperature: t,
+                load: noisy,
+            }
         })
         .collect();
     (samples, drift_v_per_k)
@@ -106,8 +110,18 @@ fn fit_is_precise_enough_to_matter() {
 
 #[test]
 fn fit_refuses_degenerate_data() {
-    let s = Sample { volts: [1.0, 2.0, 3.0], temperature: 20.0, load: [0.0; 3] };
-    assert_eq!(fit(&[s; 4], false), Err(FitError::TooFewSamples { samples: 4, parameters: 4 }));
+    let s = Sample {
+        volts: [1.0, 2.0, 3.0],
+        temperature: 20.0,
+        load: [0.0; 3],
+    };
+    assert_eq!(
+        fit(&[s; 4], false),
+        Err(FitError::TooFewSamples {
+            samples: 4,
+            parameters: 4
+        })
+    );
     assert_eq!(fit(&[s; 10], false), Err(FitError::Singular));
     let mut bad = vec![s; 10];
     bad[3].volts[1] = f64::NAN;

@@ -87,17 +87,41 @@ fn beams_a_b_and_c_d_are_stressed_equal_and_opposite_under_moments() {
     for i in 0..=10 {
         let x = l * i as f64 / 10.0;
         let my = Load::new(0.0, 0.0, 1e-4);
-        let (a, b) = (surface_stress_pa(&p, my, Beam::A, x), surface_stress_pa(&p, my, Beam::B, x));
-        assert!((a + b).abs() <= 1e-12 * a.abs().max(1.0), "My: A {a} B {b} at {x}");
-        assert_eq!(surface_stress_pa(&p, my, Beam::C, x), 0.0, "C only twists under My");
+        let (a, b) = (
+            surface_stress_pa(&p, my, Beam::A, x),
+            surface_stress_pa(&p, my, Beam::B, x),
+        );
+        assert!(
+            (a + b).abs() <= 1e-12 * a.abs().max(1.0),
+            "My: A {a} B {b} at {x}"
+        );
+        assert_eq!(
+            surface_stress_pa(&p, my, Beam::C, x),
+            0.0,
+            "C only twists under My"
+        );
         let mx = Load::new(0.0, 1e-4, 0.0);
-        let (c, d) = (surface_stress_pa(&p, mx, Beam::C, x), surface_stress_pa(&p, mx, Beam::D, x));
-        assert!((c + d).abs() <= 1e-12 * c.abs().max(1.0), "Mx: C {c} D {d} at {x}");
-        assert_eq!(surface_stress_pa(&p, mx, Beam::A, x), 0.0, "A only twists under Mx");
+        let (c, d) = (
+            surface_stress_pa(&p, mx, Beam::C, x),
+            surface_stress_pa(&p, mx, Beam::D, x),
+        );
+        assert!(
+            (c + d).abs() <= 1e-12 * c.abs().max(1.0),
+            "Mx: C {c} D {d} at {x}"
+        );
+        assert_eq!(
+            surface_stress_pa(&p, mx, Beam::A, x),
+            0.0,
+            "A only twists under Mx"
+        );
         let fz = Load::new(1.0, 0.0, 0.0);
         let sa = surface_stress_pa(&p, fz, Beam::A, x);
         for beam in Beam::ALL {
-            assert_eq!(surface_stress_pa(&p, fz, beam, x), sa, "Fz stresses all beams alike");
+            assert_eq!(
+                surface_stress_pa(&p, fz, beam, x),
+                sa,
+                "Fz stresses all beams alike"
+            );
         }
     }
 }
@@ -105,11 +129,18 @@ fn beams_a_b_and_c_d_are_stressed_equal_and_opposite_under_moments() {
 #[test]
 fn combined_load_is_the_sum_of_its_parts() {
     let p = shipped();
-    let parts = [Load::new(2.0, 0.0, 0.0), Load::new(0.0, 3e-4, 0.0), Load::new(0.0, 0.0, -2e-4)];
+    let parts = [
+        Load::new(2.0, 0.0, 0.0),
+        Load::new(0.0, 3e-4, 0.0),
+        Load::new(0.0, 0.0, -2e-4),
+    ];
     let all = Load::new(2.0, 3e-4, -2e-4);
     for beam in Beam::ALL {
         let x = 0.37 * p.geometry.beam_length_m;
-        let sum: f64 = parts.iter().map(|l| surface_stress_pa(&p, *l, beam, x)).sum();
+        let sum: f64 = parts
+            .iter()
+            .map(|l| surface_stress_pa(&p, *l, beam, x))
+            .sum();
         assert!(close(surface_stress_pa(&p, all, beam, x), sum, 1e-12));
     }
 }
@@ -148,13 +179,20 @@ fn small_signal_output_follows_the_sensitivity_matrix() {
     let v = bridge_outputs_v(&p, load);
     for i in 0..3 {
         let linear: f64 = (0..3).map(|j| s[i][j] * load.to_array()[j]).sum();
-        assert!(close(v[i], linear, 1e-3), "bridge {i}: {} vs {linear}", v[i]);
+        assert!(
+            close(v[i], linear, 1e-3),
+            "bridge {i}: {} vs {linear}",
+            v[i]
+        );
     }
     let c = inverse(&s).expect("S is invertible");
     let identity = multiply(&c, &s);
     for (i, row) in identity.iter().enumerate() {
         for (j, v) in row.iter().enumerate() {
-            assert!((v - f64::from(u8::from(i == j))).abs() < 1e-12, "{identity:?}");
+            assert!(
+                (v - f64::from(u8::from(i == j))).abs() < 1e-12,
+                "{identity:?}"
+            );
         }
     }
 }
@@ -174,7 +212,10 @@ fn shipped_geometry_reproduces_table_one_within_ten_percent() {
         ("Mx strength", mx, 800e-6),
         ("My strength", my, 800e-6),
     ] {
-        assert!(close(got, want, 0.10), "{name}: model {got}, Table I {want}");
+        assert!(
+            close(got, want, 0.10),
+            "{name}: model {got}, Table I {want}"
+        );
     }
 }
 
@@ -186,14 +227,21 @@ fn frame_fe_euler_bernoulli_reproduces_the_analytical_model() {
         block_stiffness_factor: 1e6,
         ..FrameOptions::default()
     };
-    for load in [Load::new(1.0, 0.0, 0.0), Load::new(0.0, 1e-4, 0.0), Load::new(0.0, 0.0, 1e-4)] {
+    for load in [
+        Load::new(1.0, 0.0, 0.0),
+        Load::new(0.0, 1e-4, 0.0),
+        Load::new(0.0, 0.0, 1e-4),
+    ] {
         let fe = frame_fe::solve(&p, load, opt).expect("frame solves");
         for bridge in &p.bridges {
             for r in &bridge.resistors {
                 let a = surface_stress_pa(&p, load, r.beam, r.x_m);
                 let n = fe.surface_stress_pa(r.beam, r.x_m);
                 let scale = peak(&p, load);
-                assert!((a - n).abs() < 1e-4 * scale, "{load:?} {r:?}: analytic {a}, FE {n}");
+                assert!(
+                    (a - n).abs() < 1e-4 * scale,
+                    "{load:?} {r:?}: analytic {a}, FE {n}"
+                );
             }
         }
     }
@@ -210,7 +258,11 @@ fn frame_fe_timoshenko_agrees_within_five_percent_at_the_resistors() {
 }
 
 fn timoshenko_case(p: &ChipParams, options: FrameOptions) {
-    for load in [Load::new(1.0, 0.0, 0.0), Load::new(0.0, 1e-4, 0.0), Load::new(0.0, 0.0, 1e-4)] {
+    for load in [
+        Load::new(1.0, 0.0, 0.0),
+        Load::new(0.0, 1e-4, 0.0),
+        Load::new(0.0, 0.0, 1e-4),
+    ] {
         let fe = frame_fe::solve(p, load, options).expect("frame solves");
         let mut worst = 0.0_f64;
         for bridge in &p.bridges {
@@ -223,7 +275,10 @@ fn timoshenko_case(p: &ChipParams, options: FrameOptions) {
                 worst = worst.max(((n - a) / a).abs());
             }
         }
-        println!("{options:?} {load:?}: largest |FE/analytic - 1| at the resistors = {:.4}", worst);
+        println!(
+            "{options:?} {load:?}: largest |FE/analytic - 1| at the resistors = {:.4}",
+            worst
+        );
         assert!(worst < 0.05, "{options:?} {load:?}: {worst}");
     }
 }
@@ -254,7 +309,10 @@ fn mask_misalignment_creates_crosstalk_in_proportion() {
     // A shift along x moves the A and B resistors the opposite way along their beams: under My
     // (A and B stressed equal and opposite, with a slope along x) the Fz arm no longer cancels.
     assert!(one[0][2] > 1e-4, "My into the Fz bridge: {one:?}");
-    assert!(close(two[0][2], 2.0 * one[0][2], 0.02), "first order in the offset: {one:?} {two:?}");
+    assert!(
+        close(two[0][2], 2.0 * one[0][2], 0.02),
+        "first order in the offset: {one:?} {two:?}"
+    );
     // An x shift moves A's resistors towards the frame and B's towards the block: under Fz
     // (stress sloping along every beam) the My bridge's A and B halves no longer cancel, while
     // the Mx bridge on C and D, not moved along their axes, stays balanced.
@@ -269,7 +327,10 @@ fn pillar_tip_force_becomes_a_moment_at_the_chip() {
     let mut p = shipped();
     p.geometry.pillar_height_m = 1e-3;
     let at_chip = crate::tolerance::load_at_chip(&p, Load::new(1.0, 0.0, 0.0), 0.2, -0.1);
-    assert!(close(at_chip.my_nm, 2e-4, 1e-12) && close(at_chip.mx_nm, 1e-4, 1e-12), "{at_chip:?}");
+    assert!(
+        close(at_chip.my_nm, 2e-4, 1e-12) && close(at_chip.mx_nm, 1e-4, 1e-12),
+        "{at_chip:?}"
+    );
 }
 
 #[test]

@@ -122,8 +122,14 @@ fn frame_check(p: &ChipParams, options: FrameOptions) -> anyhow::Result<Value> {
 }
 
 fn print_text(r: &Value) {
-    println!("chip at {} V excitation (raw bridge output, before amplifiers)", r["excitation_v"]);
-    println!("{:<22} {:>12} {:>12} {:>8}", "Table I figure", "model", "paper", "ratio");
+    println!(
+        "chip at {} V excitation (raw bridge output, before amplifiers)",
+        r["excitation_v"]
+    );
+    println!(
+        "{:<22} {:>12} {:>12} {:>8}",
+        "Table I figure", "model", "paper", "ratio"
+    );
     for row in r["table_i"].as_array().into_iter().flatten() {
         let num = |k: &str| row[k].as_f64().unwrap_or(f64::NAN);
         println!(
@@ -137,7 +143,10 @@ fn print_text(r: &Value) {
     let matrix = |key: &str| {
         println!(
             "{key} ({}):",
-            r[key]["units"].as_str().or(r[key]["definition"].as_str()).unwrap_or("")
+            r[key]["units"]
+                .as_str()
+                .or(r[key]["definition"].as_str())
+                .unwrap_or("")
         );
         for row in r[key]["value"].as_array().into_iter().flatten() {
             let cells: Vec<String> = row
@@ -155,11 +164,15 @@ fn print_text(r: &Value) {
     matrix("crosstalk_at_mask_misalignment");
     println!(
         "block deflection stiffness: {:.4} N/um",
-        r["block_deflection_stiffness_n_per_um"].as_f64().unwrap_or(f64::NAN)
+        r["block_deflection_stiffness_n_per_um"]
+            .as_f64()
+            .unwrap_or(f64::NAN)
     );
     println!(
         "block rotation stiffness:   {:.4e} N·m/rad",
-        r["block_rotation_stiffness_nm_per_rad"].as_f64().unwrap_or(f64::NAN)
+        r["block_rotation_stiffness_nm_per_rad"]
+            .as_f64()
+            .unwrap_or(f64::NAN)
     );
     for block in ["rigid_block", "real_block"] {
         for case in ["fz", "mx", "my"] {
@@ -198,11 +211,20 @@ mod tests {
         // C S = I, through the JSON.
         for i in 0..3 {
             for j in 0..3 {
-                let v: f64 =
-                    (0..3).map(|k| c[i][k].as_f64().unwrap() * s[k][j].as_f64().unwrap()).sum();
-                assert!((v - f64::from(u8::from(i == j))).abs() < 1e-9, "({i},{j}) {v}");
+                let v: f64 = (0..3)
+                    .map(|k| c[i][k].as_f64().unwrap() * s[k][j].as_f64().unwrap())
+                    .sum();
+                assert!(
+                    (v - f64::from(u8::from(i == j))).abs() < 1e-9,
+                    "({i},{j}) {v}"
+                );
             }
         }
-        assert!(r["crosstalk_at_mask_misalignment"]["value"][1][0].as_f64().unwrap() > 0.0);
+        assert!(
+            r["crosstalk_at_mask_misalignment"]["value"][1][0]
+                .as_f64()
+                .unwrap()
+                > 0.0
+        );
     }
 }

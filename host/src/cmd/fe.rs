@@ -48,7 +48,12 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = MaterialArg::NeoHookean)]
     pub material: MaterialArg,
     /// Nominal element size, mm (finer at the chip and under the rod).
-    #[arg(long, value_name = "MM", default_value_t = 5.0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "MM",
+        default_value_t = 5.0,
+        allow_negative_numbers = true
+    )]
     pub mesh_size: f64,
     /// Rod radius, mm (default: toml).
     #[arg(long, value_name = "MM", allow_negative_numbers = true)]
@@ -73,7 +78,12 @@ pub struct Args {
 pub enum FeError {
     /// The named flag's value is not in the allowed closed interval.
     #[error("{flag} = {value} is out of range [{lo}, {hi}]")]
-    OutOfRange { flag: &'static str, value: f64, lo: f64, hi: f64 },
+    OutOfRange {
+        flag: &'static str,
+        value: f64,
+        lo: f64,
+        hi: f64,
+    },
 }
 
 impl ExitStatus for FeError {
@@ -86,7 +96,12 @@ fn in_range(flag: &'static str, value: f64, lo: f64, hi: f64) -> Result<f64, FeE
     if value.is_finite() && (lo..=hi).contains(&value) {
         Ok(value)
     } else {
-        Err(FeError::OutOfRange { flag, value, lo, hi })
+        Err(FeError::OutOfRange {
+            flag,
+            value,
+            lo,
+            hi,
+        })
     }
 }
 
@@ -100,21 +115,51 @@ pub fn config(args: &Args, hw: &hardware::Fingertip) -> Result<(Config, f64), Fe
     };
     let config = Config {
         radius_mm,
-        youngs_modulus_pa: in_range("--youngs-modulus", args.youngs_modulus.unwrap_or(hw.youngs_modulus_pa), 1e2, 1e10)?,
+        youngs_modulus_pa: in_range(
+            "--youngs-modulus",
+            args.youngs_modulus.unwrap_or(hw.youngs_modulus_pa),
+            1e2,
+            1e10,
+        )?,
         poisson: in_range("--poisson", args.poisson.unwrap_or(hw.poisson), 0.0, 0.4999)?,
         material: match args.material {
             MaterialArg::Linear => Material::Linear,
             MaterialArg::NeoHookean => Material::NeoHookean,
         },
-        mesh_size_mm: in_range("--mesh-size", args.mesh_size, radius_mm / 60.0, radius_mm / 2.0)?,
-        rod_radius_mm: in_range("--rod-radius", args.rod_radius.unwrap_or(hw.rod_radius_mm), radius_mm / 50.0, 10.0 * radius_mm)?,
-        contact_angle_deg: in_range("--contact-angle", args.contact_angle.unwrap_or(hw.test.contact_angle_deg), 0.0, 60.0)?,
-        azimuth_deg: in_range("--azimuth", args.azimuth.unwrap_or(hw.test.azimuth_deg), -360.0, 360.0)?,
+        mesh_size_mm: in_range(
+            "--mesh-size",
+            args.mesh_size,
+            radius_mm / 60.0,
+            radius_mm / 2.0,
+        )?,
+        rod_radius_mm: in_range(
+            "--rod-radius",
+            args.rod_radius.unwrap_or(hw.rod_radius_mm),
+            radius_mm / 50.0,
+            10.0 * radius_mm,
+        )?,
+        contact_angle_deg: in_range(
+            "--contact-angle",
+            args.contact_angle.unwrap_or(hw.test.contact_angle_deg),
+            0.0,
+            60.0,
+        )?,
+        azimuth_deg: in_range(
+            "--azimuth",
+            args.azimuth.unwrap_or(hw.test.azimuth_deg),
+            -360.0,
+            360.0,
+        )?,
         friction_mu: in_range("--friction", friction, 0.0, 2.0)?,
         load_steps: in_range("--load-steps", args.load_steps as f64, 1.0, 10_000.0)? as usize,
         ..Config::from_hardware(hw, args.mesh_size)
     };
-    let peak = in_range("--peak-load", args.peak_load.unwrap_or(hw.test.peak_load_n), 1e-6, 1e4)?;
+    let peak = in_range(
+        "--peak-load",
+        args.peak_load.unwrap_or(hw.test.peak_load_n),
+        1e-6,
+        1e4,
+    )?;
     Ok((config, peak))
 }
 
@@ -135,7 +180,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     })?;
     let total_s = t0.elapsed().as_secs_f64();
     if let Some(path) = &args.vtk {
-        ft.write_vtk(path).with_context(|| format!("writing {}", path.display()))?;
+        ft.write_vtk(path)
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     let mut out = std::io::stdout().lock();
     if args.json {
@@ -148,7 +194,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         writeln!(out, "rod_mm,force_n,fz_n,mx_nm,my_nm,t_s,contact_nodes")?;
         for p in &curve.points {
-            writeln!(out, "{:.5},{:.6},{:.6},{:.6e},{:.6e},{:.4},{}", p.rod_mm, p.force_n, p.fz_n, p.mx_nm, p.my_nm, p.t_s, p.contact_nodes)?;
+            writeln!(
+                out,
+                "{:.5},{:.6},{:.6},{:.6e},{:.6e},{:.4},{}",
+                p.rod_mm, p.force_n, p.fz_n, p.mx_nm, p.my_nm, p.t_s, p.contact_nodes
+            )?;
         }
         let q = &curve.quality;
         let s = &curve.stats;
@@ -184,24 +234,39 @@ mod tests {
     }
 
     fn hw() -> hardware::Fingertip {
-        hardware::Params::load_default().expect("hardware/").fingertip
+        hardware::Params::load_default()
+            .expect("hardware/")
+            .fingertip
     }
 
     #[test]
     fn defaults_come_from_the_toml_and_flags_override_them() {
         let hw = hw();
         let (c, peak) = config(&Cli::parse_from(["fe"]).args, &hw).unwrap();
-        assert_eq!((c.youngs_modulus_pa, c.poisson, c.radius_mm), (hw.youngs_modulus_pa, hw.poisson, hw.radius_mm));
+        assert_eq!(
+            (c.youngs_modulus_pa, c.poisson, c.radius_mm),
+            (hw.youngs_modulus_pa, hw.poisson, hw.radius_mm)
+        );
         assert_eq!(peak, hw.test.peak_load_n);
         assert_eq!(c.friction_mu, 0.0);
-        let (c, _) = config(&Cli::parse_from(["fe", "--poisson", "0.45", "--friction"]).args, &hw).unwrap();
+        let (c, _) = config(
+            &Cli::parse_from(["fe", "--poisson", "0.45", "--friction"]).args,
+            &hw,
+        )
+        .unwrap();
         assert_eq!((c.poisson, c.friction_mu), (0.45, hw.friction_mu));
     }
 
     #[test]
     fn out_of_range_values_name_the_flag() {
         let hw = hw();
-        for (flag, value) in [("--poisson", "0.5"), ("--contact-angle", "75"), ("--mesh-size", "0.01"), ("--peak-load", "-1"), ("--azimuth", "-400")] {
+        for (flag, value) in [
+            ("--poisson", "0.5"),
+            ("--contact-angle", "75"),
+            ("--mesh-size", "0.01"),
+            ("--peak-load", "-1"),
+            ("--azimuth", "-400"),
+        ] {
             let err = config(&Cli::parse_from(["fe", flag, value]).args, &hw).unwrap_err();
             assert!(err.to_string().starts_with(flag), "{err}");
             assert_eq!(err.exit_code(), exit::USAGE);

@@ -39,7 +39,10 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     if let Some(e) = cause.downcast_ref::<crate::recording::RecordingError>() {
         return Some(e.exit_code());
     }
-    if cause.downcast_ref::<crate::diagnosis::data::DataError>().is_some() {
+    if cause
+        .downcast_ref::<crate::diagnosis::data::DataError>()
+        .is_some()
+    {
         return Some(crate::cli::exit::DATA);
     }
     if cause.is::<::chip::from_hardware::FromHardwareError>() || cause.is::<hardware::LoadError>() {
@@ -59,7 +62,9 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     }
     if let Some(e) = cause.downcast_ref::<fingertip::Error>() {
         return Some(match e {
-            fingertip::Error::InvalidConfig { .. } | fingertip::Error::PeakNotReached { .. } => crate::cli::exit::DATA,
+            fingertip::Error::InvalidConfig { .. } | fingertip::Error::PeakNotReached { .. } => {
+                crate::cli::exit::DATA
+            }
             fingertip::Error::Io(_) => crate::cli::exit::IO,
             _ => crate::cli::exit::SOFTWARE,
         });

@@ -83,7 +83,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .context("--effect")?;
     anyhow::ensure!(args.peak_load > 0.0, "--peak-load must be positive");
     if let Some([_, period_s]) = args.ambient_swing.as_deref() {
-        anyhow::ensure!(*period_s > 0.0, "--ambient-swing: the period must be positive");
+        anyhow::ensure!(
+            *period_s > 0.0,
+            "--ambient-swing: the period must be positive"
+        );
     }
     let test = sim::compression::CompressionTest {
         sample_rate_hz: args.rate.unwrap_or(tip.test.sample_rate_hz),

@@ -55,9 +55,9 @@ impl RawCurve {
             && self.force_n.len() == n
             && self.package.len() == n
             && self.rod_mm.windows(2).all(|w| w[1] > w[0])
-            && self.points().all(|(r, f, p)| {
-                r.is_finite() && f.is_finite() && p.iter().all(|v| v.is_finite())
-            })
+            && self
+                .points()
+                .all(|(r, f, p)| r.is_finite() && f.is_finite() && p.iter().all(|v| v.is_finite()))
     }
 }
 
@@ -81,7 +81,11 @@ pub fn forget_in_memory() {
 
 /// The cache directory, if there is one.
 pub fn cache_dir() -> Option<PathBuf> {
-    let env = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let env = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
     let base = env(CACHE_DIR_ENV)
         .or_else(|| env("XDG_CACHE_HOME").map(|d| d.join("tactile")))
         .or_else(|| env("HOME").map(|d| d.join(".cache").join("tactile")))?;
@@ -125,7 +129,11 @@ fn store(dir: &std::path::Path, key: &str, curve: &RawCurve) {
         return;
     };
     let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tmp = dir.join(format!(".tmp-{}-{n}-{:016x}", std::process::id(), fnv1a(key)));
+    let tmp = dir.join(format!(
+        ".tmp-{}-{n}-{:016x}",
+        std::process::id(),
+        fnv1a(key)
+    ));
     let ok = std::fs::create_dir_all(dir).is_ok() && std::fs::write(&tmp, text).is_ok();
     if !ok || std::fs::rename(&tmp, path_of(dir, key)).is_err() {
         let _ = std::fs::remove_file(&tmp);
@@ -185,7 +193,8 @@ mod tests {
     }
 
     fn scratch(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("tactile-fe-cache-{name}-{}", std::process::id()));
+        let d =
+            std::env::temp_dir().join(format!("tactile-fe-cache-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
         d
     }
@@ -197,14 +206,22 @@ mod tests {
         store(&dir, "k1", &curve());
         assert_eq!(load(&dir, "k1"), Some(curve()));
         assert_eq!(load(&dir, "k2"), None);
-        std::fs::write(path_of(&dir, "k1"), "{\"key\": \"k1\", \"curve\": {\"rod_mm\": [0").unwrap();
+        std::fs::write(
+            path_of(&dir, "k1"),
+            "{\"key\": \"k1\", \"curve\": {\"rod_mm\": [0",
+        )
+        .unwrap();
         assert_eq!(load(&dir, "k1"), None);
         let mut bad = curve();
         bad.rod_mm[1] = 0.0;
         store(&dir, "k3", &bad);
         assert_eq!(load(&dir, "k3"), None);
         let leftovers = std::fs::read_dir(&dir).unwrap().filter(|e| {
-            e.as_ref().unwrap().file_name().to_string_lossy().starts_with(".tmp")
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with(".tmp")
         });
         assert_eq!(leftovers.count(), 0);
         let _ = std::fs::remove_dir_all(&dir);

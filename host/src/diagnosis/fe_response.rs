@@ -117,7 +117,11 @@ impl FeSource {
         })?;
         let package_radius_m = self.fingertip.inclusion_radius_mm * 1e-3;
         let points = raw.points().map(|(rod_mm, force_n, loads)| {
-            (rod_mm, force_n, chip_load(loads, package_radius_m, &self.pillar, &self.chip))
+            (
+                rod_mm,
+                force_n,
+                chip_load(loads, package_radius_m, &self.pillar, &self.chip),
+            )
         });
         Ok(ResponseTable::from_curve(points, config.youngs_modulus_pa))
     }
@@ -185,7 +189,11 @@ fn run_fe(config: &Config, reach_n: f64) -> Result<RawCurve, FeResponseError> {
         match ft.step_to(target_mm, step_mm / config.rod_speed_mm_per_s) {
             Ok(p) => {
                 let l = ft.chip_loads();
-                raw.push(p.rod_mm, p.force_n, [l.fx_n, l.fy_n, l.fz_n, l.mx_nm, l.my_nm]);
+                raw.push(
+                    p.rod_mm,
+                    p.force_n,
+                    [l.fx_n, l.fy_n, l.fz_n, l.mx_nm, l.my_nm],
+                );
                 reached_n = p.force_n;
             }
             Err(_) if reached_n >= MIN_SHARE_OF_REACH * reach_n => break,

@@ -138,8 +138,10 @@ impl<'s, 'a> Model<'s, 'a> {
             fixed[4] = Some(0.0);
         }
         // Regressed on the measured temperature, the drift's time constant is the temperature's.
-        if let (Some(th), Some(at)) = (setup.thermal, param_index(kinds, EffectKind::ThermalDrift, 1))
-        {
+        if let (Some(th), Some(at)) = (
+            setup.thermal,
+            param_index(kinds, EffectKind::ThermalDrift, 1),
+        ) {
             fixed[at] = Some(th.tau_s.ln());
         }
         for (c, used) in setup.used.iter().enumerate() {
@@ -509,4 +511,3 @@ pub fn stderr(model: &Model, fitted: &Fitted, i: usize, rho: f64) -> Option<f64>
         se
     })
 }
-

@@ -73,7 +73,9 @@ mod tests {
         let x = [0.0, 1.0, 2.0, 3.0, 4.0];
         let y = [0.0, 0.0, 0.1, 5.0, 5.1];
         let d = slopes(&x, &y);
-        let v: Vec<f64> = (0..=400).map(|k| eval(&x, &y, &d, k as f64 * 0.01)).collect();
+        let v: Vec<f64> = (0..=400)
+            .map(|k| eval(&x, &y, &d, k as f64 * 0.01))
+            .collect();
         assert!(v.windows(2).all(|w| w[1] >= w[0] - 1e-12));
         assert!(v.iter().all(|&y| (-1e-12..=5.1 + 1e-12).contains(&y)));
     }

@@ -9,12 +9,12 @@ use sim::effects::EffectKind;
 
 use super::baseline::{Drive, FrontEnd, Outputs};
 use super::data::{Data, DataError, CHANNELS};
+use super::fe_response::FeSource;
 use super::fit::{initial_baseline, physical, stderr, Fitted, Model, Setup, N_BASE};
 use super::localise::{self, ChannelLocalisation};
 use super::mains::{self, Line};
 use super::output::*;
 use super::regimes::{self, Segment};
-use super::fe_response::FeSource;
 use crate::recording::Recording;
 
 /// Knobs of a run and the project's model parameters the recording does not carry.
@@ -120,9 +120,11 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     let heldout = regimes::heldout_window(fit_t, &segments);
     let heldout_mask: Vec<bool> = fit_t.iter().map(|&t| t >= heldout.0).collect();
     let meta = &rec.meta;
-    let fingertip =
-        opt.fe
-            .response(meta.fingertip_radius_mm, meta.contact_angle_deg, meta.azimuth_deg)?;
+    let fingertip = opt.fe.response(
+        meta.fingertip_radius_mm,
+        meta.contact_angle_deg,
+        meta.azimuth_deg,
+    )?;
     let used: [bool; 4] = std::array::from_fn(|c| data.range[c] > 10.0 * data.noise_full[c]);
     let thermal = match (&data.fit.temp_c, &data.full.temp_c) {
         (Some(fit), Some(full)) => super::temperature::fit(fit_t, fit, full),

@@ -8,8 +8,8 @@ use sim::compression::CompressionTest;
 use sim::effects::{Effect, EffectKind};
 
 use super::baseline::{BaselineParams, Drive};
-use super::pipeline::{diagnose, Options};
 use super::fe_response::{AngleBlend, FeResponseError};
+use super::pipeline::{diagnose, Options};
 use super::synth::{simulate, Gaussian, Noise, SimSpec};
 use crate::recording::Recording;
 
@@ -100,8 +100,8 @@ impl Plan {
         let mut u = |a: f64, b: f64| a + (b - a) * g.uniform();
         // The jigs' settings: inclinations in equal steps (one between grid tables, so the
         // blend is exercised) and two azimuths, the paper's 60 deg and 30 deg.
-        let contact_angle_deg = JIG_ANGLES_DEG[(u(0.0, 1.0) * JIG_ANGLES_DEG.len() as f64) as usize
-            % JIG_ANGLES_DEG.len()];
+        let contact_angle_deg = JIG_ANGLES_DEG
+            [(u(0.0, 1.0) * JIG_ANGLES_DEG.len() as f64) as usize % JIG_ANGLES_DEG.len()];
         let azimuth_deg = if u(0.0, 1.0) < 0.5 { 30.0 } else { 60.0 };
         let peak = u(40.0, 70.0);
         let second = peak * u(0.5, 0.8);
@@ -114,10 +114,10 @@ impl Plan {
             u(1e-3, 3e-3)
         };
         let load_noise = if low_snr { 0.1 } else { 0.02 };
-        let fingertip =
-            self.options
-                .fe
-                .response(self.radius_mm, contact_angle_deg, azimuth_deg)?;
+        let fingertip = self
+            .options
+            .fe
+            .response(self.radius_mm, contact_angle_deg, azimuth_deg)?;
         let front_end = self.front_end;
         let test = CompressionTest {
             sample_rate_hz: self.sample_rate_hz,

@@ -36,7 +36,9 @@ fn noise_sd(x: &[f64]) -> f64 {
 pub fn fit(t_s: &[f64], temp_c: &[f64], temp_full: &[f64]) -> Option<ThermalFit> {
     let (lo, hi) = temp_c
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
     let range = hi - lo;
     let usable = t_s.len() == temp_c.len()
         && t_s.len() >= 3
@@ -54,7 +56,11 @@ pub fn fit(t_s: &[f64], temp_c: &[f64], temp_full: &[f64]) -> Option<ThermalFit>
         let Some((a, b)) = line_fit(&g, temp_c) else {
             continue;
         };
-        let sse: f64 = g.iter().zip(temp_c).map(|(g, y)| (y - a - b * g).powi(2)).sum();
+        let sse: f64 = g
+            .iter()
+            .zip(temp_c)
+            .map(|(g, y)| (y - a - b * g).powi(2))
+            .sum();
         if best.is_none_or(|(s, ..)| sse < s) {
             best = Some((sse, tau, a, b));
         }
@@ -97,7 +103,10 @@ mod tests {
     #[test]
     fn warm_up_is_recovered() {
         let t: Vec<f64> = (0..600).map(|k| k as f64 * 0.2).collect();
-        let temp: Vec<f64> = t.iter().map(|&s| 24.0 + 6.0 * (1.0 - (-s / 40.0).exp())).collect();
+        let temp: Vec<f64> = t
+            .iter()
+            .map(|&s| 24.0 + 6.0 * (1.0 - (-s / 40.0).exp()))
+            .collect();
         let f = fit(&t, &temp, &temp).unwrap();
         assert!((f.tau_s / 40.0 - 1.0).abs() < 0.06, "{f:?}");
         assert!((f.reference.rise_c - 6.0).abs() < 0.2, "{f:?}");
@@ -108,7 +117,9 @@ mod tests {
     #[test]
     fn flat_temperature_is_not_used() {
         let t: Vec<f64> = (0..600).map(|k| k as f64 * 0.2).collect();
-        let noisy: Vec<f64> = (0..600).map(|k| 25.0 + 0.02 * ((k * 7919 % 13) as f64 - 6.0) / 6.0).collect();
+        let noisy: Vec<f64> = (0..600)
+            .map(|k| 25.0 + 0.02 * ((k * 7919 % 13) as f64 - 6.0) / 6.0)
+            .collect();
         assert_eq!(fit(&t, &vec![25.0; 600], &vec![25.0; 600]), None);
         assert_eq!(fit(&t, &noisy, &noisy), None);
     }

@@ -221,15 +221,21 @@ impl<'a> Body<'a> {
     }
 
     fn u16(&mut self) -> Result<u16, String> {
-        Ok(u16::from_le_bytes(self.take(2)?.try_into().expect("2 bytes")))
+        Ok(u16::from_le_bytes(
+            self.take(2)?.try_into().expect("2 bytes"),
+        ))
     }
 
     fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+        Ok(u32::from_le_bytes(
+            self.take(4)?.try_into().expect("4 bytes"),
+        ))
     }
 
     fn u64(&mut self) -> Result<u64, String> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+        Ok(u64::from_le_bytes(
+            self.take(8)?.try_into().expect("8 bytes"),
+        ))
     }
 
     /// A `u64`-sized length that must fit in what is left.
@@ -291,11 +297,10 @@ impl Recovery {
         let _sequence = b.u32()?;
         let log_ns = b.u64()?;
         let publish_ns = b.u64()?;
-        let (topic, encoding) = self
-            .channels
-            .get(&channel)
-            .cloned()
-            .ok_or_else(|| format!("a message on channel {channel}, which no record declared"))?;
+        let (topic, encoding) =
+            self.channels.get(&channel).cloned().ok_or_else(|| {
+                format!("a message on channel {channel}, which no record declared")
+            })?;
         self.messages.push(StoredMessage {
             topic,
             encoding,
@@ -314,7 +319,9 @@ impl Recovery {
         let _crc = b.u32()?;
         let compression = b.string()?;
         if !compression.is_empty() {
-            return Err(format!("a chunk compressed with {compression:?}, which this reader does not read"));
+            return Err(format!(
+                "a chunk compressed with {compression:?}, which this reader does not read"
+            ));
         }
         let n = b.len64()?;
         self.records(b.take(n)?, true)

@@ -173,7 +173,10 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
             crate::diagnosis::baseline::SMOOTHER_KEY,
             decimal(f.smoother_alpha).to_string(),
         ),
-        ("firmware_butterworth_order", f.butterworth_order.to_string()),
+        (
+            "firmware_butterworth_order",
+            f.butterworth_order.to_string(),
+        ),
         ("firmware_cutoff_hz", decimal(f.cutoff_hz).to_string()),
     ];
     Meta {

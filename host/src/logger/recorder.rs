@@ -130,7 +130,12 @@ impl Recorder {
         })
     }
 
-    fn write_row(&mut self, required: &[f64; 6], temp_c: f64, extra: &[f64]) -> Result<(), FileError> {
+    fn write_row(
+        &mut self,
+        required: &[f64; 6],
+        temp_c: f64,
+        extra: &[f64],
+    ) -> Result<(), FileError> {
         self.csv
             .write_row(required, Some(temp_c), extra)
             .map_err(|e| FileError::write(&self.path, e))

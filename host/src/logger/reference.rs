@@ -35,7 +35,9 @@ fn find(columns: &[String], names: &[&str]) -> Option<usize> {
 /// Read a machine export: `#` lines skipped, one header naming a time, a rod-position and a
 /// load column (common spellings accepted), then numeric rows with increasing time.
 pub fn read_reference(path: &Path) -> Result<Reference, FileError> {
-    let bytes = std::fs::metadata(path).map_err(|e| FileError::open(path, e))?.len();
+    let bytes = std::fs::metadata(path)
+        .map_err(|e| FileError::open(path, e))?
+        .len();
     let limit_bytes = Limits::DEFAULT.max_bytes;
     if bytes > limit_bytes {
         return Err(FileError::TooLarge {
@@ -100,7 +102,9 @@ pub fn read_reference(path: &Path) -> Result<Reference, FileError> {
 /// A reference export that is not UTF-8: name the first line that is not.
 fn bad_encoding(path: &Path) -> FileError {
     let bytes = std::fs::read(path).unwrap_or_default();
-    let at = std::str::from_utf8(&bytes).err().map_or(0, |e| e.valid_up_to());
+    let at = std::str::from_utf8(&bytes)
+        .err()
+        .map_or(0, |e| e.valid_up_to());
     FileError::Malformed {
         path: path.into(),
         line: bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1,
@@ -211,7 +215,11 @@ pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
         Align::Start => {
             let c = &rec.channels;
             (0..c.len())
-                .find(|&i| [c.fz_v[i], c.mx_v[i], c.my_v[i]].iter().any(|v| v.is_finite()))
+                .find(|&i| {
+                    [c.fz_v[i], c.mx_v[i], c.my_v[i]]
+                        .iter()
+                        .any(|v| v.is_finite())
+                })
                 .map_or(0.0, |i| -c.t_s[i])
         }
     };
@@ -299,8 +307,14 @@ mod tests {
         assert!((offset + 0.94).abs() < 1e-12);
         let c = &rec.channels;
         for i in 0..c.len() {
-            assert!((c.rod_mm[i] - 0.2 * i as f64).abs() < 1e-9, "rod at row {i}");
-            assert!((c.load_n[i] - 2.0 * i as f64).abs() < 1e-9, "load at row {i}");
+            assert!(
+                (c.rod_mm[i] - 0.2 * i as f64).abs() < 1e-9,
+                "rod at row {i}"
+            );
+            assert!(
+                (c.load_n[i] - 2.0 * i as f64).abs() < 1e-9,
+                "load at row {i}"
+            );
         }
     }
 

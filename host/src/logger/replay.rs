@@ -25,7 +25,6 @@ pub struct ReplaySummary {
     pub truncated: Option<String>,
 }
 
-
 /// Where the replayed CSV goes.
 enum Output<'a> {
     File(&'a Path),
@@ -190,9 +189,16 @@ pub fn replay(
         .take(MCAP_MAGIC.len() as u64)
         .read_to_end(&mut head)
         .map_err(|e| FileError::open(input, e))?;
-    let mut r = Replayer::new(input, out.map(Output::File).unwrap_or(Output::Stdout), setup);
+    let mut r = Replayer::new(
+        input,
+        out.map(Output::File).unwrap_or(Output::Stdout),
+        setup,
+    );
     if head == MCAP_MAGIC {
-        let len = file.metadata().map_err(|e| FileError::open(input, e))?.len();
+        let len = file
+            .metadata()
+            .map_err(|e| FileError::open(input, e))?
+            .len();
         if len > MAX_MCAP_BYTES {
             return Err(FileError::TooLarge {
                 path: input.into(),
@@ -208,7 +214,9 @@ pub fn replay(
         let mut chunk = vec![0u8; 64 * 1024];
         decoder.feed(&head, |j| r.on_outcome(j.outcome, j.raw, None));
         loop {
-            let n = file.read(&mut chunk).map_err(|e| FileError::open(input, e))?;
+            let n = file
+                .read(&mut chunk)
+                .map_err(|e| FileError::open(input, e))?;
             if n == 0 || r.error.is_some() {
                 break;
             }

@@ -108,7 +108,12 @@ impl Recording {
 
     /// The values of column `name` (required, `temp_C` or extra), if the recording has it.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
-        if let Some((_, v)) = self.channels.required().into_iter().find(|(n, _)| *n == name) {
+        if let Some((_, v)) = self
+            .channels
+            .required()
+            .into_iter()
+            .find(|(n, _)| *n == name)
+        {
             return Some(v);
         }
         if name == TEMP_COLUMN {

@@ -273,7 +273,12 @@ impl Row {
 }
 
 /// Split and parse a data row; the whole row is checked before any of it is kept.
-fn parse_row(text: &str, line: usize, names: &[String], slots: &[Slot]) -> Result<Row, RecordingError> {
+fn parse_row(
+    text: &str,
+    line: usize,
+    names: &[String],
+    slots: &[Slot],
+) -> Result<Row, RecordingError> {
     let found = text.split(',').count();
     if found != slots.len() {
         return Err(RecordingError::FieldCount {

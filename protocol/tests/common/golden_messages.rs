@@ -16,8 +16,14 @@ pub fn sample_frame() -> Message {
         dropped: 258,
     };
     let mut f = SampleFrame::new(0x0102_0304, 1_000_000, status, -2);
-    f.push(Sample { ch: [1, -1, CODE_MAX] }).unwrap();
-    f.push(Sample { ch: [CODE_MIN, 0x12_3456, 0] }).unwrap();
+    f.push(Sample {
+        ch: [1, -1, CODE_MAX],
+    })
+    .unwrap();
+    f.push(Sample {
+        ch: [CODE_MIN, 0x12_3456, 0],
+    })
+    .unwrap();
     Message::Sample(f)
 }
 
@@ -32,7 +38,11 @@ pub fn info() -> Message {
         vref_mv: 1200,
         amp_gain: [3000.0, 1000.0, 1000.0],
         excitation_v: 3.3,
-        filter: FilterConfig { smoother_alpha: 0.25, butterworth_order: 4, cutoff_hz: 50.0 },
+        filter: FilterConfig {
+            smoother_alpha: 0.25,
+            butterworth_order: 4,
+            cutoff_hz: 50.0,
+        },
         calibration: [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, -0.5]],
         dac_codes: [2048, 1000, 3000, 0],
         tare: [-10, 20, -30],
@@ -70,21 +80,46 @@ pub fn commands() -> Vec<(&'static str, Command)> {
             Command::SetCalibration([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
         ),
         ("ping", Command::Ping { nonce: 0xCAFE_F00D }),
-        ("set_drift_tracking", Command::SetDriftTracking { enabled: true }),
+        (
+            "set_drift_tracking",
+            Command::SetDriftTracking { enabled: true },
+        ),
         ("set_batch", Command::SetBatch { samples: 8 }),
     ]
 }
 
 pub fn replies() -> Vec<(&'static str, Reply)> {
     vec![
-        ("ack", Reply::Ack { tag: 5, opcode: opcode::TARE }),
-        ("nack", Reply::Nack { tag: 6, opcode: opcode::SET_RATE, code: NackCode::OutOfRange }),
-        ("pong", Reply::Pong { tag: 7, nonce: 0xCAFE_F00D }),
+        (
+            "ack",
+            Reply::Ack {
+                tag: 5,
+                opcode: opcode::TARE,
+            },
+        ),
+        (
+            "nack",
+            Reply::Nack {
+                tag: 6,
+                opcode: opcode::SET_RATE,
+                code: NackCode::OutOfRange,
+            },
+        ),
+        (
+            "pong",
+            Reply::Pong {
+                tag: 7,
+                nonce: 0xCAFE_F00D,
+            },
+        ),
     ]
 }
 
 pub fn all() -> Vec<(String, Message)> {
-    let mut v = vec![("sample".to_string(), sample_frame()), ("info".to_string(), info())];
+    let mut v = vec![
+        ("sample".to_string(), sample_frame()),
+        ("info".to_string(), info()),
+    ];
     for (i, (name, c)) in commands().into_iter().enumerate() {
         v.push((format!("request_{name}"), request(i as u8 + 1, c)));
     }

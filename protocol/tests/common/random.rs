@@ -13,8 +13,12 @@ fn finite(rng: &mut impl Rng) -> f32 {
 }
 
 pub fn status(rng: &mut impl Rng) -> Status {
-    let null_state = [NullState::Off, NullState::Searching, NullState::Nulled, NullState::Failed]
-        [rng.random_range(0..4)];
+    let null_state = [
+        NullState::Off,
+        NullState::Searching,
+        NullState::Nulled,
+        NullState::Failed,
+    ][rng.random_range(0..4)];
     Status {
         saturated: rng.random_range(0..16),
         null_state,
@@ -30,7 +34,10 @@ pub fn status(rng: &mut impl Rng) -> Status {
 pub fn sample_frame(rng: &mut impl Rng) -> SampleFrame {
     let mut f = SampleFrame::new(rng.random(), rng.random(), status(rng), code(rng));
     for _ in 0..rng.random_range(1..=MAX_BATCH) {
-        f.push(Sample { ch: [code(rng), code(rng), code(rng)] }).unwrap();
+        f.push(Sample {
+            ch: [code(rng), code(rng), code(rng)],
+        })
+        .unwrap();
     }
     f
 }
@@ -78,26 +85,40 @@ pub fn command(rng: &mut impl Rng) -> Command {
         1 => Command::Stop,
         2 => Command::SetRate { hz: rng.random() },
         3 => Command::SetFilter(filter(rng)),
-        4 => Command::Tare { samples: rng.random() },
+        4 => Command::Tare {
+            samples: rng.random(),
+        },
         5 => Command::ClearTare,
         6 => Command::AutoNull,
         7 => Command::GetInfo,
         8 => Command::SetCalibration(matrix(rng)),
-        9 => Command::Ping { nonce: rng.random() },
-        10 => Command::SetDriftTracking { enabled: rng.random() },
-        _ => Command::SetBatch { samples: rng.random() },
+        9 => Command::Ping {
+            nonce: rng.random(),
+        },
+        10 => Command::SetDriftTracking {
+            enabled: rng.random(),
+        },
+        _ => Command::SetBatch {
+            samples: rng.random(),
+        },
     }
 }
 
 pub fn reply(rng: &mut impl Rng) -> Reply {
     match rng.random_range(0..3) {
-        0 => Reply::Ack { tag: rng.random(), opcode: rng.random() },
+        0 => Reply::Ack {
+            tag: rng.random(),
+            opcode: rng.random(),
+        },
         1 => Reply::Nack {
             tag: rng.random(),
             opcode: rng.random(),
             code: NackCode::from_byte(rng.random()),
         },
-        _ => Reply::Pong { tag: rng.random(), nonce: rng.random() },
+        _ => Reply::Pong {
+            tag: rng.random(),
+            nonce: rng.random(),
+        },
     }
 }
 
@@ -106,7 +127,10 @@ pub fn message(rng: &mut impl Rng) -> Message {
     match rng.random_range(0..20) {
         0 => Message::Info(info(rng)),
         1 => Message::Reply(reply(rng)),
-        2 => Message::Request(Request { tag: rng.random(), command: command(rng) }),
+        2 => Message::Request(Request {
+            tag: rng.random(),
+            command: command(rng),
+        }),
         _ => Message::Sample(sample_frame(rng)),
     }
 }
