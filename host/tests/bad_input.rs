@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use host::cli::exit;
-use tests::check::scratch;
+use hil::check::scratch;
 
 mod common;
 use common::{fails, tactile};

@@ -6,8 +6,8 @@ use std::time::Duration;
 
 use host::cli::exit;
 use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
-use tests::check::scratch;
-use tests::emu::{EmuConfig, Emulator};
+use hil::check::scratch;
+use hil::emu::{EmuConfig, Emulator};
 
 fn tactile(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tactile"))

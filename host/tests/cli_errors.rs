@@ -13,8 +13,8 @@ use std::time::Duration;
 
 use host::cli::exit;
 use host::device::{Device, OpenOptions, PortSpec};
-use tests::check::scratch;
-use tests::emu::{EmuConfig, Emulator};
+use hil::check::scratch;
+use hil::emu::{EmuConfig, Emulator};
 
 mod common;
 use common::{fails, tactile};
@@ -133,7 +133,7 @@ fn busy_port_and_device_gone_mid_stream() {
 
 #[test]
 fn a_serial_device_that_does_not_answer_times_out() {
-    let (_master, _slave, path) = tests::emu::silent_pty().unwrap();
+    let (_master, _slave, path) = hil::emu::silent_pty().unwrap();
     let p = path.to_str().unwrap();
     let out = tactile(&["info", "-p", p, "--timeout", "0.05"]);
     fails(

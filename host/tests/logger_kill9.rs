@@ -8,8 +8,8 @@ use std::time::{Duration, SystemTime};
 
 use host::logger::mcap_io::recover;
 use host::logger::unix_s;
-use tests::check::{replay, scratch, verify_file};
-use tests::emu::{EmuConfig, Emulator};
+use hil::check::{replay, scratch, verify_file};
+use hil::emu::{EmuConfig, Emulator};
 
 #[test]
 fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {

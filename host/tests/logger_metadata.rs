@@ -7,8 +7,8 @@ use std::time::{Duration, UNIX_EPOCH};
 use host::device::{Event, Frame, Scale};
 use host::logger::{Recorder, Setup};
 use protocol::{encode_vec, FilterConfig, Message, Status};
-use tests::check::scratch;
-use tests::emu::{info_for, truth_frame, EmuConfig};
+use hil::check::scratch;
+use hil::emu::{info_for, truth_frame, EmuConfig};
 
 #[test]
 fn the_logger_writes_contract_keys_filter_and_temperature() {

@@ -9,8 +9,8 @@ use std::time::{Duration, SystemTime};
 
 use host::logger::gap_code;
 use host::logger::mcap_io::recover;
-use tests::check::{replay, scratch, verify_file};
-use tests::emu::{EmuConfig, Emulator};
+use hil::check::{replay, scratch, verify_file};
+use hil::emu::{EmuConfig, Emulator};
 
 #[test]
 fn reconnects_after_the_emulator_dies_and_marks_the_gap() {

@@ -5,8 +5,8 @@ use std::process::Command;
 
 use host::logger::reference::interpolate;
 use host::recording::read as read_recording;
-use tests::check::scratch;
-use tests::emu::{EmuConfig, Emulator};
+use hil::check::scratch;
+use hil::emu::{EmuConfig, Emulator};
 
 fn tactile(args: &[&std::ffi::OsStr]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_tactile"))

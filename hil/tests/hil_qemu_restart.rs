@@ -8,7 +8,7 @@
 //! restarted, sessions 0 then 1); the CSV reads back with the contract's reader, one row per
 //! received sample, no sample twice; every settled sample equals the stimulus's code.
 //!
-//! Run: `cargo test -p tests --test hil_qemu_restart -- --nocapture`.
+//! Run: `cargo test -p hil --test hil_qemu_restart -- --nocapture`.
 
 use std::os::fd::OwnedFd;
 use std::path::Path;
@@ -19,9 +19,9 @@ use host::logger::{gap_code, Recorder, Setup};
 use protocol::NullState;
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::{ideal_code, VREF_V};
-use tests::check::scratch;
-use tests::hil::pty::{hold_open, relink};
-use tests::hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
+use hil::check::scratch;
+use hil::pty::{hold_open, relink};
+use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
 
 /// Settled frames wanted from each boot before moving on.
 const SETTLED_FRAMES: usize = 40;

@@ -30,9 +30,9 @@ use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use tests::check::scratch;
-use tests::hil::native::{NativeConfig, NativeSensor};
-use tests::hil::pty::relink;
+use hil::check::scratch;
+use hil::native::{NativeConfig, NativeSensor};
+use hil::pty::relink;
 
 /// Nice value of the soak's own session (scheduler autogroup): board, logger and reader.
 const SESSION_NICE: i32 = -10;

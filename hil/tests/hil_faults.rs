@@ -1,4 +1,4 @@
-//! The fault-injecting link inside the pty HIL path: the emulator (`tests::emu`, free-running)
+//! The fault-injecting link inside the pty HIL path: the emulator (`hil::emu`, free-running)
 //! sends its frames through `sim::link::FaultyLink` (bit flips, dropped, duplicated and garbage
 //! bytes, truncations, stalls longer than the host's read timeout) into a pty; the host
 //! library's serial driver (`host::device`, the code `tactile log` runs) opens the pty by path
@@ -10,16 +10,16 @@
 //! - the host's counters equal the injected counts exactly: CRC errors + malformed + overflows =
 //!   junk units, frames lost by sequence = frames the link lost, frames = frames delivered.
 //!
-//! Run: `cargo test -p tests --test hil_faults -- --nocapture` (prints injected vs detected);
-//! the million: `cargo test --release -p tests --test hil_faults -- --ignored --nocapture`.
+//! Run: `cargo test -p hil --test hil_faults -- --nocapture` (prints injected vs detected);
+//! the million: `cargo test --release -p hil --test hil_faults -- --ignored --nocapture`.
 
 use std::time::{Duration, Instant};
 
 use host::device::{Counters, Device, Event, GapKind, OpenOptions, PortSpec};
 use protocol::Status;
 use sim::link::{FaultRates, Injected};
-use tests::check::scratch;
-use tests::emu::{truth_frame, EmuConfig, EmuFaults, Emulator, Pace};
+use hil::check::scratch;
+use hil::emu::{truth_frame, EmuConfig, EmuFaults, Emulator, Pace};
 
 /// Frames at each end that pass the link clean: a loss before the first accepted frame or after
 /// the last one would not show by sequence.

@@ -32,7 +32,7 @@ use protocol::{
 };
 use sim::link::{FaultRates, FaultyLink, Injected};
 
-use crate::hil::pty::relink;
+use crate::pty::relink;
 
 /// How the emulator paces its frames.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -212,7 +212,7 @@ pub fn silent_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
 
 /// A raw, close-on-exec pty pair: the same one the HIL tests use.
 fn open_pty() -> io::Result<(OwnedFd, OwnedFd, PathBuf)> {
-    let pty = crate::hil::pty::Pty::open()?;
+    let pty = crate::pty::Pty::open()?;
     Ok((pty.master, pty.slave, pty.path))
 }
 

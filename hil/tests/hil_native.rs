@@ -5,14 +5,14 @@
 //! decoded sample is checked against the chain's noise-free ground truth passed through an f64
 //! reference of the filter in force, and every command against the frame it took effect in.
 //!
-//! Run: `cargo test -p tests --test hil_native -- --nocapture` (prints the figures).
+//! Run: `cargo test -p hil --test hil_native -- --nocapture` (prints the figures).
 
 use std::time::{Duration, Instant};
 
 use host::device::{Device, Event, Frame, OpenOptions, PortSpec};
 use protocol::{FilterConfig, NullState};
-use tests::hil::native::{NativeConfig, NativeSensor};
-use tests::hil::reference::{code_to_v, ErrorStats, ReferenceFilter};
+use hil::native::{NativeConfig, NativeSensor};
+use hil::reference::{code_to_v, ErrorStats, ReferenceFilter};
 
 const CFG: NativeConfig = NativeConfig {
     peak_load_n: 45.0,

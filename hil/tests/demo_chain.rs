@@ -7,7 +7,7 @@
 //!
 //! Slow (release builds of the firmware and `tactile`, 240 s of test through QEMU, the
 //! diagnosis: about a minute once built), so not in the default run:
-//! `cargo test -p tests --test demo_chain -- --ignored --nocapture`.
+//! `cargo test -p hil --test demo_chain -- --ignored --nocapture`.
 
 use std::path::Path;
 use std::process::Command;

@@ -4,10 +4,10 @@
 //! `sim::ads131m04::stimulus` through the register-level ADC emulation and the real driver, so
 //! every decoded code is recomputed here from its conversion index: sample count, sequence
 //! continuity, values (raw, tared, filtered) and the frames where tare, filter and rate took
-//! effect are all checked. QEMU is always killed at the end (see `tests::hil::qemu`).
+//! effect are all checked. QEMU is always killed at the end (see `hil::qemu`).
 //!
 //! Needs `qemu-system-arm` (scripts/setup.sh installs it) and builds the thumb ELF if missing.
-//! Run: `cargo test -p tests --test hil_qemu -- --nocapture` (prints the figures); with
+//! Run: `cargo test -p hil --test hil_qemu -- --nocapture` (prints the figures); with
 //! `TACTILE_HIL_QEMU_CLOCK=virtual` QEMU runs as fast as it can (`-icount shift=0,sleep=off`),
 //! which measures the path's capacity instead of the real-time rate.
 
@@ -18,9 +18,9 @@ use host::logger::{Recorder, Setup};
 use protocol::{FilterConfig, NullState};
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::{ideal_code, VREF_V};
-use tests::hil::pty::hold_open;
-use tests::hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
-use tests::hil::reference::ReferenceFilter;
+use hil::pty::hold_open;
+use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
+use hil::reference::ReferenceFilter;
 
 const FILTER: FilterConfig = FilterConfig {
     smoother_alpha: 1.0,

@@ -28,7 +28,7 @@ use sim::ads131m04::{handles, Ads131m04 as Emu, DrdyHandle, SpiHandle};
 use sim::chain::Chain;
 use sim::load::StandardTest;
 
-use super::pty::{read_master, write_master, Pty};
+use crate::pty::{read_master, write_master, Pty};
 
 /// The emulated sensor under test.
 pub type SensorChain = Chain<StandardTest>;

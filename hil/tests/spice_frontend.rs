@@ -45,7 +45,7 @@ fn params_inc(
     let fe = &p.frontend;
     let model = FrontEnd::from_params(p);
     let kt4 = 4.0 * sim::frontend::noise::BOLTZMANN_J_PER_K * fe.bridge.temperature_k;
-    let mut s = String::from("* generated from hardware/*.toml by tests/tests/spice_frontend.rs\n");
+    let mut s = String::from("* generated from hardware/*.toml by hil/tests/spice_frontend.rs\n");
     let mut param = |name: &str, value: f64| writeln!(s, ".param {name} = {value:e}").unwrap();
     param("vdd", fe.supply_v);
     param("vexc", p.chip.excitation_v);

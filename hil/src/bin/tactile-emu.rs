@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use sim::link::FaultRates;
-use tests::emu::{EmuConfig, EmuFaults, Emulator, Pace};
+use hil::emu::{EmuConfig, EmuFaults, Emulator, Pace};
 
 fn main() -> ExitCode {
     match run() {

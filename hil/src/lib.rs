@@ -1,0 +1,12 @@
+//! End-to-end and hardware-in-the-loop tests live in `hil/tests/`; the support they share is here:
+//! the pty device emulator ([`emu`]), the firmware library running on the host against the
+//! emulated sensor behind a pseudo-terminal ([`native`]), the firmware's QEMU binary with its UART
+//! on a pty ([`qemu`]), the f64 references the decoded values are checked against
+//! ([`reference`]), and recording checks ([`check`]).
+
+pub mod check;
+pub mod emu;
+pub mod native;
+pub mod pty;
+pub mod qemu;
+pub mod reference;
