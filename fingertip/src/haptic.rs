@@ -18,8 +18,8 @@ use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
 use crate::contact::Rod;
-use crate::solver::Solver;
 use crate::model::NONE;
+use crate::solver::Solver;
 use crate::{Error, Fingertip};
 
 /// Gauss–Seidel sweeps per update at most (fallback only).
@@ -380,8 +380,11 @@ impl BaseState {
     fn new(s: &Solver, rod: &Rod, cand: &[usize]) -> Self {
         let e = rod.axis;
         let nc = cand.len();
-        let (mut gap, mut force, mut shift) =
-            (Vec::with_capacity(nc), Vec::with_capacity(nc), Vec::with_capacity(nc));
+        let (mut gap, mut force, mut shift) = (
+            Vec::with_capacity(nc),
+            Vec::with_capacity(nc),
+            Vec::with_capacity(nc),
+        );
         for &a in cand {
             let x = s.state.x[a];
             let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];

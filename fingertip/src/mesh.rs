@@ -222,6 +222,11 @@ impl Lattices {
     }
 }
 
+/// A block's lattice point `(i, j, k)` -> (parameter, position).
+type PointFn<'a> = &'a dyn Fn(usize, usize, usize) -> ([f64; 3], [f64; 3]);
+/// Whether cell `c` along a block's local axis lies on a mirrored half.
+type NegativeFn<'a> = &'a dyn Fn(usize, usize) -> bool;
+
 /// Nodes, tetrahedra and surface triangles as the blocks add them.
 struct Builder {
     table: NodeTable,
@@ -292,8 +297,7 @@ fn mesh_shells(l: &Lattices, r_m: f64, builder: &mut Builder) {
     // Axis 0 is radial; the lateral axes are mirrored on their negative half, z never is.
     let top_neg = |axis: usize, cell: usize| axis > 0 && l.negative(cell);
     let side_neg = |axis: usize, cell: usize| axis == 1 && l.negative(cell);
-    type PointFn<'a> = &'a dyn Fn(usize, usize, usize) -> ([f64; 3], [f64; 3]);
-    let blocks: [(PointFn, [usize; 3], &dyn Fn(usize, usize) -> bool); 5] = [
+    let blocks: [(PointFn, [usize; 3], NegativeFn); 5] = [
         (&top, [nt, na, na], &top_neg),
         (&xp, [nt, na, nb], &side_neg),
         (&xm, [nt, na, nb], &side_neg),
