@@ -5,7 +5,7 @@ use std::process::Command;
 
 use host::device::Scale;
 use host::logger::gap_code;
-use host::recording::{read as read_recording, Recording};
+use recording::{read as read_recording, Recording};
 
 use crate::emu::{info_for, truth_sample, truth_temp, EmuConfig};
 

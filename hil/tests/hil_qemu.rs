@@ -258,7 +258,7 @@ fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
     );
 
     // The recording: the contract's CSV with one row per sample.
-    let recording = host::recording::read(&out).expect("recording-v1 CSV reads back");
+    let recording = recording::read(&out).expect("recording-v1 CSV reads back");
     let fz = &recording.channels.fz_v;
     assert_eq!(fz.len() as u64, samples, "one row per sample");
     assert!(recording.meta.get("firmware_smoother_alpha").is_some());

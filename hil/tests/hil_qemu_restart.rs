@@ -108,7 +108,7 @@ fn check_values(frames: &[Frame]) -> u64 {
 /// sessions, and reads back with the contract's reader.
 fn check_recording(path: &Path, log: &Log, scale: &Scale) {
     let rec =
-        host::recording::read(path).expect("the recording reads back with the contract's reader");
+        recording::read(path).expect("the recording reads back with the contract's reader");
     let col = |n: &str| rec.column(n).unwrap_or_else(|| panic!("column {n}"));
     let (seq, session, gap, missing) = (col("seq"), col("session"), col("gap"), col("missing"));
     let volts = [col("fz_V"), col("mx_V"), col("my_V")];

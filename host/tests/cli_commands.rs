@@ -4,7 +4,7 @@
 use std::process::{Command, Output};
 use std::time::Duration;
 
-use host::cli::exit;
+use host::exit;
 use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use host::cli::exit;
+use host::exit;
 use host::device::{Device, OpenOptions, PortSpec};
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
@@ -126,7 +126,7 @@ fn busy_port_and_device_gone_mid_stream() {
     emu.kill();
     let out = child.wait_with_output().unwrap();
     fails(&out, exit::UNAVAILABLE.into(), &[&link, "device gone"]);
-    let rec = host::recording::read(&csv).expect("rows up to the loss are valid");
+    let rec = recording::read(&csv).expect("rows up to the loss are valid");
     assert!(rec.channels.len() > 100);
     let _ = std::fs::remove_dir_all(&dir);
 }

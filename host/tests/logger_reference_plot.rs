@@ -4,7 +4,7 @@
 use std::process::Command;
 
 use host::logger::reference::interpolate;
-use host::recording::read as read_recording;
+use recording::read as read_recording;
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
 

@@ -4,7 +4,7 @@
 use std::process::Command;
 
 use host::device::Scale;
-use host::recording::read as read_recording;
+use recording::read as read_recording;
 use protocol::{Message, Status};
 use hil::check::{scratch, verify};
 use hil::emu::{info_for, truth_frame, EmuConfig};

@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use anyhow::Context;
 use sim::effects::Effect;
 
-use crate::diagnosis::baseline::{smoother_tau_s, BaselineParams, FrontEnd, SMOOTHER_KEY};
-use crate::diagnosis::fe_response::FeSource;
-use crate::diagnosis::synth::{simulate, Noise, SimSpec};
-use crate::recording::Recording;
+use diagnosis::baseline::{smoother_tau_s, BaselineParams, FrontEnd, SMOOTHER_KEY};
+use diagnosis::fe_response::FeSource;
+use diagnosis::synth::{simulate, Noise, SimSpec};
+use recording::Recording;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {

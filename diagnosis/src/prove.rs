@@ -11,7 +11,7 @@ use super::baseline::{BaselineParams, Drive};
 use super::fe_response::{AngleBlend, FeResponseError};
 use super::pipeline::{diagnose, Options};
 use super::synth::{simulate, Gaussian, Noise, SimSpec};
-use crate::recording::Recording;
+use recording::Recording;
 
 /// One generated recording and what is hidden in it.
 pub struct Case {
@@ -298,7 +298,7 @@ fn score(case: &Case, report: Option<super::output::Report>) -> Score {
     }
 }
 
-/// The acceptance figures of issue 8.
+/// The acceptance figures of the proof.
 #[derive(Debug, Clone)]
 pub struct Summary {
     pub cases: usize,

@@ -6,7 +6,7 @@ use sim::compression::{rod_at_load, CompressionTest};
 use sim::effects::{Chain, Effect, ThermalReference};
 
 use super::baseline::{evaluate, BaselineParams, Drive, FingertipResponse, FrontEnd};
-use crate::recording::{Channels, Meta, Recording};
+use recording::{Channels, Meta, Recording};
 
 /// Standard deviations of white measurement noise.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

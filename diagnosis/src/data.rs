@@ -3,7 +3,7 @@
 //! rod moves fast or changes speed, 200 ms blocks (5 Hz) where everything is slow. Blocks of
 //! whole mains periods also cancel 50 Hz pickup and its harmonics.
 
-use crate::recording::Recording;
+use recording::Recording;
 
 /// Compared channels, in contract order.
 pub const CHANNELS: [&str; 4] = ["load_N", "fz_V", "mx_V", "my_V"];
