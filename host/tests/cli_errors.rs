@@ -11,10 +11,10 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use host::exit;
-use host::device::{Device, OpenOptions, PortSpec};
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
+use host::device::{Device, OpenOptions, PortSpec};
+use host::exit;
 
 mod common;
 use common::{fails, tactile};

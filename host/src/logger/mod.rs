@@ -19,9 +19,9 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use protocol::Info;
 
-use recording::Meta;
 use mcap_io::{McapSink, SensorChannels};
 pub use recorder::Recorder;
+use recording::Meta;
 
 /// The MCAP file shared by every sensor of one `log` run, with this sensor's channels.
 pub type SharedMcap = (Rc<RefCell<McapSink>>, SensorChannels);
