@@ -187,11 +187,8 @@ fn peak_output_v(
     let e = base.youngs_modulus_pa;
     let rod = sim::compression::rod_at_load(|d| fingertip.unit_response(d).force_n * e, peak, 60.0);
     let drive = Drive::new(fingertip, vec![0.0], &[rod]);
-    let v = front_end.volts(drive.unit[0].chip.map(|c| c * e));
-    let scale = [base.scale_fz, base.scale_moment, base.scale_moment];
-    v.iter()
-        .zip(scale)
-        .fold(0.0f64, |m, (x, s)| m.max((x * s).abs()))
+    let v = front_end.scaled_volts(drive.unit[0].chip.map(|c| c * e), base);
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
 /// Physical ranges of each effect's parameters, catalogue order.

@@ -99,7 +99,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let nominal = FrontEnd::from_hardware(&params)?;
     let gain = match args.gain.as_deref() {
         Some([a, b, c]) => [*a, *b, *c],
-        _ => nominal.gain,
+        _ => nominal.signal.gain,
     };
     if args.adc_stimulus.is_some() {
         anyhow::ensure!(
@@ -112,7 +112,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut front_end = FrontEnd::from_chip(
         &params,
         gain,
-        args.excitation_v.unwrap_or(nominal.excitation_v),
+        args.excitation_v.unwrap_or(nominal.signal.excitation_v),
     )?;
     if let Some(alpha) = args.smoother_alpha {
         anyhow::ensure!(
