@@ -503,7 +503,7 @@ pub fn stderr(model: &Model, fitted: &Fitted, i: usize, rho: f64) -> Option<f64>
     let cov = fitted.solution.jtj_inv.as_ref()?;
     let dof = (fitted.solution.n as f64 - fitted.free.len() as f64).max(1.0);
     let rho = rho.clamp(0.0, 0.99);
-    let var = fitted.solution.sse / dof * (1.0 + rho) / (1.0 - rho) * cov[pos][pos];
+    let var = fitted.solution.sse / dof * (1.0 + rho) / (1.0 - rho) * cov[(pos, pos)];
     let se = var.max(0.0).sqrt();
     Some(if model.specs()[i].log {
         se * fitted.full[i].exp()
