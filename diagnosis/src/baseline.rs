@@ -3,8 +3,8 @@
 //! rod travel -> [`FingertipResponse`] (probe force and chip loads per unit gel modulus; the
 //! neo-Hookean response scales linearly with E at fixed geometry) -> x E, force-law warp,
 //! azimuth correction -> chip loads -> volts at the ADC inputs through the emulated sensor's own
-//! signal path (`sim::forward`, inside [`FrontEnd`]) -> x the calibrated sensitivity scales ->
-//! + offsets. The calibrated parameters ([`BaselineParams`]) are adjustments around that one
+//! signal path (`sim::forward`, inside [`FrontEnd`]) -> x the calibrated sensitivity scales,
+//! plus offsets. The calibrated parameters ([`BaselineParams`]) are adjustments around that one
 //! forward model; the catalogue effects of `sim::effects` slot in between (mechanical on loads,
 //! electrical on volts); see [`evaluate`].
 
@@ -134,7 +134,7 @@ pub struct FrontEnd {
 /// firmware smoother's alpha.
 pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
 
-/// The smoother y[k] = y[k-1] + alpha (x[k] - y[k-1]) at `sample_rate_hz` as a first-order
+/// The smoother `y[k] = y[k-1] + alpha (x[k] - y[k-1])` at `sample_rate_hz` as a first-order
 /// low-pass: its step response e^{-k ln(1/(1-alpha))} gives tau = dt / ln(1 / (1 - alpha)).
 pub fn smoother_tau_s(alpha: f64, sample_rate_hz: f64) -> Option<f64> {
     (alpha > 0.0 && alpha < 1.0).then(|| 1.0 / sample_rate_hz / (1.0 / (1.0 - alpha)).ln())

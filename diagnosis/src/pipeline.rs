@@ -1,10 +1,10 @@
-//! The diagnosis, start to end, one function per step: read the recording ([`Data`]) -> find
-//! its regimes and the held-out stretch ([`Stretches`]) -> set up the calibration of the baseline
-//! ([`calibration_setup`]) -> fit the candidates: the calibrated baseline, each catalogue effect
-//! singly and in pairs ([`fit_candidates`]) -> select by BIC and the held-out stretch together
-//! ([`Candidates::chosen`]) -> evaluate at the full rate with the mains line ([`full_rate`]) ->
-//! localise the baseline's residual ([`localise_residual`]) -> verdict ([`verdict`]) -> the
-//! report's data ([`Report`], [`PlotData`]).
+//! The diagnosis, start to end, one function per step: read the recording (`Data`) -> find its
+//! regimes and the held-out stretch (`Stretches`) -> set up the calibration of the baseline
+//! (`calibration_setup`) -> fit the candidates: the calibrated baseline, each catalogue effect
+//! singly and in pairs (`fit_candidates`) -> select by BIC and the held-out stretch together
+//! (`Candidates::chosen`) -> evaluate at the full rate with the mains line (`full_rate`) ->
+//! localise the baseline's residual (`localise_residual`) -> verdict (`verdict`) -> the report's
+//! data ([`Report`], [`PlotData`]).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;

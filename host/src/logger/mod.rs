@@ -1,4 +1,4 @@
-//! Recording: the contract CSV (written by [`recording::RecordingWriter`]) and the MCAP file, fed by the driver's [`Event`]s (live) or by
+//! Recording: the contract CSV (written by [`recording::RecordingWriter`]) and the MCAP file, fed by the driver's [`Event`](crate::device::Event)s (live) or by
 //! re-decoded raw frames (replay), with one code path for both.
 //!
 //! Crash safety: rows are formatted whole and buffered; [`Recorder::maybe_flush`] writes the
