@@ -116,32 +116,7 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
         return Err(FrameError::NoElements);
     }
     let g = &p.geometry;
-    let (e, gs) = (p.silicon.youngs_modulus_pa, p.silicon.shear_modulus_pa);
-    let beam_section = rectangle(
-        g.beam_width_m,
-        g.beam_thickness_m,
-        e,
-        gs,
-        opt.shear_deformation,
-    );
-    let block_section = if opt.real_block {
-        rectangle(
-            2.0 * g.block_half_width_m,
-            g.block_thickness_m,
-            e,
-            gs,
-            opt.shear_deformation,
-        )
-    } else {
-        let f = opt.block_stiffness_factor;
-        SectionStiffness {
-            ea: beam_section.ea * f,
-            gj: beam_section.gj * f,
-            ei_y: beam_section.ei_y * f,
-            ei_z: beam_section.ei_z * f,
-            kga: beam_section.kga * f,
-        }
-    };
+    let (beam_section, block_section) = sections(p, &opt);
     let (l, c) = (g.beam_length_m, g.block_half_width_m);
     let n_nodes = 1 + 4 * (n + 1);
     let mut coords = vec![[0.0; 3]; n_nodes];
@@ -180,6 +155,33 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
         displacement,
         beam_elements,
     })
+}
+
+/// The stiffnesses of a beam's section and of the block's stubs.
+fn sections(p: &ChipParams, opt: &FrameOptions) -> (SectionStiffness, SectionStiffness) {
+    let g = &p.geometry;
+    let (e, gs) = (p.silicon.youngs_modulus_pa, p.silicon.shear_modulus_pa);
+    let shear = opt.shear_deformation;
+    let beam = rectangle(g.beam_width_m, g.beam_thickness_m, e, gs, shear);
+    let block = if opt.real_block {
+        rectangle(
+            2.0 * g.block_half_width_m,
+            g.block_thickness_m,
+            e,
+            gs,
+            shear,
+        )
+    } else {
+        let f = opt.block_stiffness_factor;
+        SectionStiffness {
+            ea: beam.ea * f,
+            gj: beam.gj * f,
+            ei_y: beam.ei_y * f,
+            ei_z: beam.ei_z * f,
+            kga: beam.kga * f,
+        }
+    };
+    (beam, block)
 }
 
 /// Stiffnesses of a rectangular section `width` (in plane) by `thickness` (along z).

@@ -9,6 +9,7 @@ use sim::effects::{Effect, EffectKind};
 
 use super::baseline::{BaselineParams, Drive};
 use super::fe_response::{AngleBlend, FeResponseError};
+use super::output::Report;
 use super::pipeline::{diagnose, Options};
 use super::synth::{simulate, Gaussian, Noise, SimSpec};
 use recording::Recording;
@@ -261,7 +262,7 @@ pub fn run(cases: &[Case], opt: &Options) -> Vec<Score> {
         .collect()
 }
 
-fn score(case: &Case, report: Option<super::output::Report>) -> Score {
+fn score(case: &Case, report: Option<Report>) -> Score {
     let truth: Vec<String> = case
         .truth
         .iter()
@@ -286,22 +287,7 @@ fn score(case: &Case, report: Option<super::output::Report>) -> Score {
     let mut b = found.clone();
     a.sort();
     b.sort();
-    let primary_errors = case
-        .truth
-        .iter()
-        .filter_map(|e| {
-            let kind = e.kind();
-            let primary = kind.param_names()[0];
-            let est = r
-                .effects
-                .iter()
-                .find(|x| x.name == kind.name())?
-                .params
-                .get(primary)?;
-            let truth = e.params()[0];
-            Some((kind.name().to_string(), ((est - truth) / truth).abs()))
-        })
-        .collect();
+    let primary_errors = primary_errors(&case.truth, &r);
     let chosen_bic = r
         .candidates
         .iter()
@@ -325,6 +311,26 @@ fn score(case: &Case, report: Option<super::output::Report>) -> Score {
         heldout_after: r.fit.heldout.rmse_after,
         seconds: r.seconds,
     }
+}
+
+/// Relative error of each true effect's primary parameter, where the diagnosis found that
+/// effect.
+fn primary_errors(truth: &[Effect], r: &Report) -> Vec<(String, f64)> {
+    truth
+        .iter()
+        .filter_map(|e| {
+            let kind = e.kind();
+            let primary = kind.param_names()[0];
+            let est = r
+                .effects
+                .iter()
+                .find(|x| x.name == kind.name())?
+                .params
+                .get(primary)?;
+            let truth = e.params()[0];
+            Some((kind.name().to_string(), ((est - truth) / truth).abs()))
+        })
+        .collect()
 }
 
 /// The acceptance figures of the proof.
