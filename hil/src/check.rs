@@ -121,8 +121,8 @@ pub fn verify(
         }
         let volts = [ch[0][i], ch[1][i], ch[2][i]];
         let truth = truth_sample(u64::from(seq) * batch as u64 + k as u64, rate_hz);
-        for c in 0..3 {
-            let code = (volts[c] / volts_per_code).round() as i32;
+        for (c, v) in volts.iter().enumerate() {
+            let code = (v / volts_per_code).round() as i32;
             if code != truth.ch[c] {
                 return Err(format!(
                     "row {i}: frame {seq} sample {k} channel {c}: {code} != truth {}",
