@@ -1,29 +1,42 @@
-//! A small Levenberg–Marquardt least-squares solver with box bounds and forward-difference
+//! A Levenberg–Marquardt least-squares solver with box bounds and forward-difference
 //! Jacobians (Marquardt 1963; scaling by diag(JᵀJ) as in Moré 1978). Problems here have at most
 //! a dozen parameters and a few ten thousand residuals, so dense normal equations suffice.
+//!
+//! Our own because the fits need box bounds and no maintained Rust least-squares crate has them
+//! (`levenberg-marquardt`, the nalgebra one, is unbounded); nalgebra does the linear algebra.
+
+use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 /// A least-squares problem: residuals r(p) to minimise sum r².
 pub trait Problem: Sync {
+    /// The residuals at parameters `p`, into `out` (same length at every `p`).
     fn residuals(&self, p: &[f64], out: &mut Vec<f64>);
 }
 
 /// Result of a fit.
 #[derive(Debug, Clone)]
 pub struct Solution {
+    /// The parameters at the optimum.
     pub p: Vec<f64>,
+    /// Sum of squared residuals there.
     pub sse: f64,
     /// Number of residuals.
     pub n: usize,
     /// (JᵀJ)⁻¹ at the optimum (unscaled covariance), when JᵀJ is invertible.
-    pub jtj_inv: Option<Vec<Vec<f64>>>,
+    pub jtj_inv: Option<DMatrix<f64>>,
+    /// Iterations taken.
     pub iterations: usize,
 }
 
+/// Limits, steps and bounds of a fit.
 pub struct Options {
+    /// Most iterations (Jacobians) before giving up.
     pub max_iterations: usize,
     /// Finite-difference step per parameter (absolute).
     pub step: Vec<f64>,
+    /// Lower bound per parameter.
     pub lower: Vec<f64>,
+    /// Upper bound per parameter.
     pub upper: Vec<f64>,
 }
 
@@ -33,7 +46,6 @@ fn sse(r: &[f64]) -> f64 {
 
 /// Minimise from `p0`.
 pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
-    let m = p0.len();
     let mut p: Vec<f64> = p0
         .iter()
         .enumerate()
@@ -44,53 +56,71 @@ pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
     let mut cost = sse(&r);
     let mut lambda = 1e-3;
     let mut iterations = 0;
-    let mut jac = vec![Vec::new(); m];
     let mut trial = Vec::new();
     for it in 0..opt.max_iterations {
         iterations = it + 1;
-        jacobian(problem, &p, &r, opt, &mut jac);
-        let (jtj, jtr) = normal_equations(&jac, &r);
-        // A parameter with no influence here (a zero column) gets a unit diagonal, so it stays
-        // put instead of making the system singular.
-        let floor = 1e-12 * (0..m).map(|i| jtj[i][i]).fold(0.0, f64::max);
-        let mut improved = false;
-        for _ in 0..12 {
-            let mut a = jtj.clone();
-            for i in 0..m {
-                if jtj[i][i] <= floor {
-                    a[i][i] = 1.0;
-                } else {
-                    a[i][i] += lambda * jtj[i][i];
-                }
-            }
-            let Some(delta) = solve_linear(a, jtr.iter().map(|v| -v).collect()) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let cand: Vec<f64> = (0..m)
-                .map(|i| (p[i] + delta[i]).clamp(opt.lower[i], opt.upper[i]))
-                .collect();
-            problem.residuals(&cand, &mut trial);
-            let c = sse(&trial);
-            if c.is_finite() && c < cost {
-                let gain = (cost - c) / cost.max(1e-300);
-                p = cand;
-                std::mem::swap(&mut r, &mut trial);
-                cost = c;
-                lambda = (lambda / 3.0).max(1e-9);
-                improved = true;
-                if gain < 1e-9 {
-                    return finish(problem, p, r, cost, opt, iterations);
-                }
-                break;
-            }
-            lambda *= 8.0;
-        }
-        if !improved {
+        let normal = normal_equations(&jacobian(problem, &p, &r, opt), &r);
+        let Some(step) = damped_step(problem, &p, &normal, cost, &mut lambda, opt, &mut trial)
+        else {
+            break;
+        };
+        let gain = (cost - step.cost) / cost.max(1e-300);
+        p = step.p;
+        std::mem::swap(&mut r, &mut trial);
+        cost = step.cost;
+        if gain < 1e-9 {
             break;
         }
     }
     finish(problem, p, r, cost, opt, iterations)
+}
+
+/// An accepted step: its parameters and cost (its residuals are in `trial`).
+struct Step {
+    p: Vec<f64>,
+    cost: f64,
+}
+
+/// Try up to twelve dampings from `lambda` on; the first step that lowers the cost is taken
+/// (`lambda` then shrinks), `None` if none does.
+fn damped_step(
+    problem: &dyn Problem,
+    p: &[f64],
+    (jtj, jtr): &(DMatrix<f64>, DVector<f64>),
+    cost: f64,
+    lambda: &mut f64,
+    opt: &Options,
+    trial: &mut Vec<f64>,
+) -> Option<Step> {
+    let m = p.len();
+    // A parameter with no influence here (a zero column) gets a unit diagonal, so it stays put
+    // instead of making the system singular.
+    let floor = 1e-12 * jtj.diagonal().iter().fold(0.0, |a: f64, &b| a.max(b));
+    for _ in 0..12 {
+        let mut a = jtj.clone();
+        for i in 0..m {
+            if jtj[(i, i)] <= floor {
+                a[(i, i)] = 1.0;
+            } else {
+                a[(i, i)] += *lambda * jtj[(i, i)];
+            }
+        }
+        let Some(delta) = solve_linear(a, -jtr) else {
+            *lambda *= 10.0;
+            continue;
+        };
+        let cand: Vec<f64> = (0..m)
+            .map(|i| (p[i] + delta[i]).clamp(opt.lower[i], opt.upper[i]))
+            .collect();
+        problem.residuals(&cand, trial);
+        let c = sse(trial);
+        if c.is_finite() && c < cost {
+            *lambda = (*lambda / 3.0).max(1e-9);
+            return Some(Step { p: cand, cost: c });
+        }
+        *lambda *= 8.0;
+    }
+    None
 }
 
 fn finish(
@@ -101,9 +131,7 @@ fn finish(
     opt: &Options,
     iterations: usize,
 ) -> Solution {
-    let mut jac = vec![Vec::new(); p.len()];
-    jacobian(problem, &p, &r, opt, &mut jac);
-    let (jtj, _) = normal_equations(&jac, &r);
+    let (jtj, _) = normal_equations(&jacobian(problem, &p, &r, opt), &r);
     Solution {
         n: r.len(),
         jtj_inv: invert(jtj),
@@ -113,8 +141,9 @@ fn finish(
     }
 }
 
-/// Forward differences, stepping inward at an upper bound.
-fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options, jac: &mut [Vec<f64>]) {
+/// Forward differences, stepping inward at an upper bound: one column per parameter.
+fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options) -> DMatrix<f64> {
+    let mut jac = DMatrix::zeros(r.len(), p.len());
     let mut q = p.to_vec();
     let mut out = Vec::new();
     for i in 0..p.len() {
@@ -126,77 +155,39 @@ fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options, jac: &mu
         q[i] = p[i] + h;
         problem.residuals(&q, &mut out);
         q[i] = p[i];
-        jac[i].clear();
-        jac[i].extend(out.iter().zip(r).map(|(a, b)| (a - b) / h));
-    }
-}
-
-fn normal_equations(jac: &[Vec<f64>], r: &[f64]) -> (Vec<Vec<f64>>, Vec<f64>) {
-    let m = jac.len();
-    let mut jtj = vec![vec![0.0; m]; m];
-    let mut jtr = vec![0.0; m];
-    for i in 0..m {
-        jtr[i] = jac[i].iter().zip(r).map(|(a, b)| a * b).sum();
-        for j in 0..=i {
-            let v: f64 = jac[i].iter().zip(&jac[j]).map(|(a, b)| a * b).sum();
-            jtj[i][j] = v;
-            jtj[j][i] = v;
+        for (d, (a, b)) in jac.column_mut(i).iter_mut().zip(out.iter().zip(r)) {
+            *d = (a - b) / h;
         }
     }
-    (jtj, jtr)
+    jac
 }
 
-/// Gaussian elimination with partial pivoting; `None` if singular.
-pub fn solve_linear(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let n = b.len();
-    let scale = a
+/// JᵀJ and Jᵀr.
+fn normal_equations(jac: &DMatrix<f64>, r: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+    let r = DVector::from_column_slice(r);
+    (jac.tr_mul(jac), jac.tr_mul(&r))
+}
+
+/// The LU factors of `a` (partial pivoting), `None` when a pivot is below 1e-14 of the largest
+/// element: singular for these fits.
+fn factor(a: DMatrix<f64>) -> Option<LU<f64, Dyn, Dyn>> {
+    let scale = a.amax().max(1e-300);
+    let lu = a.lu();
+    lu.u()
+        .diagonal()
         .iter()
-        .flatten()
-        .fold(0.0f64, |m, v| m.max(v.abs()))
-        .max(1e-300);
-    for col in 0..n {
-        let piv = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-        if a[piv][col].abs() <= 1e-14 * scale {
-            return None;
-        }
-        a.swap(col, piv);
-        b.swap(col, piv);
-        for row in col + 1..n {
-            let f = a[row][col] / a[col][col];
-            if f != 0.0 {
-                let (upper, lower) = a.split_at_mut(row);
-                for (x, p) in lower[0][col..].iter_mut().zip(&upper[col][col..]) {
-                    *x -= f * p;
-                }
-                b[row] -= f * b[col];
-            }
-        }
-    }
-    let mut x = vec![0.0; n];
-    for row in (0..n).rev() {
-        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
-        x[row] = (b[row] - s) / a[row][row];
-    }
-    Some(x)
+        .all(|pivot| pivot.abs() > 1e-14 * scale)
+        .then_some(lu)
 }
 
-/// Inverse by solving for each unit vector.
-pub fn invert(a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
-    let n = a.len();
-    let cols: Option<Vec<Vec<f64>>> = (0..n)
-        .map(|j| {
-            solve_linear(
-                a.clone(),
-                (0..n).map(|i| if i == j { 1.0 } else { 0.0 }).collect(),
-            )
-        })
-        .collect();
-    let cols = cols?;
-    Some(
-        (0..n)
-            .map(|i| (0..n).map(|j| cols[j][i]).collect())
-            .collect(),
-    )
+/// Solve `a x = b`; `None` if `a` is singular.
+pub fn solve_linear(a: DMatrix<f64>, b: DVector<f64>) -> Option<DVector<f64>> {
+    factor(a)?.solve(&b)
+}
+
+/// The inverse of `a`; `None` if it is singular.
+pub fn invert(a: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    factor(a)?.try_inverse()
 }
 
 #[cfg(test)]

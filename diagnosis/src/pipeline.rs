@@ -1,10 +1,10 @@
-//! The diagnosis, start to end, one function per step: read the recording ([`Data`]) -> find
-//! its regimes and the held-out stretch ([`Stretches`]) -> set up the calibration of the baseline
-//! ([`calibration_setup`]) -> fit the candidates: the calibrated baseline, each catalogue effect
-//! singly and in pairs ([`fit_candidates`]) -> select by BIC and the held-out stretch together
-//! ([`Candidates::chosen`]) -> evaluate at the full rate with the mains line ([`full_rate`]) ->
-//! localise the baseline's residual ([`localise_residual`]) -> verdict ([`verdict`]) -> the
-//! report's data ([`Report`], [`PlotData`]).
+//! The diagnosis, start to end, one function per step: read the recording (`Data`) -> find its
+//! regimes and the held-out stretch (`Stretches`) -> set up the calibration of the baseline
+//! (`calibration_setup`) -> fit the candidates: the calibrated baseline, each catalogue effect
+//! singly and in pairs (`fit_candidates`) -> select by BIC and the held-out stretch together
+//! (`Candidates::chosen`) -> evaluate at the full rate with the mains line (`full_rate`) ->
+//! localise the baseline's residual (`localise_residual`) -> verdict (`verdict`) -> the report's
+//! data ([`Report`], [`PlotData`]).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -13,6 +13,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use recording::{Meta, Recording};
 use sim::effects::EffectKind;
+use sim::forward::SignalPath;
 
 use crate::baseline::{Drive, FrontEnd, Outputs};
 use crate::data::{Data, DataError, CHANNELS};
@@ -55,7 +56,7 @@ impl Options {
         let fe = FrontEnd::from_chip(hw, [1.0; 3], hw.chip.excitation_v)?;
         Ok(Self {
             fe: FeSource::from_hardware(hw)?,
-            sensitivity_per_v: fe.sensitivity_per_v,
+            sensitivity_per_v: fe.signal.sensitivity_per_v,
             progress: None,
         })
     }
@@ -254,9 +255,11 @@ fn calibration_setup<'a>(
 /// excitation and firmware smoother.
 fn front_end(meta: &Meta, opt: &Options) -> FrontEnd {
     FrontEnd {
-        sensitivity_per_v: opt.sensitivity_per_v,
-        gain: [meta.gain_fz, meta.gain_mx, meta.gain_my],
-        excitation_v: meta.excitation_v,
+        signal: SignalPath {
+            sensitivity_per_v: opt.sensitivity_per_v,
+            gain: [meta.gain_fz, meta.gain_mx, meta.gain_my],
+            excitation_v: meta.excitation_v,
+        },
         smoother_tau_s: meta
             .other
             .iter()

@@ -26,10 +26,7 @@ impl FingertipResponse for Thick {
     }
 }
 
-fn recording(
-    effects: &[&str],
-    tweak: impl Fn(&mut SimSpec),
-) -> (Recording, diagnosis::Options) {
+fn recording(effects: &[&str], tweak: impl Fn(&mut SimSpec)) -> (Recording, diagnosis::Options) {
     recording_with(effects, false, tweak)
 }
 
@@ -122,7 +119,7 @@ fn coloured_noise(rec: &mut Recording, rho: f64, sigma: f64) {
 #[test]
 #[ignore = "study: run with --release --ignored --nocapture"]
 fn departures_from_the_models() {
-    let (rec, opt) = recording(&[], |s| s.front_end.sensitivity_per_v[1][1] *= 1.1);
+    let (rec, opt) = recording(&[], |s| s.front_end.signal.sensitivity_per_v[1][1] *= 1.1);
     let mismatched_gain = found(&rec, &opt, "Mx sensitivity 10 % above My (no effect)");
     let (rec, opt) = recording(&[], |s| s.baseline.exponent_shift = 0.25);
     let exponent = found(&rec, &opt, "force exponent 1.75 instead of 1.5 (no effect)");

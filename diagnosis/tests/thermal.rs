@@ -42,9 +42,7 @@ fn drift_following_a_swinging_ambient_is_found_through_temp_c() {
         source: "thermal regression test".into(),
     };
     let rec = simulate(&spec);
-    let d = diagnosis::diagnose(&rec, "thermal", &opt)
-        .unwrap()
-        .report;
+    let d = diagnosis::diagnose(&rec, "thermal", &opt).unwrap().report;
     let names: Vec<&str> = d.effects.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(names, ["thermal_drift"], "{:#?}", d.candidates);
     let found = d.effects[0].params.get("amplitude_V").unwrap();

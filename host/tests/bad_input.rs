@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use host::exit;
 use hil::check::scratch;
+use host::exit;
 
 mod common;
 use common::{fails, tactile};
@@ -175,9 +175,7 @@ fn a_reference_export_in_latin1_names_its_line() {
         "machine.csv",
         b"time_s,position_mm,force_N\n0,0,0\n0.1,0,1\n# Pr\xfcfer B\n",
     );
-    let e = recording::machine::read(&p)
-        .unwrap_err()
-        .to_string();
+    let e = recording::machine::read(&p).unwrap_err().to_string();
     assert!(e.contains("machine.csv:4") && e.contains("UTF-8"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -4,11 +4,11 @@
 
 use std::time::{Duration, UNIX_EPOCH};
 
+use hil::check::scratch;
+use hil::emu::{info_for, truth_frame, EmuConfig};
 use host::device::{Event, Frame, Scale};
 use host::logger::{Recorder, Setup};
 use protocol::{encode_vec, FilterConfig, Message, Status};
-use hil::check::scratch;
-use hil::emu::{info_for, truth_frame, EmuConfig};
 
 #[test]
 fn the_logger_writes_contract_keys_filter_and_temperature() {

@@ -131,7 +131,11 @@ pub fn read(path: &Path) -> Result<MachineExport, MachineExportError> {
     match std::str::from_utf8(&raw) {
         Ok(text) => parse_named(text, &name),
         Err(e) => Err(MachineExportError::Malformed {
-            line: raw[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1,
+            line: raw[..e.valid_up_to()]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1,
             path: name,
             field: "(text)".into(),
             why: "not UTF-8 (UTF-16, Latin-1 or binary?): save the export as UTF-8".into(),
@@ -236,11 +240,17 @@ mod tests {
     #[test]
     fn refusals_name_line_and_field() {
         let e = parse("t_s,rod_mm,load_N\n0,0,0\n0,1,1\n").unwrap_err();
-        assert_eq!(e.to_string(), "<input>:3: field t_s: time does not increase");
+        assert_eq!(
+            e.to_string(),
+            "<input>:3: field t_s: time does not increase"
+        );
         let e = parse("t_s,rod_mm\n0,0\n").unwrap_err();
         assert!(e.to_string().contains(":1: field load:"), "{e}");
         let e = parse("t_s,rod_mm,load_N\n0,0,x\n1,1,1\n").unwrap_err();
-        assert!(e.to_string().contains(":2: field load_N: not a number"), "{e}");
+        assert!(
+            e.to_string().contains(":2: field load_N: not a number"),
+            "{e}"
+        );
         let e = parse("t_s,rod_mm,load_N\n0,0,0\n").unwrap_err();
         assert!(e.to_string().contains("fewer than two rows"), "{e}");
     }

@@ -195,9 +195,7 @@ fn wrong_field_count_is_refused() {
 fn bad_utf8_is_refused_naming_the_line_and_field() {
     let mut bytes = format!("{META}{HEADER}0,0,0,0,0,0\n").into_bytes();
     bytes.extend_from_slice(b"0.001,0,0,\xff\xfe,0,0\n");
-    let e = recording::read_from(&bytes[..])
-        .unwrap_err()
-        .to_string();
+    let e = recording::read_from(&bytes[..]).unwrap_err().to_string();
     assert_eq!(
         e,
         "line 13, field `fz_V`: not UTF-8 text (byte 0xff); Latin-1/Windows-1252 text or binary \
@@ -215,9 +213,7 @@ fn utf16_is_refused_as_utf16() {
                 .flat_map(u16::to_le_bytes),
         )
         .collect();
-    let e = recording::read_from(&bytes[..])
-        .unwrap_err()
-        .to_string();
+    let e = recording::read_from(&bytes[..]).unwrap_err().to_string();
     assert!(
         e.starts_with("line 1: not UTF-8 text (byte 0xff); UTF-16 text"),
         "{e}"

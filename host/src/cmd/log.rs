@@ -23,7 +23,7 @@ use crate::logger::{metadata, per_sensor_path, Recorder, Setup};
 /// reopened when it returns, and the outage is marked in both files.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Serial port(s): device path or serial:<USB serial number>; repeat for several sensors.
+    /// Serial port(s): device path or `serial:<USB serial number>`; repeat for several sensors.
     #[arg(long, short = 'p', value_name = "PORT", required = true)]
     pub port: Vec<String>,
     /// Output CSV; with several sensors, one file per sensor named after it.

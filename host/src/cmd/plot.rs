@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use crate::plot::{plot, Format};
 
-/// Plot a recording CSV: the three bridge outputs against time (<prefix>-time.png/.svg) and,
-/// when it has reference loads, against the load (<prefix>-load.png/.svg).
+/// Plot a recording CSV: the three bridge outputs against time (`<prefix>-time.png/.svg`) and,
+/// when it has reference loads, against the load (`<prefix>-load.png/.svg`).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// A recording CSV (`docs/recording-format.md`).

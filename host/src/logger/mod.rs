@@ -1,4 +1,4 @@
-//! Recording: the contract CSV (written by [`recording::RecordingWriter`]) and the MCAP file, fed by the driver's [`Event`]s (live) or by
+//! Recording: the contract CSV (written by [`recording::RecordingWriter`]) and the MCAP file, fed by the driver's [`Event`](crate::device::Event)s (live) or by
 //! re-decoded raw frames (replay), with one code path for both.
 //!
 //! Crash safety: rows are formatted whole and buffered; [`Recorder::maybe_flush`] writes the
@@ -19,9 +19,9 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use protocol::Info;
 
-use recording::Meta;
 use mcap_io::{McapSink, SensorChannels};
 pub use recorder::Recorder;
+use recording::Meta;
 
 /// The MCAP file shared by every sensor of one `log` run, with this sensor's channels.
 pub type SharedMcap = (Rc<RefCell<McapSink>>, SensorChannels);

@@ -42,7 +42,12 @@ const XCORR_STEP_S: f64 = 0.01;
 
 /// The offset (machine time − recording time) that maximises the normalised correlation of
 /// the machine load with the sensor signal `s(t)`.
-pub fn xcorr_offset(t: &[f64], s: &[f64], reference: &MachineExport, max_lag_s: f64) -> Option<f64> {
+pub fn xcorr_offset(
+    t: &[f64],
+    s: &[f64],
+    reference: &MachineExport,
+    max_lag_s: f64,
+) -> Option<f64> {
     let ok: Vec<(f64, f64)> = t
         .iter()
         .zip(s)
