@@ -2,8 +2,7 @@
 //!    binary gets its own directory on the linker search path, so the QEMU machine and the real
 //!    board link from one package without features (thumb target only).
 //! 2. The boards' parameters: `hardware/*.toml`, loaded and validated by the `hardware` crate (the
-//!    one loader), become constants in `$OUT_DIR/hardware_params.rs`, included by
-//!    `boards/nucleo_f411re.rs`.
+//!    one loader), become constants in `$OUT_DIR/hardware_params.rs`, included by `src/params.rs`.
 //!    Derived figures (amplifier gains) come from the sim's front-end model, which owns those
 //!    formulas. Nothing here invents a value.
 
