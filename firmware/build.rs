@@ -83,6 +83,10 @@ fn adc_constants(adc: &hardware::Adc) -> Vec<Constant> {
             format!("ADC_OSR: u32 = {}", adc.osr),
         ),
         (
+            "adc.toml [reference] internal_v",
+            format!("ADC_VREF_V: f64 = {:?}", adc.reference_v),
+        ),
+        (
             "adc.toml [reference] internal_v, in mV (the unit of the info frame)",
             format!(
                 "ADC_VREF_MV: u16 = {}",

@@ -56,7 +56,8 @@ mod target {
     }
 
     fn chip() -> RefCell<Emu<Stimulus>> {
-        RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)))
+        let bench = Stimulus::new(StimulusParams::QEMU_BOARD);
+        RefCell::new(Emu::new(bench, board::ADC_PARAMS))
     }
 
     const ADC_CONFIG: Config = Config {

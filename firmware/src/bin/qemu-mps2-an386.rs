@@ -340,7 +340,8 @@ mod target {
         let input = BoardInput::from_host();
         let config = device_config(&input);
         let chip: &'static Chip =
-            cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input))).unwrap();
+            cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input, board::ADC_PARAMS)))
+                .unwrap();
         let consumer = start_acquisition(chip, adc(chip, &config));
         let mut fe = QemuFrontend {
             dac: Mcp4728::new(TrimDac(chip), DEFAULT_ADDRESS),

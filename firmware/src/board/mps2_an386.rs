@@ -9,10 +9,12 @@
 use core::ptr::{read_volatile, write_volatile};
 
 use cortex_m_semihosting::{debug, hprintln};
+use sim::ads131m04::AdcParams;
 
 use crate::ads131m04::{Osr, Pga};
 use crate::device::DeviceConfig;
 use crate::offset::{DriftSettings, NullTiming};
+use crate::params;
 
 /// Core clock of the machine (QEMU's `mps2-an386` SYSCLK).
 pub const SYSCLK_HZ: u32 = 25_000_000;
@@ -102,14 +104,17 @@ pub const fn ticks_per_sample(rate_hz: u32) -> u32 {
     SYSCLK_HZ / rate_hz
 }
 
+/// The emulated ADS131M04's reference and clock: those of the real board's chip.
+pub const ADC_PARAMS: AdcParams = params::EMULATED_ADC;
+
 /// The device configuration of the QEMU board. The "sensor" here is the sim crate's stimulus
 /// bench: volts at the ADC inputs are the signal, so the amplifier gain and calibration are unity
-/// and loads read as ADC-input volts. Clock and reference are the emulated chip's own constants.
+/// and loads read as ADC-input volts. Clock and reference are the emulated chip's, [`ADC_PARAMS`].
 pub fn device_config() -> DeviceConfig {
     DeviceConfig {
         chip_serial: 0,
-        clkin_hz: sim::ads131m04::CLKIN_HZ,
-        vref_mv: (sim::ads131m04::VREF_V * 1000.0) as u16,
+        clkin_hz: ADC_PARAMS.clkin_hz,
+        vref_mv: params::ADC_VREF_MV,
         pga: [Pga::X1; 4],
         amp_gain: [1.0; 3],
         excitation_v: 1.0,

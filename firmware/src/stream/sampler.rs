@@ -54,6 +54,7 @@ impl<'a, SPI: SpiDevice, DRDY: InputPin> Sampler<'a, SPI, DRDY> {
 mod tests {
     use super::*;
     use crate::ads131m04::{Config, Osr, Pga, WordLength};
+    use crate::params::EMULATED_ADC;
     use crate::stream::{Overruns, SampleQueue};
     use core::cell::{Cell, RefCell};
     use embedded_hal::spi::{ErrorType, Operation};
@@ -84,7 +85,8 @@ mod tests {
 
     #[test]
     fn queues_every_conversion_and_repeats_the_last_codes_when_a_read_fails() {
-        let chip = RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
+        let bench = Stimulus::new(StimulusParams::QEMU_BOARD);
+        let chip = RefCell::new(Emu::new(bench, EMULATED_ADC));
         let corrupt = Cell::new(false);
         let (spi, drdy) = handles(&chip);
         let mut adc = Ads131m04::new(
