@@ -36,7 +36,7 @@ pub type SensorChain = Chain<StandardTest>;
 /// What the emulated sensor does.
 #[derive(Debug, Clone, Copy)]
 pub struct NativeConfig {
-    /// Peak of the standard test (N); fingertip.toml's 60 N clips Mx at 20 deg (docs/hil.md).
+    /// Peak of the standard test (N); fingertip.toml's is 60 N.
     pub peak_load_n: f64,
     /// Device time at which the rod touches, s.
     pub load_start_s: f64,
