@@ -10,11 +10,17 @@ use std::process::{Command as Process, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+use firmware::params::ADC_VREF_V;
+use protocol::codes::volts_to_code;
 use protocol::{
     encode_vec, Accumulator, Command, Message, NullState, Outcome, Reply, Request, SampleFrame,
 };
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-use sim::ads131m04::{ideal_code, VREF_V};
+
+/// The code the QEMU board's emulated chip (reference `adc.toml`'s, PGA 1) gives `v` volts.
+fn ideal_code(v: f32) -> i32 {
+    volts_to_code(f64::from(v), ADC_VREF_V, 1)
+}
 
 const ELF: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -135,14 +141,14 @@ fn qemu_board_streams_the_stimulus_and_obeys_commands() {
             for ch in 0..3 {
                 assert_eq!(
                     s.ch[ch],
-                    ideal_code(v[ch], 1, VREF_V),
+                    ideal_code(v[ch]),
                     "sample {} ch {ch}",
                     n0 + k as u64
                 );
             }
             checked += 1;
         }
-        assert_eq!(f.temp, ideal_code(stim.volts(n0)[3], 1, VREF_V));
+        assert_eq!(f.temp, ideal_code(stim.volts(n0)[3]));
     }
     assert!(checked > 1000);
     // Tare at rest and a filter change: acked, and visible from a later frame's epoch on.

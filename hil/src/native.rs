@@ -24,7 +24,7 @@ use firmware::mcp4728::{Mcp4728, DEFAULT_ADDRESS};
 use firmware::offset::{DriftSettings, NullTiming};
 use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
 use sim::ads131m04::trim_dac::TrimDac;
-use sim::ads131m04::{handles, Ads131m04 as Emu, DrdyHandle, SpiHandle};
+use sim::ads131m04::{handles, AdcParams, Ads131m04 as Emu, DrdyHandle, SpiHandle};
 use sim::chain::Chain;
 use sim::load::StandardTest;
 
@@ -36,7 +36,7 @@ pub type SensorChain = Chain<StandardTest>;
 /// What the emulated sensor does.
 #[derive(Debug, Clone, Copy)]
 pub struct NativeConfig {
-    /// Peak of the standard test (N); fingertip.toml's 60 N clips Mx at 20 deg (docs/hil.md).
+    /// Peak of the standard test (N); fingertip.toml's is 60 N.
     pub peak_load_n: f64,
     /// Device time at which the rod touches, s.
     pub load_start_s: f64,
@@ -176,7 +176,12 @@ impl Frontend for Bench<'_> {
 fn run(cfg: NativeConfig, pty: Pty, stop: &AtomicBool) -> io::Result<NativeStats> {
     let chain = cfg.chain()?;
     let dev_cfg = device_config(&chain);
-    let emu: Shared = RefCell::new(Emu::new(chain));
+    // The emulated chip runs from the reference and clock the device reports (adc.toml's).
+    let adc_params = AdcParams {
+        vref_v: chain.front_end.adc.reference_v,
+        clkin_hz: dev_cfg.clkin_hz,
+    };
+    let emu: Shared = RefCell::new(Emu::new(chain, adc_params));
     let (spi, drdy) = handles(&emu);
     let mut adc = Driver::new(spi, drdy);
     let adc_cfg = Config {

@@ -48,6 +48,12 @@ pub fn build_elf() -> io::Result<PathBuf> {
 /// stimulus of `sim::ads131m04::stimulus::StimulusParams::QEMU_BOARD`.
 pub const NULL_CODES: [u16; 3] = [3215, 1215, 2715];
 
+/// The code the board's emulated ADC gives `v` volts at an input: PGA 1, and the reference the
+/// board gives the chip (`firmware::params::EMULATED_ADC`, adc.toml's).
+pub fn ideal_code(v: f32) -> i32 {
+    protocol::codes::volts_to_code(f64::from(v), firmware::params::ADC_VREF_V, 1)
+}
+
 /// How QEMU's clock runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Clock {

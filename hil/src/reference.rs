@@ -5,11 +5,11 @@
 
 use protocol::{FilterConfig, Info};
 
-/// Volts at the ADC input of bridge channel `ch` for `code` (SPEC: `code · vref / (pga · 2²³)`).
+/// Volts at the ADC input of bridge channel `ch` for `code`, with the reference and PGA gain the
+/// device reports (SPEC: `code · vref / (pga · 2²³)`).
 pub fn code_to_v(info: &Info, ch: usize, code: i32) -> f64 {
-    f64::from(code) * f64::from(info.vref_mv)
-        / 1000.0
-        / (f64::from(info.pga_gain[ch]) * 8_388_608.0)
+    let vref_v = f64::from(info.vref_mv) / 1000.0;
+    protocol::codes::code_to_volts(code, vref_v, u32::from(info.pga_gain[ch]))
 }
 
 /// One second-order low-pass section in f64, transposed direct form II.

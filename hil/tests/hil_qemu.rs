@@ -14,13 +14,12 @@
 use std::time::{Duration, Instant, SystemTime};
 
 use hil::pty::hold_open;
-use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
+use hil::qemu::{build_elf, ideal_code, Clock, QemuBoard, NULL_CODES};
 use hil::reference::ReferenceFilter;
 use host::device::{Device, Event, Frame, OpenOptions, PortSpec};
 use host::logger::{Recorder, Setup};
 use protocol::{FilterConfig, NullState};
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-use sim::ads131m04::{ideal_code, VREF_V};
 
 const FILTER: FilterConfig = FilterConfig {
     smoother_alpha: 1.0,
@@ -196,7 +195,7 @@ fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
         }
         assert_eq!(
             f.frame.temp,
-            ideal_code(stim.volts(index)[3], 1, VREF_V),
+            ideal_code(stim.volts(index)[3]),
             "temperature at {index}"
         );
         for s in f.frame.samples() {
@@ -205,7 +204,7 @@ fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
             } else {
                 trimmed.volts(index)
             };
-            let ideal: [i32; 3] = core::array::from_fn(|ch| ideal_code(truth[ch], 1, VREF_V));
+            let ideal: [i32; 3] = core::array::from_fn(|ch| ideal_code(truth[ch]));
             if st.null_state == NullState::Nulled
                 && st.config_epoch < epoch_filter
                 && !st.tare_active

@@ -16,12 +16,11 @@ use std::time::{Duration, Instant, SystemTime};
 
 use hil::check::scratch;
 use hil::pty::{hold_open, relink};
-use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
+use hil::qemu::{build_elf, ideal_code, Clock, QemuBoard, NULL_CODES};
 use host::device::{Counters, Device, Event, Frame, GapKind, OpenOptions, PortSpec, Scale};
 use host::logger::{gap_code, Recorder, Setup};
 use protocol::NullState;
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-use sim::ads131m04::{ideal_code, VREF_V};
 
 /// Settled frames wanted from each boot before moving on.
 const SETTLED_FRAMES: usize = 40;
@@ -92,7 +91,7 @@ fn check_values(frames: &[Frame]) -> u64 {
         let first = u64::from(f.frame.t_us / 1000);
         for (k, s) in f.frame.samples().iter().enumerate() {
             let v = trimmed.volts(first + k as u64);
-            let ideal: [i32; 3] = core::array::from_fn(|ch| ideal_code(v[ch], 1, VREF_V));
+            let ideal: [i32; 3] = core::array::from_fn(|ch| ideal_code(v[ch]));
             assert_eq!(
                 s.ch, ideal,
                 "session {} frame {} sample {k}",

@@ -20,6 +20,7 @@
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 
 mod accumulator;
+pub mod codes;
 mod crc32c;
 mod message;
 mod sample_encoder;

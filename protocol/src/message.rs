@@ -7,9 +7,9 @@ use crate::{Malformed, MAX_BATCH};
 /// A 24-bit two's-complement ADS131M04 code, sign-extended into an `i32`.
 pub type Code = i32;
 /// Smallest 24-bit code.
-pub const CODE_MIN: Code = -(1 << 23);
+pub const CODE_MIN: Code = -crate::codes::FULL_SCALE;
 /// Largest 24-bit code.
-pub const CODE_MAX: Code = (1 << 23) - 1;
+pub const CODE_MAX: Code = crate::codes::FULL_SCALE - 1;
 
 /// Frame type bytes, the first byte of every body.
 pub mod kind {

@@ -165,7 +165,7 @@ struct Counts {
 
 #[test]
 fn a_million_damaged_streams() {
-    let mut rng = ChaCha8Rng::seed_from_u64(0x7AC7_11E);
+    let mut rng = ChaCha8Rng::seed_from_u64(0x07AC_711E);
     let mut counts = Counts::default();
     let mut acc = Accumulator::new();
     for n in 0..STREAMS {

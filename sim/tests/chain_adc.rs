@@ -5,8 +5,9 @@
 use std::cell::RefCell;
 
 use embedded_hal::i2c::I2c;
+use protocol::codes::volts_to_code;
 use sim::ads131m04::trim_dac::{TrimDac, ADDRESS};
-use sim::ads131m04::{ideal_code, Ads131m04, VREF_V};
+use sim::ads131m04::{AdcParams, Ads131m04};
 use sim::chain::Chain;
 use sim::load::StandardTest;
 
@@ -15,9 +16,15 @@ fn chain() -> Chain<StandardTest> {
     Chain::from_params(&p, StandardTest::from_params(&p, 0.5, 20.0)).unwrap()
 }
 
+/// The chain, and the emulated chip converting it with `adc.toml`'s reference and clock.
+fn emulated() -> (RefCell<Ads131m04<Chain<StandardTest>>>, AdcParams) {
+    let adc = AdcParams::from_hardware(&hardware::Params::load_default().unwrap().adc);
+    (RefCell::new(Ads131m04::new(chain(), adc)), adc)
+}
+
 #[test]
 fn emulated_adc_converts_the_chain_volts() {
-    let emu = RefCell::new(Ads131m04::new(chain()));
+    let (emu, adc) = emulated();
     {
         let mut e = emu.borrow_mut();
         let codes = e.input_mut().front_end.null_codes();
@@ -32,14 +39,16 @@ fn emulated_adc_converts_the_chain_volts() {
         let codes = e.codes();
         let c = e.input_mut();
         let v = c.clean_v(c.clock.time_s(n));
-        let expect: [i32; 4] = core::array::from_fn(|ch| ideal_code(v[ch] as f32, 1, VREF_V));
+        // The chip sees the chain's volts as f32, its analog input's type.
+        let expect: [i32; 4] =
+            core::array::from_fn(|ch| volts_to_code(f64::from(v[ch] as f32), adc.vref_v, 1));
         assert_eq!(codes, expect, "conversion {n}");
     }
 }
 
 #[test]
 fn trim_dac_writes_move_the_offset_cut() {
-    let emu = RefCell::new(Ads131m04::new(chain()));
+    let (emu, _) = emulated();
     let mut dac = TrimDac(&emu);
     // Fast write: Fz at 3000, Mx at 1000, My at 2048, VMID channel D left alone.
     dac.write(ADDRESS, &[0x0B, 0xB8, 0x03, 0xE8, 0x08, 0x00, 0x08, 0x00])

@@ -9,18 +9,13 @@
 //! commands whose CRC does not match.
 
 pub mod crc;
-pub mod regs;
 
+use ads131m04_regs::{addr, clock, cmd, gain1, id, mode, FRAME_WORDS};
 use embedded_hal::digital::InputPin;
 use embedded_hal::spi::SpiDevice;
 
-use regs::{addr, cmd};
-pub use regs::{Osr, Pga, Status, WordLength};
+pub use ads131m04_regs::{Osr, Pga, Status, WordLength, CHANNELS};
 
-/// Channels of the device.
-pub const CHANNELS: usize = 4;
-/// Words in a frame of the 4-channel device: command/response, four data words, CRC.
-const FRAME_WORDS: usize = 6;
 /// Largest frame in bytes (32-bit words).
 const MAX_FRAME_BYTES: usize = FRAME_WORDS * 4;
 
@@ -115,17 +110,14 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
     /// Reset, check the ID, and apply `config`. Returns the ID register.
     pub fn init(&mut self, config: &Config) -> Result<u16, SPI, DRDY> {
         self.reset()?;
-        let id = self.read_register(addr::ID)?;
-        if id & regs::ID_MASK != regs::ID_ADS131M04 {
-            return Err(Error::WrongId(id));
+        let id_reg = self.read_register(addr::ID)?;
+        if id_reg & id::MASK != id::ADS131M04 {
+            return Err(Error::WrongId(id_reg));
         }
-        let mode = regs::MODE_TIMEOUT
-            | ((config.word_length as u16) << regs::MODE_WLENGTH_SHIFT)
-            | if config.input_crc {
-                regs::MODE_RX_CRC_EN
-            } else {
-                0
-            };
+        // TIMEOUT kept as at reset; RESET written 0 to acknowledge the reset.
+        let mode = mode::TIMEOUT
+            | (config.word_length.code() << mode::WLENGTH_SHIFT)
+            | if config.input_crc { mode::RX_CRC_EN } else { 0 };
         // The new word length and CRC mode apply from the frame after the WREG, which is the one
         // that carries the acknowledgement.
         self.command(cmd::wreg(addr::MODE, 1), &[mode])?;
@@ -135,7 +127,7 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
         self.expect_ack(cmd::wreg_ack(addr::MODE, 1))?;
         self.set_osr(config.osr)?;
         self.set_gains(config.gains)?;
-        Ok(id)
+        Ok(id_reg)
     }
 
     /// RESET command; the next frame must carry the reset acknowledgement. Word length and input
@@ -150,15 +142,14 @@ impl<SPI: SpiDevice, DRDY: InputPin> Ads131m04<SPI, DRDY> {
 
     /// Set the oversampling ratio (data rate), all channels enabled, high-resolution mode.
     pub fn set_osr(&mut self, osr: Osr) -> Result<(), SPI, DRDY> {
-        let clock = regs::CLOCK_ALL_CHANNELS
-            | ((osr as u16) << regs::CLOCK_OSR_SHIFT)
-            | regs::CLOCK_PWR_HIGH_RESOLUTION;
+        let clock =
+            clock::ALL_CHANNELS | (osr.code() << clock::OSR_SHIFT) | clock::PWR_HIGH_RESOLUTION;
         self.write_register(addr::CLOCK, clock)
     }
 
     /// Set the four PGA gains.
     pub fn set_gains(&mut self, gains: [Pga; CHANNELS]) -> Result<(), SPI, DRDY> {
-        self.write_register(addr::GAIN1, regs::gain1(gains))
+        self.write_register(addr::GAIN1, gain1::encode(gains))
     }
 
     /// STANDBY: stop converting (low power) until [`Self::wakeup`].

@@ -2,11 +2,11 @@
 //! register-level emulation.
 
 use super::*;
+use ads131m04_regs::crc::{crc16_bitwise, SEED};
 use embedded_hal::spi::{ErrorKind, ErrorType, Operation};
 use embedded_hal_mock::eh1::digital::{Mock as PinMock, State, Transaction as PinTx};
 use embedded_hal_mock::eh1::spi::{Mock as SpiMock, Transaction as SpiTx};
 use embedded_hal_mock::eh1::MockError;
-use sim::ads131m04::crc::{crc16_ccitt, CRC_INIT};
 
 /// Bytes the driver sends: 16-bit words MSB-aligned in `wb`-byte words, optional input CRC after
 /// them, padded to six words.
@@ -17,7 +17,7 @@ fn tx(wb: usize, words: &[u16], with_crc: bool) -> Vec<u8> {
     }
     if with_crc {
         let at = words.len() * wb;
-        let crc = crc16_ccitt(CRC_INIT, &out[..at]);
+        let crc = crc16_bitwise(SEED, &out[..at]);
         out[at..at + 2].copy_from_slice(&crc.to_be_bytes());
     }
     out
@@ -36,7 +36,7 @@ fn rx(wb: usize, response: u16, codes: [i32; 4]) -> Vec<u8> {
             _ => out[at..at + 4].copy_from_slice(&be),
         }
     }
-    let crc = crc16_ccitt(CRC_INIT, &out[..5 * wb]);
+    let crc = crc16_bitwise(SEED, &out[..5 * wb]);
     out[5 * wb..5 * wb + 2].copy_from_slice(&crc.to_be_bytes());
     out
 }
@@ -150,7 +150,7 @@ fn wrong_id_is_refused() {
 fn bad_crc_on_a_data_frame_is_an_error() {
     let mut bad = rx(3, 0x050F, [5, 6, 7, 8]);
     bad[7] ^= 0x40; // one bit of channel 1 flipped on the wire, CRC word untouched
-    let computed = crc16_ccitt(CRC_INIT, &bad[..15]);
+    let computed = crc16_bitwise(SEED, &bad[..15]);
     let received = u16::from_be_bytes([bad[15], bad[16]]);
     let mut spi = SpiMock::new(&frames(vec![(tx(3, &[cmd::NULL], false), bad)]));
     let mut adc = Ads131m04::new(spi.clone(), PinMock::new(&[]));
@@ -258,9 +258,19 @@ fn simple_commands_expect_their_echo() {
 
 mod against_emulation {
     use super::super::*;
+    use crate::params::EMULATED_ADC;
+    use ads131m04_regs::addr;
     use core::cell::RefCell;
+    use protocol::codes::volts_to_code;
     use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-    use sim::ads131m04::{handles, ideal_code, regs as emu_regs, Ads131m04 as Emu, VREF_V};
+    use sim::ads131m04::{handles, Ads131m04 as Emu};
+
+    fn chip() -> RefCell<Emu<Stimulus>> {
+        RefCell::new(Emu::new(
+            Stimulus::new(StimulusParams::QEMU_BOARD),
+            EMULATED_ADC,
+        ))
+    }
 
     #[test]
     fn every_word_length_with_and_without_input_crc_reads_the_ideal_codes() {
@@ -272,7 +282,7 @@ mod against_emulation {
             WordLength::Bits32SignExtend,
         ] {
             for input_crc in [false, true] {
-                let chip = RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
+                let chip = chip();
                 let (spi, drdy) = handles(&chip);
                 let mut adc = Ads131m04::new(spi, drdy);
                 let gains = [
@@ -298,7 +308,8 @@ mod against_emulation {
                     assert_eq!(conv.status.0 & 0xF, 0xF);
                     let v = reference.volts(n);
                     for ch in 0..4 {
-                        let mut expect = ideal_code(v[ch], gains[ch].gain(), VREF_V);
+                        let gain = u32::from(gains[ch].gain());
+                        let mut expect = volts_to_code(f64::from(v[ch]), EMULATED_ADC.vref_v, gain);
                         if word_length == WordLength::Bits16 {
                             expect = (expect >> 8) << 8;
                         }
@@ -314,7 +325,7 @@ mod against_emulation {
 
     #[test]
     fn registers_read_back_what_was_written() {
-        let chip = RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
+        let chip = chip();
         let (spi, drdy) = handles(&chip);
         let mut adc = Ads131m04::new(spi, drdy);
         let config = Config {
@@ -325,8 +336,8 @@ mod against_emulation {
         };
         adc.init(&config).unwrap();
         adc.set_gains([Pga::from_gain(128).unwrap(); 4]).unwrap();
-        assert_eq!(adc.read_register(regs::addr::GAIN1).unwrap(), 0x7777);
-        assert_eq!(chip.borrow().register(emu_regs::GAIN1), 0x7777);
+        assert_eq!(adc.read_register(addr::GAIN1).unwrap(), 0x7777);
+        assert_eq!(chip.borrow().register(addr::GAIN1), 0x7777);
         adc.lock().unwrap();
         assert!(matches!(
             adc.set_osr(Osr::Osr256),

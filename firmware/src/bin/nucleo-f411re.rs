@@ -1,10 +1,11 @@
-//! Firmware for the NUCLEO-F411RE (STM32F411RE, Cortex-M4F at 100 MHz). The ADS131M04 on SPI1
+//! Firmware for the NUCLEO-F411RE (STM32F411RE, Cortex-M4F, run at 96 MHz). The ADS131M04 on SPI1
 //! signals each conversion on DRDY (EXTI, falling edge); the interrupt reads it through the driver
 //! and queues the sample. The main loop runs the device core and writes frames to USART2, the
-//! ST-LINK virtual COM port. The MCP4728 trim DAC sits on I2C1. Pins and rates: hardware/board.toml
-//! (checked against the code at compile time, see boards/nucleo_f411re.rs). defmt logs over RTT (`cargo run --release --bin nucleo-f411re`).
+//! ST-LINK virtual COM port. The MCP4728 trim DAC sits on I2C1. Pins and rates:
+//! hardware/board.toml (checked against the code at compile time, see src/board/nucleo_f411re.rs).
+//! defmt logs over RTT (`cargo run --release --bin nucleo-f411re`).
 //!
-//! The independent watchdog (IWDG, timeout in boards/nucleo_f411re.rs) starts before the ADC
+//! The independent watchdog (IWDG, timeout in src/board/nucleo_f411re.rs) starts before the ADC
 //! and DAC are set up and is fed once per main-loop pass, only when the pass made progress: it
 //! ran to its end and, if samples were waiting, handed at least one to the device core. A hung
 //! bus, interrupt or loop therefore resets the board. After a watchdog reset the firmware says so
@@ -12,21 +13,10 @@
 //! it only as a new power-up (a fresh info frame, sequence numbers from 0).
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
-#[cfg(not(target_os = "none"))]
-fn main() {
-    eprintln!(
-        "this is a thumbv7em-none-eabihf binary for the NUCLEO-F411RE: build it from firmware/"
-    );
-    std::process::exit(2);
-}
-
-#[cfg(target_os = "none")]
-#[path = "../../boards/nucleo_f411re.rs"]
-mod board;
+firmware::nucleo_f411re_binary!();
 
 #[cfg(target_os = "none")]
 mod target {
-    use super::board;
     use core::cell::RefCell;
     use cortex_m_rt::entry;
     use critical_section::Mutex;
@@ -34,29 +24,25 @@ mod target {
     use embedded_hal_bus::spi::ExclusiveDevice;
     use embedded_hal_nb::serial::{Read, Write};
     use firmware::ads131m04::{Ads131m04, Config, Osr};
-    use firmware::device::{Device, Frontend, HardwareError};
+    use firmware::board::nucleo_f411re as board;
+    use firmware::device::{Device, DeviceConfig, Frontend, HardwareError};
     use firmware::mcp4728::{trim_writes, Mcp4728};
-    use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
+    use firmware::params;
+    use firmware::stream::{Acquirer, Drain, Overruns, SampleQueue, Sampler};
     use stm32f4xx_hal::gpio::{Edge, Input, Output, PinState, PB6, PC7};
     use stm32f4xx_hal::i2c::{DutyCycle, I2c, Mode as I2cMode};
-    use stm32f4xx_hal::pac::{self, interrupt, I2C1, SPI1};
+    use stm32f4xx_hal::pac::{self, interrupt, I2C1, SPI1, USART2};
     use stm32f4xx_hal::prelude::*;
     use stm32f4xx_hal::rcc::Config as RccConfig;
     use stm32f4xx_hal::serial::config::Config as SerialConfig;
+    use stm32f4xx_hal::serial::{Rx, Tx};
     use stm32f4xx_hal::spi::Spi;
-    use {defmt_rtt as _, panic_probe as _};
 
     type AdcSpi = ExclusiveDevice<Spi<SPI1>, PB6<Output>, embedded_hal_bus::spi::NoDelay>;
     type Adc = Ads131m04<AdcSpi, PC7<Input>>;
 
-    struct Acquisition {
-        adc: Adc,
-        acq: Acquirer<'static>,
-        index: u32,
-        last: [i32; 4],
-    }
-
-    static ACQUISITION: Mutex<RefCell<Option<Acquisition>>> = Mutex::new(RefCell::new(None));
+    static SAMPLER: Mutex<RefCell<Option<Sampler<'static, AdcSpi, PC7<Input>>>>> =
+        Mutex::new(RefCell::new(None));
     static mut QUEUE: SampleQueue = SampleQueue::new();
     static OVERRUNS: Overruns = Overruns::new();
 
@@ -64,20 +50,12 @@ mod target {
     #[interrupt]
     fn EXTI9_5() {
         critical_section::with(|cs| {
-            let mut slot = ACQUISITION.borrow_ref_mut(cs);
-            let Some(a) = slot.as_mut() else { return };
-            a.adc.drdy_mut().clear_interrupt_pending_bit();
-            let (codes, read_error) = match a.adc.read() {
-                Ok(conv) => (conv.codes, false),
-                Err(_) => (a.last, true),
+            let mut slot = SAMPLER.borrow_ref_mut(cs);
+            let Some(sampler) = slot.as_mut() else {
+                return;
             };
-            a.last = codes;
-            a.acq.push(RawSample {
-                index: a.index,
-                codes,
-                read_error,
-            });
-            a.index = a.index.wrapping_add(1);
+            sampler.adc_mut().drdy_mut().clear_interrupt_pending_bit();
+            sampler.on_conversion();
         });
     }
 
@@ -94,11 +72,14 @@ mod target {
 
         fn set_osr(&mut self, osr: Osr) -> Result<(), HardwareError> {
             critical_section::with(|cs| {
-                let mut slot = ACQUISITION.borrow_ref_mut(cs);
-                let Some(a) = slot.as_mut() else {
+                let mut slot = SAMPLER.borrow_ref_mut(cs);
+                let Some(sampler) = slot.as_mut() else {
                     return Err(HardwareError::Adc);
                 };
-                a.adc.set_osr(osr).map_err(|_| HardwareError::Adc)
+                sampler
+                    .adc_mut()
+                    .set_osr(osr)
+                    .map_err(|_| HardwareError::Adc)
             })
         }
     }
@@ -133,6 +114,34 @@ mod target {
         iwdg.kr().write(|w| unsafe { w.key().bits(KR_RELOAD) });
     }
 
+    /// The driver on SPI1, initialised for `config`; logs the ID or the failure.
+    fn adc(spi: AdcSpi, drdy: PC7<Input>, config: &DeviceConfig) -> Adc {
+        let mut adc = Ads131m04::new(spi, drdy);
+        let adc_config = Config {
+            word_length: board::word_length(),
+            osr: config.osr,
+            gains: config.pga,
+            input_crc: params::ADC_INPUT_CRC,
+        };
+        match adc.init(&adc_config) {
+            Ok(id) => defmt::info!("ADS131M04 ID {=u16:#06x}", id),
+            Err(e) => defmt::error!("ADS131M04 init failed: {}", defmt::Debug2Format(&e)),
+        }
+        adc
+    }
+
+    /// Hand the ADC and the queue's producing end to the DRDY interrupt (still masked); returns
+    /// the main loop's end.
+    fn start_acquisition(adc: Adc) -> Drain<'static> {
+        // SAFETY: the queue is split once, before the DRDY interrupt is unmasked.
+        let (producer, consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
+        critical_section::with(|cs| {
+            let sampler = Sampler::new(adc, Acquirer::new(producer, &OVERRUNS));
+            SAMPLER.borrow_ref_mut(cs).replace(sampler);
+        });
+        consumer
+    }
+
     #[entry]
     fn main() -> ! {
         let () = board::PIN_CHECKS;
@@ -154,62 +163,26 @@ mod target {
         let _sync_reset = gpioa.pa9.into_push_pull_output_in_state(PinState::High);
         let _ldac = gpiob.pb10.into_push_pull_output_in_state(PinState::Low);
         let mut syscfg = dp.SYSCFG.constrain(&mut rcc);
-
+        let serial_config = SerialConfig::default().baudrate(params::UART_BAUD.bps());
         let serial = dp
             .USART2
-            .serial::<u8>(
-                (gpioa.pa2, gpioa.pa3),
-                SerialConfig::default().baudrate(board::UART_BAUD.bps()),
-                &mut rcc,
-            )
-            .unwrap();
-        let (mut tx, mut rx) = serial.split();
-
-        let spi = dp.SPI1.spi(
-            (Some(gpioa.pa5), Some(gpioa.pa6), Some(gpioa.pa7)),
-            MODE_1,
-            board::SPI_HZ.Hz(),
-            &mut rcc,
-        );
+            .serial::<u8>((gpioa.pa2, gpioa.pa3), serial_config, &mut rcc);
+        let (tx, rx) = serial.unwrap().split();
+        let pins = (Some(gpioa.pa5), Some(gpioa.pa6), Some(gpioa.pa7));
+        let spi = dp.SPI1.spi(pins, MODE_1, params::SPI_HZ.Hz(), &mut rcc);
         let cs = gpiob.pb6.into_push_pull_output_in_state(PinState::High);
-        let spi = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
         let mut drdy = gpioc.pc7.into_pull_up_input();
         drdy.make_interrupt_source(&mut syscfg);
         drdy.trigger_on_edge(&mut dp.EXTI, Edge::Falling);
         drdy.enable_interrupt(&mut dp.EXTI);
-
-        let i2c = I2c::new(
-            dp.I2C1,
-            (gpiob.pb8, gpiob.pb9),
-            I2cMode::fast(board::I2C_HZ.Hz(), DutyCycle::Ratio2to1),
-            &mut rcc,
-        );
+        let i2c_mode = I2cMode::fast(params::I2C_HZ.Hz(), DutyCycle::Ratio2to1);
+        let i2c = I2c::new(dp.I2C1, (gpiob.pb8, gpiob.pb9), i2c_mode, &mut rcc);
 
         let config = board::device_config();
-        let mut adc = Ads131m04::new(spi, drdy);
-        let adc_config = Config {
-            word_length: board::word_length(),
-            osr: config.osr,
-            gains: config.pga,
-            input_crc: board::ADC_INPUT_CRC,
-        };
-        match adc.init(&adc_config) {
-            Ok(id) => defmt::info!("ADS131M04 ID {=u16:#06x}", id),
-            Err(e) => defmt::error!("ADS131M04 init failed: {}", defmt::Debug2Format(&e)),
-        }
-        // SAFETY: the queue is split once, before the DRDY interrupt is unmasked.
-        let (producer, mut consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
-        critical_section::with(|cs| {
-            let acq = Acquirer::new(producer, &OVERRUNS);
-            ACQUISITION.borrow_ref_mut(cs).replace(Acquisition {
-                adc,
-                acq,
-                index: 0,
-                last: [0; 4],
-            });
-        });
+        let spi = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
+        let consumer = start_acquisition(adc(spi, drdy, &config));
         let mut fe = NucleoFrontend {
-            dac: Mcp4728::new(i2c, board::DAC_ADDRESS),
+            dac: Mcp4728::new(i2c, params::DAC_ADDRESS),
         };
         let mut dev = Device::new(config);
         if dev.power_up(&mut fe).is_err() {
@@ -218,14 +191,25 @@ mod target {
         // SAFETY: the handler and everything it touches are initialised above.
         unsafe { cortex_m::peripheral::NVIC::unmask(pac::Interrupt::EXTI9_5) };
         defmt::info!("streaming core up at {=u32} samples/s", dev.rate_hz());
+        run(&mut dev, &mut fe, consumer, (tx, rx), &dp.IWDG)
+    }
 
-        // No WFI here: USART2 has a one-byte receive register and no receive interrupt is used,
-        // so the loop must keep polling or a burst of request bytes would overrun it.
+    /// The main loop: samples to the device core, requests from USART2, frames back out; the
+    /// watchdog fed once per pass that made progress. No WFI: USART2 has a one-byte receive
+    /// register and no receive interrupt is used, so the loop must keep polling or a burst of
+    /// request bytes would overrun it.
+    fn run(
+        dev: &mut Device,
+        fe: &mut NucleoFrontend,
+        mut consumer: Drain<'static>,
+        (mut tx, mut rx): (Tx<USART2>, Rx<USART2>),
+        iwdg: &pac::IWDG,
+    ) -> ! {
         loop {
             let waiting = !consumer.is_empty();
             let mut handled = 0u32;
             while let Some(raw) = consumer.dequeue() {
-                dev.on_sample(&raw, &mut fe);
+                dev.on_sample(&raw, fe);
                 handled += 1;
             }
             dev.note_overruns(OVERRUNS.take());
@@ -245,10 +229,10 @@ mod target {
             if n > 0 {
                 dev.on_rx(&buf[..n]);
             }
-            dev.poll(&mut fe);
+            dev.poll(fe);
             dev.tx().drain(|b| tx.write(b).is_ok());
             if !waiting || handled > 0 {
-                feed_watchdog(&dp.IWDG);
+                feed_watchdog(iwdg);
             }
         }
     }

@@ -23,17 +23,7 @@
 //! board falls back to the triangles.
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
-#[cfg(not(target_os = "none"))]
-fn main() {
-    eprintln!(
-        "this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/"
-    );
-    std::process::exit(2);
-}
-
-#[cfg(target_os = "none")]
-#[path = "../../boards/mps2_an386.rs"]
-mod board;
+firmware::mps2_an386_binary!();
 
 #[cfg(target_os = "none")]
 mod semihost {
@@ -118,23 +108,21 @@ mod semihost {
 
 #[cfg(target_os = "none")]
 mod target {
-    use super::board::{self, Uart0};
     use core::cell::RefCell;
     use cortex_m::peripheral::SYST;
     use cortex_m_rt::{entry, exception};
     use critical_section::Mutex;
     use firmware::ads131m04::{Ads131m04, Config, Osr, WordLength};
-    use firmware::device::{Device, Frontend, HardwareError};
+    use firmware::board::mps2_an386::{self as board, Uart0};
+    use firmware::device::{Device, DeviceConfig, Frontend, HardwareError};
     use firmware::mcp4728::{trim_writes, Mcp4728, DEFAULT_ADDRESS};
-    use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
+    use firmware::stream::{Acquirer, Drain, Overruns, SampleQueue, Sampler};
     use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-    use sim::ads131m04::stimulus_file::{FileStimulus, Header, HEADER_BYTES};
+    use sim::ads131m04::stimulus_file::{FileStimulus, Header, RecordSource, HEADER_BYTES};
     use sim::ads131m04::trim_dac::{TrimDac, TrimInput};
     use sim::ads131m04::{handles, Ads131m04 as Emu, AnalogInput, DrdyHandle, SpiHandle};
-    use {defmt_rtt as _, panic_probe as _};
 
     use super::semihost::{self, HostFile};
-    use sim::ads131m04::stimulus_file::RecordSource;
 
     /// What the emulated ADC converts: the triangles, or a stimulus file from the host.
     enum BoardInput {
@@ -175,26 +163,11 @@ mod target {
                 defmt::error!("stimulus file cannot be opened");
                 return Self::Triangle(bench);
             };
-            let mut head = [0u8; HEADER_BYTES];
-            let parsed = (file.read(&mut head) == HEADER_BYTES)
-                .then(|| Header::parse(&head).ok())
-                .flatten();
-            // Records start right after this version's header; a longer header is skipped.
-            let Some((header, length)) = parsed else {
-                defmt::error!("stimulus file: bad header");
-                return Self::Triangle(bench);
-            };
-            let mut skip = [0u8; 16];
-            let mut left = length - HEADER_BYTES;
-            while left > 0 {
-                let n = file.read(&mut skip[..left.min(16)]);
-                if n == 0 {
-                    return Self::Triangle(bench);
-                }
-                left -= n;
-            }
-            match FileStimulus::new(bench.clone(), header, file) {
-                Some(f) => Self::File(f),
+            match read_header(&mut file) {
+                Some(header) => match FileStimulus::new(bench.clone(), header, file) {
+                    Some(f) => Self::File(f),
+                    None => Self::Triangle(bench),
+                },
                 None => Self::Triangle(bench),
             }
         }
@@ -207,16 +180,37 @@ mod target {
         }
     }
 
+    /// The stimulus file's header, leaving the file at its first record: records start right
+    /// after this version's header, and a longer header (a later version's) is skipped.
+    fn read_header(file: &mut HostFile) -> Option<Header> {
+        let mut head = [0u8; HEADER_BYTES];
+        let parsed = (file.read(&mut head) == HEADER_BYTES)
+            .then(|| Header::parse(&head).ok())
+            .flatten();
+        let Some((header, length)) = parsed else {
+            defmt::error!("stimulus file: bad header");
+            return None;
+        };
+        let mut skip = [0u8; 16];
+        let mut left = length - HEADER_BYTES;
+        while left > 0 {
+            let n = file.read(&mut skip[..left.min(16)]);
+            if n == 0 {
+                return None;
+            }
+            left -= n;
+        }
+        Some(header)
+    }
+
     type Chip = RefCell<Emu<BoardInput>>;
     type Adc = Ads131m04<SpiHandle<'static, BoardInput>, DrdyHandle<'static, BoardInput>>;
 
-    /// What the sample-clock interrupt owns.
+    /// What the sample-clock interrupt owns: the emulated chip it converts and the sampler that
+    /// reads it.
     struct Acquisition {
         chip: &'static Chip,
-        adc: Adc,
-        acq: Acquirer<'static>,
-        index: u32,
-        last: [i32; 4],
+        sampler: Sampler<'static, SpiHandle<'static, BoardInput>, DrdyHandle<'static, BoardInput>>,
     }
 
     /// The emulated chip is shared between the interrupt and the main loop through `&RefCell`,
@@ -247,17 +241,7 @@ mod target {
                 return;
             }
             a.chip.borrow_mut().convert();
-            let (codes, read_error) = match a.adc.read() {
-                Ok(conv) => (conv.codes, false),
-                Err(_) => (a.last, true),
-            };
-            a.last = codes;
-            a.acq.push(RawSample {
-                index: a.index,
-                codes,
-                read_error,
-            });
-            a.index = a.index.wrapping_add(1);
+            a.sampler.on_conversion();
         });
     }
 
@@ -281,7 +265,10 @@ mod target {
                 let Some(Shared(a)) = slot.as_mut() else {
                     return Err(HardwareError::Adc);
                 };
-                a.adc.set_osr(osr).map_err(|_| HardwareError::Adc)
+                a.sampler
+                    .adc_mut()
+                    .set_osr(osr)
+                    .map_err(|_| HardwareError::Adc)
             })?;
             board::start_sample_clock(
                 &mut self.syst,
@@ -300,15 +287,11 @@ mod target {
         });
     }
 
-    #[entry]
-    fn main() -> ! {
-        let cp = cortex_m::Peripherals::take().unwrap();
-        let mut uart = Uart0::init();
-        let input = BoardInput::from_host();
+    /// The device configuration for `input`: a stimulus file describes the sensor, its rate, and
+    /// the gains and excitation the host needs to read the volts as that sensor's.
+    fn device_config(input: &BoardInput) -> DeviceConfig {
         let mut config = board::device_config();
-        if let BoardInput::File(f) = &input {
-            // The file describes the sensor: its rate, and the gains and excitation the host
-            // needs to read the volts as that sensor's.
+        if let BoardInput::File(f) = input {
             let rate_hz = f.header.sample_rate_hz as u32;
             match Osr::for_rate(rate_hz, config.clkin_hz) {
                 Some(osr) => config.osr = osr,
@@ -317,8 +300,11 @@ mod target {
             config.amp_gain = f.header.amp_gain;
             config.excitation_v = f.header.excitation_v;
         }
-        let chip: &'static Chip =
-            cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input))).unwrap();
+        config
+    }
+
+    /// The driver on the emulated chip, initialised for `config`.
+    fn adc(chip: &'static Chip, config: &DeviceConfig) -> Adc {
         let (spi, drdy) = handles(chip);
         let mut adc = Ads131m04::new(spi, drdy);
         let adc_config = Config {
@@ -330,18 +316,33 @@ mod target {
         if let Err(e) = adc.init(&adc_config) {
             defmt::error!("ADC init failed: {}", defmt::Debug2Format(&e));
         }
+        adc
+    }
+
+    /// Hand the ADC and the queue's producing end to the sample-clock interrupt; returns the
+    /// main loop's end.
+    fn start_acquisition(chip: &'static Chip, adc: Adc) -> Drain<'static> {
         // SAFETY: the queue is split once, before the interrupt that uses the producer starts.
-        let (producer, mut consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
+        let (producer, consumer) = unsafe { (*core::ptr::addr_of_mut!(QUEUE)).split() };
         critical_section::with(|cs| {
-            let acq = Acquirer::new(producer, &OVERRUNS);
-            ACQUISITION.borrow_ref_mut(cs).replace(Shared(Acquisition {
-                chip,
-                adc,
-                acq,
-                index: 0,
-                last: [0; 4],
-            }));
+            let sampler = Sampler::new(adc, Acquirer::new(producer, &OVERRUNS));
+            ACQUISITION
+                .borrow_ref_mut(cs)
+                .replace(Shared(Acquisition { chip, sampler }));
         });
+        consumer
+    }
+
+    #[entry]
+    fn main() -> ! {
+        let cp = cortex_m::Peripherals::take().unwrap();
+        let uart = Uart0::init();
+        let input = BoardInput::from_host();
+        let config = device_config(&input);
+        let chip: &'static Chip =
+            cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input, board::ADC_PARAMS)))
+                .unwrap();
+        let consumer = start_acquisition(chip, adc(chip, &config));
         let mut fe = QemuFrontend {
             dac: Mcp4728::new(TrimDac(chip), DEFAULT_ADDRESS),
             syst: cp.SYST,
@@ -353,6 +354,17 @@ mod target {
         }
         let period = board::ticks_per_sample(dev.rate_hz());
         board::start_sample_clock(&mut fe.syst, period);
+        run(chip, dev, fe, consumer, uart)
+    }
+
+    /// The main loop: samples to the device core, requests from the UART, frames back out.
+    fn run(
+        chip: &'static Chip,
+        mut dev: Device,
+        mut fe: QemuFrontend,
+        mut consumer: Drain<'static>,
+        mut uart: Uart0,
+    ) -> ! {
         let mut playing = false;
         loop {
             let mut busy = false;
@@ -362,16 +374,7 @@ mod target {
             }
             dev.note_overruns(OVERRUNS.take());
             let mut rx = [0u8; 32];
-            let mut n = 0;
-            while n < rx.len() {
-                match uart.try_read() {
-                    Some(b) => {
-                        rx[n] = b;
-                        n += 1;
-                    }
-                    None => break,
-                }
-            }
+            let n = uart.read_available(&mut rx);
             if n > 0 {
                 dev.on_rx(&rx[..n]);
                 busy = true;

@@ -5,49 +5,19 @@
 //! -semihosting-config enable=on,target=native -icount shift=0 -kernel <elf>`).
 #![cfg_attr(target_os = "none", no_std, no_main)]
 
-#[cfg(not(target_os = "none"))]
-fn main() {
-    eprintln!(
-        "this is a thumbv7em-none-eabihf binary for QEMU mps2-an386: build it from firmware/"
-    );
-    std::process::exit(2);
-}
-
-#[cfg(target_os = "none")]
-#[path = "../../boards/mps2_an386.rs"]
-mod board;
+firmware::mps2_an386_binary!();
 
 #[cfg(target_os = "none")]
 mod target {
-    use super::board;
     use core::cell::RefCell;
     use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
     use cortex_m_rt::{entry, exception};
-    use cortex_m_semihosting::{debug, hprintln};
+    use cortex_m_semihosting::hprintln;
     use critical_section::Mutex;
+    use firmware::board::mps2_an386 as board;
     use firmware::dsp::{round_to_code, Butterworth, FilterBank};
     use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue, QUEUE_LEN};
-    use panic_probe as _;
     use protocol::FilterConfig;
-
-    // panic-probe prints through defmt; this binary has no RTT reader, so a panic shows as
-    // a non-zero exit via the HardFault/semihosting path below.
-    #[defmt::global_logger]
-    struct NoLogger;
-    unsafe impl defmt::Logger for NoLogger {
-        fn acquire() {}
-        unsafe fn flush() {}
-        unsafe fn release() {}
-        unsafe fn write(_bytes: &[u8]) {}
-    }
-
-    #[defmt::panic_handler]
-    fn defmt_panic() -> ! {
-        debug::exit(debug::EXIT_FAILURE);
-        loop {
-            cortex_m::asm::wfi();
-        }
-    }
 
     static FAILED: AtomicU32 = AtomicU32::new(0);
     static PASSED: AtomicU32 = AtomicU32::new(0);
@@ -154,7 +124,6 @@ mod target {
 
     /// The bank's three-channel section is hand-written VLDM/VMLA/VSTM on this core; it must give
     /// the very bits of the portable single-channel `Biquad::step` cascade, on every channel.
-    /// `round_to_code` uses VCVTR here: nearest, ties to even, clamped to 24 bits.
     fn asm_paths_match_the_portable_code(x: &[f32]) {
         let mut bank = FilterBank::build(
             &FilterConfig {
@@ -190,6 +159,12 @@ mod target {
             "butterworth asm section bit-identical to Biquad::step",
             identical,
         );
+        filter_on_codes_matches_step_then_round(x);
+        round_to_code_cases();
+    }
+
+    /// The filter on codes is one asm block; it must equal the float filter then rounding.
+    fn filter_on_codes_matches_step_then_round(x: &[f32]) {
         let config = FilterConfig {
             smoother_alpha: 1.0,
             butterworth_order: 4,
@@ -208,6 +183,10 @@ mod target {
             "filter on codes (one asm block) equals step then round_to_code",
             same,
         );
+    }
+
+    /// `round_to_code` uses VCVTR here: nearest, ties to even, clamped to 24 bits.
+    fn round_to_code_cases() {
         let cases = [
             (2.5, 2),
             (3.5, 4),
@@ -337,13 +316,6 @@ mod target {
             PASSED.load(Ordering::Relaxed),
             failed
         );
-        debug::exit(if failed == 0 {
-            debug::EXIT_SUCCESS
-        } else {
-            debug::EXIT_FAILURE
-        });
-        loop {
-            cortex_m::asm::wfi();
-        }
+        board::exit(failed == 0)
     }
 }

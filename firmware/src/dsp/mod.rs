@@ -286,13 +286,10 @@ fn cascade2_codes(
 ) -> [i32; CHANNELS] {
     let (y0, y1, y2): (i32, i32, i32);
     // SAFETY: reads the 10 floats of `c`, reads then writes the 12 floats of `s` (exclusively
-    // borrowed); the state pointer register is declared as modified, every FPU register written
-    // is declared as clobbered.
+    // borrowed); the state pointer and every FPU register written are declared as clobbered.
     unsafe {
         core::arch::asm!(
-            "vmov s0, {x0}",
-            "vmov s1, {x1}",
-            "vmov s2, {x2}",
+            "vmov s0, {x0}", "vmov s1, {x1}", "vmov s2, {x2}",
             "vcvt.f32.s32 s0, s0",
             "vcvt.f32.s32 s1, s1",
             "vcvt.f32.s32 s2, s2",
@@ -346,14 +343,9 @@ fn cascade2_codes(
             "vcvtr.s32.f32 s19, s19",
             "vcvtr.s32.f32 s20, s20",
             "vcvtr.s32.f32 s21, s21",
-            "vmov {x0}, s19",
-            "vmov {x1}, s20",
-            "vmov {x2}, s21",
-            c = in(reg) c.as_ptr(),
-            s = inout(reg) s.as_mut_ptr() => _,
-            x0 = inout(reg) x[0] => y0,
-            x1 = inout(reg) x[1] => y1,
-            x2 = inout(reg) x[2] => y2,
+            "vmov {x0}, s19", "vmov {x1}, s20", "vmov {x2}, s21",
+            c = in(reg) c.as_ptr(), s = inout(reg) s.as_mut_ptr() => _,
+            x0 = inout(reg) x[0] => y0, x1 = inout(reg) x[1] => y1, x2 = inout(reg) x[2] => y2,
             out("s0") _, out("s1") _, out("s2") _, out("s3") _, out("s4") _, out("s5") _,
             out("s6") _, out("s7") _, out("s8") _, out("s9") _, out("s10") _, out("s11") _,
             out("s12") _, out("s13") _, out("s14") _, out("s15") _, out("s16") _, out("s17") _,

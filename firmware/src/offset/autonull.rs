@@ -222,7 +222,7 @@ mod tests {
     fn output(offset: [i32; 3], slope: [i32; 3], codes: [u16; 3]) -> [i32; 3] {
         core::array::from_fn(|ch| {
             (offset[ch] + slope[ch] * (i32::from(codes[ch]) - 2048))
-                .clamp(-(1 << 23), (1 << 23) - 1)
+                .clamp(protocol::CODE_MIN, protocol::CODE_MAX)
         })
     }
 

@@ -88,7 +88,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let test = compression_test(&params.fingertip, args.rate);
     if args.adc_stimulus.is_some() {
         anyhow::ensure!(
-            sim::ads131m04::stimulus_file::is_data_rate(test.sample_rate_hz),
+            sim::ads131m04::stimulus_file::is_data_rate(
+                test.sample_rate_hz,
+                sim::ads131m04::AdcParams::from_hardware(&params.adc).clkin_hz
+            ),
             "--adc-stimulus: {} Hz is not a data rate of the ADS131M04 (CLKIN/2/OSR: 500, 1000, \
              2000, ... 32000 Hz)",
             test.sample_rate_hz

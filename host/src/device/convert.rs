@@ -2,10 +2,8 @@
 //! `v = code · (vref_mv/1000) / (pga · 2²³)` at the ADC input, `v / amp_gain` at the bridge,
 //! and `(Fz, Mx, My) = C · v` with the calibration matrix C the device reports.
 
+use protocol::codes::volts_per_code;
 use protocol::{Info, Sample};
-
-/// Full-scale code magnitude of the 24-bit ADC: 2²³.
-const FULL_SCALE_CODES: f64 = 8_388_608.0;
 
 /// The conversion of one device configuration.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,7 +22,7 @@ impl Scale {
     pub fn from_info(info: &Info) -> Self {
         let vref_v = f64::from(info.vref_mv) / 1000.0;
         // A PGA gain of 0 is not a valid setting; treat it as 1 rather than divide by zero.
-        let per_code = |pga: u8| vref_v / (f64::from(pga.max(1)) * FULL_SCALE_CODES);
+        let per_code = |pga: u8| volts_per_code(vref_v, u32::from(pga.max(1)));
         let c = info.calibration.map(|row| row.map(f64::from));
         Self {
             volts_per_code: [

@@ -13,8 +13,6 @@
 //! The analog side is an [`AnalogInput`]: volts at the four ADC inputs per conversion index.
 //! No noise is added here: noise belongs to the front-end model feeding the input.
 
-pub mod crc;
-pub mod regs;
 pub mod stimulus;
 pub mod stimulus_file;
 pub mod trim_dac;
@@ -22,22 +20,34 @@ pub mod trim_dac;
 use core::cell::RefCell;
 use core::convert::Infallible;
 
+use ads131m04_regs::crc::{crc16_bitwise, SEED};
+use ads131m04_regs::{addr, clock, cmd, gain1, mode, status, Osr, WordLength, FRAME_WORDS};
 use embedded_hal::digital::{ErrorType as PinErrorType, InputPin};
 use embedded_hal::spi::{ErrorType as SpiErrorType, Operation, SpiDevice};
 
-use crc::{crc16_ccitt, CRC_INIT};
-
-/// Internal reference voltage (datasheet: 1.2 V); full scale is ±VREF / gain.
-pub const VREF_V: f32 = 1.2;
-/// Nominal CLKIN (datasheet typical 8.192 MHz); the modulator runs at CLKIN / 2.
-pub const CLKIN_HZ: u32 = 8_192_000;
-/// Largest and smallest 24-bit codes.
-pub const CODE_MAX: i32 = (1 << 23) - 1;
-pub const CODE_MIN: i32 = -(1 << 23);
 /// Longest input frame the emulation buffers (a WREG of 20 registers with CRC in 32-bit words).
 const MAX_FRAME_BYTES: usize = 96;
-/// Words in an output frame: response, four channels, CRC.
-const FRAME_WORDS: usize = 6;
+
+/// What the chip takes from its board: reference and clock (`hardware/adc.toml`,
+/// `reference.internal_v` and `clock.clkin_hz`, read by the `hardware` crate).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AdcParams {
+    /// Reference voltage: full scale is ±`vref_v` / PGA gain.
+    pub vref_v: f64,
+    /// CLKIN frequency; the modulator runs at half of it (high-resolution mode).
+    pub clkin_hz: u32,
+}
+
+#[cfg(feature = "std")]
+impl AdcParams {
+    /// The reference and clock of `adc.toml`.
+    pub fn from_hardware(adc: &hardware::Adc) -> Self {
+        Self {
+            vref_v: adc.reference_v,
+            clkin_hz: adc.clkin_hz.round() as u32,
+        }
+    }
+}
 
 /// The analog signal at the ADC's four differential inputs.
 pub trait AnalogInput {
@@ -45,29 +55,11 @@ pub trait AnalogInput {
     fn sample_v(&mut self, index: u64) -> [f32; 4];
 }
 
-/// The ideal conversion: code = round(v · gain / VREF · 2^23), clamped to the 24-bit range.
-/// `gain` is the PGA gain (1, 2, 4, …, 128). All arithmetic is plain f32, so the host and the
-/// Cortex-M4F compute identical codes for identical inputs.
-pub fn ideal_code(v: f32, gain: u8, vref_v: f32) -> i32 {
-    let scaled = v * f32::from(gain) / vref_v * 8_388_608.0;
-    let rounded = if scaled >= 0.0 {
-        scaled + 0.5
-    } else {
-        scaled - 0.5
-    };
-    if rounded >= CODE_MAX as f32 {
-        CODE_MAX
-    } else if rounded <= CODE_MIN as f32 {
-        CODE_MIN
-    } else {
-        rounded as i32
-    }
-}
-
 /// The emulated chip. Share it through a `RefCell` and hand out [`SpiHandle`] and [`DrdyHandle`]
 /// with [`handles`].
 pub struct Ads131m04<A> {
-    regs: [u16; regs::REG_COUNT],
+    regs: [u16; addr::COUNT],
+    params: AdcParams,
     input: A,
     codes: [i32; 4],
     /// New conversion not yet clocked out: DRDY is low.
@@ -89,16 +81,18 @@ pub struct Ads131m04<A> {
 }
 
 impl<A: AnalogInput> Ads131m04<A> {
-    /// A chip just out of power-on reset, converting `input`.
-    pub fn new(input: A) -> Self {
+    /// A chip just out of power-on reset, converting `input` with the reference and clock of
+    /// `params`.
+    pub fn new(input: A, params: AdcParams) -> Self {
         let mut chip = Self {
-            regs: [0; regs::REG_COUNT],
+            regs: [0; addr::COUNT],
+            params,
             input,
             codes: [0; 4],
             fresh: false,
             next_index: 0,
             overruns: 0,
-            response: Response::Word(regs::RESET_RESPONSE),
+            response: Response::Word(cmd::RESET_ACK),
             standby: false,
             locked: false,
             crc_err: false,
@@ -115,30 +109,29 @@ impl<A: AnalogInput> Ads131m04<A> {
     }
 
     fn reset(&mut self) {
-        self.regs = [0; regs::REG_COUNT];
-        for (addr, value) in regs::RESET_VALUES {
-            self.regs[usize::from(addr)] = value;
+        self.regs = [0; addr::COUNT];
+        for (address, value) in ads131m04_regs::RESET_VALUES {
+            self.regs[usize::from(address)] = value;
         }
         self.standby = false;
         self.locked = false;
         self.crc_err = false;
-        self.response = Response::Word(regs::RESET_RESPONSE);
+        self.response = Response::Word(cmd::RESET_ACK);
     }
 
     /// One conversion period has elapsed: convert the input and pull DRDY low. A conversion that
     /// was never read is overwritten and counted in [`Self::overruns`]. Nothing happens in standby.
-    #[allow(clippy::needless_range_loop)] // channel index selects gain bits, enable bit and code
     pub fn convert(&mut self) {
         if self.standby {
             return;
         }
         let volts = self.input.sample_v(self.next_index);
-        let gain1 = self.regs[usize::from(regs::GAIN1)];
-        let enabled = self.regs[usize::from(regs::CLOCK)] >> regs::CLOCK_CH_EN_SHIFT;
-        for ch in 0..4 {
-            let gain = 1u8 << ((gain1 >> (4 * ch)) & 0b111);
-            self.codes[ch] = if enabled & (1 << ch) != 0 {
-                ideal_code(volts[ch], gain, VREF_V)
+        let gains = gain1::decode(self.regs[usize::from(addr::GAIN1)]);
+        let enabled = self.regs[usize::from(addr::CLOCK)] >> clock::CH_EN_SHIFT;
+        for (ch, code) in self.codes.iter_mut().enumerate() {
+            *code = if enabled & (1 << ch) != 0 {
+                let gain = u32::from(gains[ch].gain());
+                protocol::codes::volts_to_code(f64::from(volts[ch]), self.params.vref_v, gain)
             } else {
                 0
             };
@@ -150,19 +143,23 @@ impl<A: AnalogInput> Ads131m04<A> {
         self.next_index += 1;
     }
 
-    /// Output data rate in samples per second at the nominal CLKIN: CLKIN / 2 / OSR.
+    /// Output data rate in samples per second: CLKIN / 2 / OSR.
     pub fn data_rate_hz(&self) -> f32 {
-        let code =
-            (self.regs[usize::from(regs::CLOCK)] & regs::CLOCK_OSR_MASK) >> regs::CLOCK_OSR_SHIFT;
-        (CLKIN_HZ / 2) as f32 / regs::OSR[usize::from(code)] as f32
+        let osr = Osr::from_clock(self.regs[usize::from(addr::CLOCK)]);
+        (self.params.clkin_hz / 2) as f32 / osr.ratio() as f32
+    }
+
+    /// The reference and clock the chip runs from.
+    pub fn params(&self) -> AdcParams {
+        self.params
     }
 
     /// The current value of a register (test and HIL visibility; the firmware uses RREG).
-    pub fn register(&self, addr: u8) -> u16 {
-        if addr == regs::STATUS {
+    pub fn register(&self, address: u8) -> u16 {
+        if address == addr::STATUS {
             self.status()
         } else {
-            self.regs[usize::from(addr & 0x3F)]
+            self.regs[usize::from(address & addr::MASK)]
         }
     }
 
@@ -196,38 +193,32 @@ impl<A: AnalogInput> Ads131m04<A> {
         self.fresh
     }
 
-    fn word_bytes(&self) -> usize {
-        match (self.regs[usize::from(regs::MODE)] & regs::MODE_WLENGTH_MASK)
-            >> regs::MODE_WLENGTH_SHIFT
-        {
-            0 => 2,
-            1 => 3,
-            _ => 4,
-        }
+    fn word_length(&self) -> WordLength {
+        WordLength::from_mode(self.regs[usize::from(addr::MODE)])
     }
 
     fn status(&self) -> u16 {
-        let mode = self.regs[usize::from(regs::MODE)];
-        let enabled = (self.regs[usize::from(regs::CLOCK)] >> regs::CLOCK_CH_EN_SHIFT) & 0xF;
-        let mut status =
-            mode & (regs::STATUS_RESET | regs::MODE_WLENGTH_MASK | regs::STATUS_CRC_TYPE);
+        let mode = self.regs[usize::from(addr::MODE)];
+        let enabled =
+            (self.regs[usize::from(addr::CLOCK)] >> clock::CH_EN_SHIFT) & status::DRDY_MASK;
+        // STATUS mirrors MODE's RESET, WLENGTH and CRC_TYPE bits at the same positions.
+        let mut word = mode & (status::RESET | status::WLENGTH_MASK | status::CRC_TYPE);
         if self.locked {
-            status |= regs::STATUS_LOCK;
+            word |= status::LOCK;
         }
         if self.crc_err {
-            status |= regs::STATUS_CRC_ERR;
+            word |= status::CRC_ERR;
         }
         if self.fresh {
-            status |= enabled;
+            word |= enabled;
         }
-        status
+        word
     }
 
     /// Chip select asserted: lay out the output frame (response, 4 data words, CRC).
     fn begin_frame(&mut self) {
-        let wb = self.word_bytes();
-        let wlength = (self.regs[usize::from(regs::MODE)] & regs::MODE_WLENGTH_MASK)
-            >> regs::MODE_WLENGTH_SHIFT;
+        let word_length = self.word_length();
+        let wb = word_length.bytes();
         self.out = [0; FRAME_WORDS * 4];
         let response = match self.response {
             Response::Word(word) => word,
@@ -240,20 +231,13 @@ impl<A: AnalogInput> Ads131m04<A> {
         };
         self.out[..2].copy_from_slice(&response.to_be_bytes());
         for (ch, &code) in self.codes.iter().enumerate() {
-            let word = &mut self.out[(ch + 1) * wb..(ch + 2) * wb];
-            let be = code.to_be_bytes(); // [sign, b23..16, b15..8, b7..0]
-            match wlength {
-                0 => word.copy_from_slice(&be[1..3]),
-                1 => word.copy_from_slice(&be[1..4]),
-                2 => word[..3].copy_from_slice(&be[1..4]),
-                _ => word.copy_from_slice(&be),
-            }
+            word_length.encode(code, &mut self.out[(ch + 1) * wb..(ch + 2) * wb]);
         }
-        let crc_at = 5 * wb;
-        let crc = crc16_ccitt(CRC_INIT, &self.out[..crc_at]);
+        let crc_at = (FRAME_WORDS - 1) * wb;
+        let crc = crc16_bitwise(SEED, &self.out[..crc_at]);
         self.out[crc_at..crc_at + 2].copy_from_slice(&crc.to_be_bytes());
         self.out_len = FRAME_WORDS * wb;
-        self.data_end = 5 * wb;
+        self.data_end = crc_at;
         self.inp_len = 0;
         self.pos = 0;
     }
@@ -279,26 +263,24 @@ impl<A: AnalogInput> Ads131m04<A> {
     /// Chip select released: execute the command of the frame; its response goes out next frame.
     fn end_frame(&mut self) {
         self.frames += 1;
-        let wb = self.word_bytes();
+        let wb = self.word_length().bytes();
         if self.inp_len < wb {
             return; // too short to carry a command: ignored, response unchanged
         }
         let word = |i: usize, inp: &[u8]| u16::from_be_bytes([inp[i * wb], inp[i * wb + 1]]);
         let command = word(0, &self.inp);
-        let is_wreg = command & regs::OPCODE_MASK == regs::CMD_WREG;
-        let data_words = if is_wreg {
-            usize::from(command & 0x7F) + 1
+        let data_words = if cmd::is_wreg(command) {
+            cmd::count(command)
         } else {
             0
         };
-        let mode = self.regs[usize::from(regs::MODE)];
-        if mode & regs::MODE_RX_CRC_EN != 0 {
+        if self.regs[usize::from(addr::MODE)] & mode::RX_CRC_EN != 0 {
             let crc_word = 1 + data_words;
             if (crc_word + 1) * wb > self.inp_len {
                 self.reject_input();
                 return;
             }
-            let expected = crc16_ccitt(CRC_INIT, &self.inp[..crc_word * wb]);
+            let expected = crc16_bitwise(SEED, &self.inp[..crc_word * wb]);
             if word(crc_word, &self.inp) != expected {
                 self.reject_input();
                 return;
@@ -318,47 +300,37 @@ impl<A: AnalogInput> Ads131m04<A> {
     }
 
     fn execute(&mut self, command: u16, wb: usize) {
-        let addr = ((command >> 7) & 0x3F) as u8;
-        let count = usize::from(command & 0x7F) + 1;
-        let allowed_when_locked = command == regs::CMD_NULL
-            || command == regs::CMD_UNLOCK
-            || command & regs::OPCODE_MASK == regs::CMD_RREG;
+        let allowed_when_locked =
+            command == cmd::NULL || command == cmd::UNLOCK || cmd::is_rreg(command);
         if self.locked && !allowed_when_locked {
             self.response = Response::Status;
             return;
         }
-        if command == regs::CMD_RESET {
-            self.reset();
-            return;
-        }
         let word = match command {
-            regs::CMD_STANDBY => {
+            cmd::RESET => {
+                self.reset();
+                return;
+            }
+            cmd::STANDBY => {
                 self.standby = true;
                 command
             }
-            regs::CMD_WAKEUP => {
+            cmd::WAKEUP => {
                 self.standby = false;
                 command
             }
-            regs::CMD_LOCK => {
+            cmd::LOCK => {
                 self.locked = true;
                 command
             }
-            regs::CMD_UNLOCK => {
+            cmd::UNLOCK => {
                 self.locked = false;
                 command
             }
-            c if c & regs::OPCODE_MASK == regs::CMD_RREG && count == 1 => self.register(addr),
-            c if c & regs::OPCODE_MASK == regs::CMD_WREG => {
-                for i in 0..count {
-                    let reg = addr.wrapping_add(i as u8);
-                    let at = (1 + i) * wb;
-                    let value = u16::from_be_bytes([self.inp[at], self.inp[at + 1]]);
-                    if regs::WRITABLE.contains(&reg) {
-                        self.regs[usize::from(reg)] = value;
-                    }
-                }
-                regs::WREG_RESPONSE | (command & 0x1FFF)
+            c if cmd::is_rreg(c) && cmd::count(c) == 1 => self.register(cmd::address(c)),
+            c if cmd::is_wreg(c) => {
+                self.write_registers(c, wb);
+                cmd::WREG_ACK | (c & !cmd::OPCODE_MASK)
             }
             _ => {
                 self.response = Response::Status;
@@ -366,6 +338,20 @@ impl<A: AnalogInput> Ads131m04<A> {
             }
         };
         self.response = Response::Word(word);
+    }
+
+    /// The data words of a WREG frame into the registers they address; writes to read-only
+    /// addresses are ignored.
+    fn write_registers(&mut self, command: u16, wb: usize) {
+        let first = cmd::address(command);
+        for i in 0..cmd::count(command) {
+            let reg = first.wrapping_add(i as u8);
+            let at = (1 + i) * wb;
+            let value = u16::from_be_bytes([self.inp[at], self.inp[at + 1]]);
+            if ads131m04_regs::WRITABLE.contains(&reg) {
+                self.regs[usize::from(reg)] = value;
+            }
+        }
     }
 }
 
@@ -435,6 +421,14 @@ impl<A: AnalogInput> InputPin for DrdyHandle<'_, A> {
         Ok(self.0.borrow().drdy_is_low())
     }
 }
+
+/// The datasheet's typical reference and clock (internal 1.2 V, 8.192 MHz), for tests that check
+/// codes and rates against the datasheet's numbers.
+#[cfg(test)]
+pub(crate) const DATASHEET_PARAMS: AdcParams = AdcParams {
+    vref_v: 1.2,
+    clkin_hz: 8_192_000,
+};
 
 #[cfg(test)]
 mod tests;

@@ -3,7 +3,7 @@
 //!
 //! Each channel is a triangle wave around an offset, a pure f32 function of the conversion index
 //! (no transcendental functions, no state), so host and Cortex-M4F produce bit-identical volts and,
-//! through [`super::ideal_code`], bit-identical codes. The three bridge channels also carry a raw
+//! through `protocol::codes::volts_to_code`, bit-identical codes. The three bridge channels also carry a raw
 //! offset that the trim DAC cancels: each DAC code step moves the channel by `trim_v_per_code`
 //! (negative: a higher code pulls the output down), the way the front end's injection resistor
 //! moves the amplified output. That lets the firmware's auto-null search run against it.

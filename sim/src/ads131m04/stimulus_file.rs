@@ -31,6 +31,7 @@
 use super::stimulus::Stimulus;
 use super::trim_dac::TrimInput;
 use super::AnalogInput;
+use ads131m04_regs::Osr;
 
 /// First bytes of a stimulus file.
 pub const MAGIC: [u8; 8] = *b"TACSTIM1";
@@ -121,14 +122,14 @@ impl Header {
     }
 }
 
-/// Whether the emulated ADC converts at exactly `rate_hz` (CLKIN / 2 / OSR for one of its OSRs,
-/// a whole number of samples per second as the firmware's rate setting needs): a stimulus file
-/// plays one record per conversion, so it must be produced at such a rate.
-pub fn is_data_rate(rate_hz: f64) -> bool {
-    let half_clkin_hz = super::CLKIN_HZ / 2;
-    super::regs::OSR
-        .iter()
-        .any(|&osr| half_clkin_hz % osr == 0 && f64::from(half_clkin_hz / osr) == rate_hz)
+/// Whether the emulated ADC, clocked at `clkin_hz`, converts at exactly `rate_hz` (CLKIN / 2 /
+/// OSR for one of its OSRs, a whole number of samples per second as the firmware's rate setting
+/// needs): a stimulus file plays one record per conversion, so it must be produced at such a rate.
+pub fn is_data_rate(rate_hz: f64, clkin_hz: u32) -> bool {
+    let half_clkin_hz = clkin_hz / 2;
+    Osr::ALL.iter().any(|osr| {
+        half_clkin_hz % osr.ratio() == 0 && f64::from(osr.data_rate_hz(clkin_hz)) == rate_hz
+    })
 }
 
 /// One record's bytes.
@@ -324,9 +325,10 @@ mod tests {
 
     #[test]
     fn data_rates_are_clkin_over_twice_the_osr() {
-        assert!(is_data_rate(500.0) && is_data_rate(1000.0) && is_data_rate(32_000.0));
+        let rate = |hz| is_data_rate(hz, super::super::DATASHEET_PARAMS.clkin_hz);
+        assert!(rate(500.0) && rate(1000.0) && rate(32_000.0));
         // 4.096 MHz / 16256 = 251.97 Hz: not a whole rate; 300 Hz: no OSR.
-        assert!(!is_data_rate(4_096_000.0 / 16_256.0) && !is_data_rate(300.0));
+        assert!(!rate(4_096_000.0 / 16_256.0) && !rate(300.0));
     }
 
     #[test]

@@ -2,6 +2,7 @@
 
 use super::stimulus::{Stimulus, StimulusParams};
 use super::*;
+use protocol::codes::volts_to_code;
 
 struct Constant([f32; 4]);
 impl AnalogInput for Constant {
@@ -23,40 +24,37 @@ fn frame<A: AnalogInput>(chip: &RefCell<Ads131m04<A>>, words: &[u16], wb: usize)
     rx
 }
 
+/// A chip converting `input`, with the datasheet's reference and clock.
+fn chip<A: AnalogInput>(input: A) -> RefCell<Ads131m04<A>> {
+    RefCell::new(Ads131m04::new(input, DATASHEET_PARAMS))
+}
+
 fn word(rx: &[u8], i: usize, wb: usize) -> u16 {
     u16::from_be_bytes([rx[i * wb], rx[i * wb + 1]])
 }
 
 #[test]
-fn ideal_code_is_the_datasheet_transfer_function() {
-    assert_eq!(ideal_code(0.6, 1, 1.2), 1 << 22);
-    assert_eq!(ideal_code(-0.6, 2, 1.2), -(1 << 23));
-    assert_eq!(ideal_code(2.0, 1, 1.2), CODE_MAX);
-    assert_eq!(ideal_code(1.2 / 8_388_608.0, 1, 1.2), 1);
-}
-
-#[test]
 fn first_frame_after_power_up_answers_reset_then_status() {
-    let chip = RefCell::new(Ads131m04::new(Constant([0.0; 4])));
-    let rx = frame(&chip, &[regs::CMD_NULL], 3);
+    let chip = chip(Constant([0.0; 4]));
+    let rx = frame(&chip, &[cmd::NULL], 3);
     assert_eq!(word(&rx, 0, 3), 0xFF24);
-    let rx = frame(&chip, &[regs::CMD_NULL], 3);
+    let rx = frame(&chip, &[cmd::NULL], 3);
     // RESET bit, WLENGTH = 01 (24 bit), no DRDY bits: 0x0500.
     assert_eq!(word(&rx, 0, 3), 0x0500);
 }
 
 #[test]
 fn status_shows_drdy_and_data_words_carry_codes() {
-    let chip = RefCell::new(Ads131m04::new(Constant([0.6, -0.3, 0.0, 1.5])));
-    frame(&chip, &[regs::CMD_NULL], 3);
+    let chip = chip(Constant([0.6, -0.3, 0.0, 1.5]));
+    frame(&chip, &[cmd::NULL], 3);
     chip.borrow_mut().convert();
     assert!(chip.borrow().drdy_is_low());
-    let rx = frame(&chip, &[regs::CMD_NULL], 3);
+    let rx = frame(&chip, &[cmd::NULL], 3);
     assert_eq!(word(&rx, 0, 3), 0x050F);
     assert_eq!(&rx[3..6], &[0x40, 0x00, 0x00]);
     assert_eq!(&rx[6..9], &[0xE0, 0x00, 0x00]);
     assert_eq!(&rx[12..15], &[0x7F, 0xFF, 0xFF]);
-    assert_eq!(crc::crc16_ccitt(crc::CRC_INIT, &rx[..18]), 0, "frame CRC");
+    assert_eq!(crc16_bitwise(SEED, &rx[..18]), 0, "frame CRC");
     assert!(
         !chip.borrow().drdy_is_low(),
         "reading the data releases DRDY"
@@ -65,92 +63,93 @@ fn status_shows_drdy_and_data_words_carry_codes() {
 
 #[test]
 fn rreg_answers_in_the_next_frame_and_wreg_is_acknowledged() {
-    let chip = RefCell::new(Ads131m04::new(Constant([0.0; 4])));
-    frame(&chip, &[regs::CMD_RREG], 3); // RREG ID (address 0, one register)
-    let rx = frame(&chip, &[regs::CMD_NULL], 3);
-    assert_eq!(word(&rx, 0, 3), regs::ID_VALUE);
+    let chip = chip(Constant([0.0; 4]));
+    frame(&chip, &[cmd::RREG], 3); // RREG ID (address 0, one register)
+    let rx = frame(&chip, &[cmd::NULL], 3);
+    assert_eq!(word(&rx, 0, 3), 0x2400);
     // WREG CLOCK = 0x0F02 (OSR 128 -> 32 kSPS).
-    let wreg = regs::CMD_WREG | (u16::from(regs::CLOCK) << 7);
+    let wreg = cmd::WREG | (u16::from(addr::CLOCK) << 7);
     frame(&chip, &[wreg, 0x0F02], 3);
-    let rx = frame(&chip, &[regs::CMD_NULL], 3);
-    assert_eq!(word(&rx, 0, 3), 0x4000 | (u16::from(regs::CLOCK) << 7));
-    assert_eq!(chip.borrow().register(regs::CLOCK), 0x0F02);
+    let rx = frame(&chip, &[cmd::NULL], 3);
+    assert_eq!(word(&rx, 0, 3), 0x4000 | (u16::from(addr::CLOCK) << 7));
+    assert_eq!(chip.borrow().register(addr::CLOCK), 0x0F02);
     assert_eq!(chip.borrow().data_rate_hz(), 32_000.0);
 }
 
 #[test]
 fn word_length_32_sign_extended_and_16_bit() {
-    let chip = RefCell::new(Ads131m04::new(Constant([-0.6, 0.0, 0.0, 0.0])));
-    let wreg = regs::CMD_WREG | (u16::from(regs::MODE) << 7);
+    let chip = chip(Constant([-0.6, 0.0, 0.0, 0.0]));
+    let wreg = cmd::WREG | (u16::from(addr::MODE) << 7);
     frame(&chip, &[wreg, 0x0310], 3); // WLENGTH = 11
     chip.borrow_mut().convert();
-    let rx = frame(&chip, &[regs::CMD_NULL], 4);
+    let rx = frame(&chip, &[cmd::NULL], 4);
     assert_eq!(&rx[4..8], &(-(1i32 << 22)).to_be_bytes());
-    assert_eq!(crc::crc16_ccitt(crc::CRC_INIT, &rx[..24]), 0);
+    assert_eq!(crc16_bitwise(SEED, &rx[..24]), 0);
     frame(&chip, &[wreg, 0x0010], 4); // WLENGTH = 00
     chip.borrow_mut().convert();
-    let rx = frame(&chip, &[regs::CMD_NULL], 2);
+    let rx = frame(&chip, &[cmd::NULL], 2);
     assert_eq!(&rx[2..4], &[0xC0, 0x00]);
-    assert_eq!(crc::crc16_ccitt(crc::CRC_INIT, &rx[..12]), 0);
+    assert_eq!(crc16_bitwise(SEED, &rx[..12]), 0);
 }
 
 #[test]
 fn input_crc_mismatch_refuses_the_command_and_flags_crc_err() {
-    let chip = RefCell::new(Ads131m04::new(Constant([0.0; 4])));
-    let wreg_mode = regs::CMD_WREG | (u16::from(regs::MODE) << 7);
+    let chip = chip(Constant([0.0; 4]));
+    let wreg_mode = cmd::WREG | (u16::from(addr::MODE) << 7);
     frame(&chip, &[wreg_mode, 0x1510], 3); // RX_CRC_EN on (no CRC needed yet)
-    let wreg_gain = regs::CMD_WREG | (u16::from(regs::GAIN1) << 7);
+    let wreg_gain = cmd::WREG | (u16::from(addr::GAIN1) << 7);
     frame(&chip, &[wreg_gain, 0x0007, 0xBEEF], 3); // wrong CRC
-    let rx = frame(&chip, &[regs::CMD_NULL, 0xBEEF], 3);
-    assert_ne!(word(&rx, 0, 3) & regs::STATUS_CRC_ERR, 0);
-    assert_eq!(chip.borrow().register(regs::GAIN1), 0);
-    let crc = crc::crc16_ccitt(crc::CRC_INIT, &[0x60 | 0x02, 0x00, 0x00, 0x00, 0x07, 0x00]);
-    let wreg_gain = regs::CMD_WREG | (u16::from(regs::GAIN1) << 7);
+    let rx = frame(&chip, &[cmd::NULL, 0xBEEF], 3);
+    assert_ne!(word(&rx, 0, 3) & status::CRC_ERR, 0);
+    assert_eq!(chip.borrow().register(addr::GAIN1), 0);
+    let crc = crc16_bitwise(SEED, &[0x60 | 0x02, 0x00, 0x00, 0x00, 0x07, 0x00]);
+    let wreg_gain = cmd::WREG | (u16::from(addr::GAIN1) << 7);
     frame(&chip, &[wreg_gain, 0x0007, crc], 3);
-    assert_eq!(chip.borrow().register(regs::GAIN1), 0x0007);
+    assert_eq!(chip.borrow().register(addr::GAIN1), 0x0007);
 }
 
 #[test]
 fn lock_refuses_writes_until_unlock_and_standby_stops_conversions() {
-    let chip = RefCell::new(Ads131m04::new(Constant([0.1; 4])));
-    frame(&chip, &[regs::CMD_LOCK], 3);
+    let chip = chip(Constant([0.1; 4]));
+    frame(&chip, &[cmd::LOCK], 3);
     frame(
         &chip,
-        &[regs::CMD_WREG | (u16::from(regs::GAIN1) << 7), 0x0001],
+        &[cmd::WREG | (u16::from(addr::GAIN1) << 7), 0x0001],
         3,
     );
-    assert_eq!(chip.borrow().register(regs::GAIN1), 0);
-    frame(&chip, &[regs::CMD_UNLOCK], 3);
-    frame(&chip, &[regs::CMD_STANDBY], 3);
+    assert_eq!(chip.borrow().register(addr::GAIN1), 0);
+    frame(&chip, &[cmd::UNLOCK], 3);
+    frame(&chip, &[cmd::STANDBY], 3);
     chip.borrow_mut().convert();
     assert_eq!(chip.borrow().conversions(), 0);
-    frame(&chip, &[regs::CMD_WAKEUP], 3);
+    frame(&chip, &[cmd::WAKEUP], 3);
     chip.borrow_mut().convert();
     assert_eq!(chip.borrow().conversions(), 1);
 }
 
 #[test]
 fn reset_command_restores_defaults() {
-    let chip = RefCell::new(Ads131m04::new(Constant([0.0; 4])));
+    let chip = chip(Constant([0.0; 4]));
     frame(
         &chip,
-        &[regs::CMD_WREG | (u16::from(regs::GAIN1) << 7), 0x0003],
+        &[cmd::WREG | (u16::from(addr::GAIN1) << 7), 0x0003],
         3,
     );
-    frame(&chip, &[regs::CMD_RESET], 3);
-    let rx = frame(&chip, &[regs::CMD_NULL], 3);
-    assert_eq!(word(&rx, 0, 3), regs::RESET_RESPONSE);
-    assert_eq!(chip.borrow().register(regs::GAIN1), 0);
+    frame(&chip, &[cmd::RESET], 3);
+    let rx = frame(&chip, &[cmd::NULL], 3);
+    assert_eq!(word(&rx, 0, 3), 0xFF24);
+    assert_eq!(chip.borrow().register(addr::GAIN1), 0);
 }
 
 #[test]
 fn stimulus_codes_are_recomputable_from_the_index() {
-    let chip = RefCell::new(Ads131m04::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
+    let chip = chip(Stimulus::new(StimulusParams::QEMU_BOARD));
     let reference = Stimulus::new(StimulusParams::QEMU_BOARD);
+    let vref_v = DATASHEET_PARAMS.vref_v;
     for n in 0..50u64 {
         chip.borrow_mut().convert();
         let expect: [i32; 4] =
-            core::array::from_fn(|ch| ideal_code(reference.volts(n)[ch], 1, VREF_V));
+            core::array::from_fn(|ch| volts_to_code(f64::from(reference.volts(n)[ch]), vref_v, 1));
         assert_eq!(chip.borrow().codes(), expect, "conversion {n}");
     }
 }

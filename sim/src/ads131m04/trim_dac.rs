@@ -80,10 +80,12 @@ impl<A: AnalogInput + TrimInput> TrimDac<'_, A> {
 mod tests {
     use super::*;
     use crate::ads131m04::stimulus::StimulusParams;
+    use crate::ads131m04::DATASHEET_PARAMS;
 
     #[test]
     fn fast_and_multi_write_move_the_trim() {
-        let chip = RefCell::new(Ads131m04::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
+        let bench = Stimulus::new(StimulusParams::QEMU_BOARD);
+        let chip = RefCell::new(Ads131m04::new(bench, DATASHEET_PARAMS));
         let mut dac = TrimDac(&chip);
         dac.write(ADDRESS, &[0x0F, 0xFF, 0x08, 0x00, 0x00, 0x01, 0x00, 0x00])
             .unwrap();

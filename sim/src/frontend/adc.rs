@@ -1,9 +1,9 @@
 //! The ADS131M04's conversion: differential input volts to a 24-bit two's-complement code,
 //! `code = round(v G_PGA / V_REF * 2^23)`, clipped to `[-2^23, 2^23 - 1]` (datasheet: the output
-//! clips at 7FFFFFh and 800000h), plus the datasheet's noise at the configured OSR.
+//! clips at 7FFFFFh and 800000h), plus the datasheet's noise at the configured OSR. The transfer
+//! function itself is `protocol::codes`, shared with the emulated chip and the host.
 
-/// Codes of a 24-bit word: `2^23`.
-pub const HALF_SCALE: i32 = 1 << 23;
+use protocol::codes;
 
 /// The converter as configured.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,13 +25,12 @@ impl Ads131m04 {
 
     /// Volts of one code.
     pub fn lsb_v(&self, channel: usize) -> f64 {
-        self.full_scale_v(channel) / f64::from(HALF_SCALE)
+        codes::volts_per_code(self.reference_v, self.pga_gain[channel])
     }
 
     /// The ideal (noise-free) code of a differential input `v`.
     pub fn code(&self, channel: usize, v: f64) -> i32 {
-        let c = libm::round(v / self.lsb_v(channel));
-        c.clamp(-f64::from(HALF_SCALE), f64::from(HALF_SCALE - 1)) as i32
+        codes::volts_to_code(v, self.reference_v, self.pga_gain[channel])
     }
 
     /// The code with the converter's noise: `z` is a standard normal draw from the caller's
@@ -42,12 +41,12 @@ impl Ads131m04 {
 
     /// Volts a code stands for.
     pub fn volts(&self, channel: usize, code: i32) -> f64 {
-        f64::from(code) * self.lsb_v(channel)
+        codes::code_to_volts(code, self.reference_v, self.pga_gain[channel])
     }
 
     /// Whether `code` is at either clip.
     pub fn is_clipped(code: i32) -> bool {
-        code == HALF_SCALE - 1 || code == -HALF_SCALE
+        codes::is_clipped(code)
     }
 }
 
@@ -69,15 +68,15 @@ mod tests {
         // 0.6 V at gain 1 is half of full scale: 2^22 = 0x400000.
         assert_eq!(ADC.code(0, 0.6), 0x40_0000);
         // One LSB = 1.2 V / 2^23 = 143.05 nV.
-        assert_eq!(ADC.code(0, -1.2 / 8_388_608.0), -1);
+        assert_eq!(ADC.code(0, -1.2 / f64::from(codes::FULL_SCALE)), -1);
         // Gain 2 halves the full scale.
         assert_eq!(ADC.code(2, 0.3), 0x40_0000);
     }
 
     #[test]
     fn out_of_range_inputs_clip() {
-        assert_eq!(ADC.code(0, 1.5), 0x7F_FFFF);
-        assert_eq!(ADC.code(0, -1.5), -0x80_0000);
+        assert_eq!(ADC.code(0, 1.5), protocol::CODE_MAX);
+        assert_eq!(ADC.code(0, -1.5), protocol::CODE_MIN);
         assert!(Ads131m04::is_clipped(ADC.code(1, 2.0)));
     }
 

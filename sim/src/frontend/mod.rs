@@ -210,8 +210,8 @@ mod tests {
 
     #[test]
     fn unnulled_fz_offset_needs_the_offset_cut() {
-        // Raw offset 0.66 mV x 1100 = 0.73 V: over half the +-1.2 V ADC range before any load
-        // (at the rig's 3010x it clipped, 2 V), hence the offset cut.
+        // Raw offset 0.66 mV x 1100 = 0.73 V: over half the +-1.2 V ADC range before any load,
+        // hence the offset cut.
         let fe = front_end();
         let mid = fe.mid_v();
         let v = fe.channels[0].adc_input_v([0.0; 4], 0.0, fe.mid_dac_code, mid);

@@ -7,10 +7,12 @@
 use super::*;
 use crate::ads131m04::{Ads131m04, Config, WordLength};
 use crate::mcp4728::{trim_writes, Mcp4728, DEFAULT_ADDRESS};
+use crate::params::EMULATED_ADC;
 use core::cell::RefCell;
+use protocol::codes::volts_to_code;
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::trim_dac::TrimDac;
-use sim::ads131m04::{handles, ideal_code, Ads131m04 as Emu, DrdyHandle, SpiHandle, VREF_V};
+use sim::ads131m04::{handles, Ads131m04 as Emu, DrdyHandle, SpiHandle};
 
 type Chip = RefCell<Emu<Stimulus>>;
 
@@ -65,7 +67,10 @@ fn step(chip: &Chip, bench: &mut Bench<'_>, dev: &mut Device) -> u64 {
 
 #[test]
 fn null_tare_and_stream_the_stimulus() {
-    let chip = RefCell::new(Emu::new(Stimulus::new(StimulusParams::QEMU_BOARD)));
+    let chip = RefCell::new(Emu::new(
+        Stimulus::new(StimulusParams::QEMU_BOARD),
+        EMULATED_ADC,
+    ));
     let mut bench = bench(&chip);
     let mut cfg = config();
     cfg.null_at_power_up = true;
@@ -102,7 +107,7 @@ fn null_tare_and_stream_the_stimulus() {
         for s in frame.samples() {
             let truth = reference.signal_v(n);
             for ch in 0..3 {
-                let expect = ideal_code(truth[ch], 1, VREF_V);
+                let expect = volts_to_code(f64::from(truth[ch]), EMULATED_ADC.vref_v, 1);
                 assert!(
                     (s.ch[ch] - expect).abs() <= 1,
                     "n {n} ch {ch}: {} vs {expect}",

@@ -1,14 +1,20 @@
-//! QEMU `mps2-an386` (Cortex-M4F) support shared by the QEMU binaries: the CMSDK APB UART0 that
-//! carries the frames, the SysTick sample clock, and the interrupt vector table.
+//! QEMU `mps2-an386` (Cortex-M4F), shared by the QEMU binaries: the CMSDK APB UART0 that carries
+//! the frames, the SysTick sample clock, the emulated ADC's parameters, the device configuration,
+//! exit and panic reporting over semihosting.
 //!
 //! QEMU 7.2 facts this relies on: BAUDDIV must be ≥ 16 or the UART stays silent; DATA must be read
 //! once right after enabling RX or host input arrives about a second late; SysTick runs on the
 //! 25 MHz core clock, so under `-icount shift=0` (1 ns per instruction) one tick is 40 instructions.
 
-// Shared by several binaries; each uses a part.
-#![allow(dead_code)]
-
 use core::ptr::{read_volatile, write_volatile};
+
+use cortex_m_semihosting::{debug, hprintln};
+use sim::ads131m04::AdcParams;
+
+use crate::ads131m04::{Osr, Pga};
+use crate::device::DeviceConfig;
+use crate::offset::{DriftSettings, NullTiming};
+use crate::params;
 
 /// Core clock of the machine (QEMU's `mps2-an386` SYSCLK).
 pub const SYSCLK_HZ: u32 = 25_000_000;
@@ -65,6 +71,21 @@ impl Uart0 {
             }
         }
     }
+
+    /// Up to `buf.len()` received bytes into `buf`; returns how many.
+    pub fn read_available(&mut self, buf: &mut [u8]) -> usize {
+        let mut n = 0;
+        while n < buf.len() {
+            match self.try_read() {
+                Some(b) => {
+                    buf[n] = b;
+                    n += 1;
+                }
+                None => break,
+            }
+        }
+        n
+    }
 }
 
 /// Start SysTick on the core clock with an interrupt every `period_ticks` ticks.
@@ -83,28 +104,17 @@ pub const fn ticks_per_sample(rate_hz: u32) -> u32 {
     SYSCLK_HZ / rate_hz
 }
 
-extern "C" {
-    fn DefaultHandler();
-}
-
-/// Device interrupt vectors: the machine's 32 external interrupts all go to the default handler
-/// (the firmware polls the UART and is paced by SysTick, a core exception). cortex-m-rt's
-/// `device` feature, switched on by the STM32 PAC in the same package, expects this table.
-#[link_section = ".vector_table.interrupts"]
-#[no_mangle]
-#[used]
-pub static __INTERRUPTS: [unsafe extern "C" fn(); 32] = [DefaultHandler; 32];
+/// The emulated ADS131M04's reference and clock: those of the real board's chip.
+pub const ADC_PARAMS: AdcParams = params::EMULATED_ADC;
 
 /// The device configuration of the QEMU board. The "sensor" here is the sim crate's stimulus
 /// bench: volts at the ADC inputs are the signal, so the amplifier gain and calibration are unity
-/// and loads read as ADC-input volts. Clock and reference are the emulated chip's own constants.
-pub fn device_config() -> firmware::device::DeviceConfig {
-    use firmware::ads131m04::{Osr, Pga};
-    use firmware::offset::{DriftSettings, NullTiming};
-    firmware::device::DeviceConfig {
+/// and loads read as ADC-input volts. Clock and reference are the emulated chip's, [`ADC_PARAMS`].
+pub fn device_config() -> DeviceConfig {
+    DeviceConfig {
         chip_serial: 0,
-        clkin_hz: sim::ads131m04::CLKIN_HZ,
-        vref_mv: (sim::ads131m04::VREF_V * 1000.0) as u16,
+        clkin_hz: ADC_PARAMS.clkin_hz,
+        vref_mv: params::ADC_VREF_MV,
         pga: [Pga::X1; 4],
         amp_gain: [1.0; 3],
         excitation_v: 1.0,
@@ -127,4 +137,24 @@ pub fn device_config() -> firmware::device::DeviceConfig {
         dac_vmid_code: sim::ads131m04::stimulus::TRIM_MID_CODE,
         null_at_power_up: true,
     }
+}
+
+/// End the QEMU run with a success or failure exit code (semihosting SYS_EXIT). Without
+/// semihosting the call returns and the core sleeps.
+pub fn exit(success: bool) -> ! {
+    debug::exit(if success {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// The panic handler's body: the message over semihosting, then a failed exit, so a test run
+/// ends at once with the reason instead of waiting for its timeout.
+pub fn on_panic(info: &core::panic::PanicInfo) -> ! {
+    hprintln!("panic: {}", info);
+    exit(false)
 }
