@@ -13,14 +13,14 @@
 
 use std::time::{Duration, Instant, SystemTime};
 
+use hil::pty::hold_open;
+use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
+use hil::reference::ReferenceFilter;
 use host::device::{Device, Event, Frame, OpenOptions, PortSpec};
 use host::logger::{Recorder, Setup};
 use protocol::{FilterConfig, NullState};
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::{ideal_code, VREF_V};
-use hil::pty::hold_open;
-use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
-use hil::reference::ReferenceFilter;
 
 const FILTER: FilterConfig = FilterConfig {
     smoother_alpha: 1.0,

@@ -14,14 +14,14 @@ use std::os::fd::OwnedFd;
 use std::path::Path;
 use std::time::{Duration, Instant, SystemTime};
 
+use hil::check::scratch;
+use hil::pty::{hold_open, relink};
+use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
 use host::device::{Counters, Device, Event, Frame, GapKind, OpenOptions, PortSpec, Scale};
 use host::logger::{gap_code, Recorder, Setup};
 use protocol::NullState;
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
 use sim::ads131m04::{ideal_code, VREF_V};
-use hil::check::scratch;
-use hil::pty::{hold_open, relink};
-use hil::qemu::{build_elf, Clock, QemuBoard, NULL_CODES};
 
 /// Settled frames wanted from each boot before moving on.
 const SETTLED_FRAMES: usize = 40;
