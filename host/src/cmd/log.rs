@@ -104,6 +104,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         None
     };
+    let started = Instant::now();
     let result = pump(
         &mut sensors,
         &stop,
@@ -111,7 +112,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         dash.as_mut(),
         args.quiet || args.live,
     );
-    drop(dash);
+    if dash.take().is_some() && !args.quiet {
+        // The dashboard's counters vanish with its screen: leave the totals in the scrollback.
+        eprintln!("{}", status_line(&sensors, started.elapsed()));
+    }
     let finished = finish_files(&mut sensors, mcap);
     let mut gone = None;
     for s in sensors {
@@ -274,14 +278,15 @@ fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
             " DISCONNECTED"
         };
         line.push_str(&format!(
-            " | {}{state}: {:.0} S/s, {} rows, lost {} dropped {} crc {} reconnects {}",
+            " | {}{state}: {:.0} S/s, {} rows, lost {} dropped {} crc {} reconnects {} queue {}",
             s.view.label,
             s.view.rate_hz(),
             s.rec.rows,
             c.lost_on_link,
             c.dropped_by_device,
             c.crc_errors,
-            c.reconnects
+            c.reconnects,
+            c.host_queue_drops
         ));
     }
     line
