@@ -139,12 +139,11 @@ pub fn verify(
                 truth_temp(seq)
             ));
         }
-        for c in 0..3 {
-            let code = (ch[c][i] / volts_per_code).round() as i32;
-            if code != truth.ch[c] {
+        for (c, (column, want)) in ch.iter().zip(truth.ch).enumerate() {
+            let code = (column[i] / volts_per_code).round() as i32;
+            if code != want {
                 return Err(format!(
-                    "row {i}: frame {seq} sample {k} channel {c}: {code} != truth {}",
-                    truth.ch[c]
+                    "row {i}: frame {seq} sample {k} channel {c}: {code} != truth {want}"
                 ));
             }
         }
