@@ -112,9 +112,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         dash.as_mut(),
         args.quiet || args.live,
     );
-    if dash.take().is_some() && !args.quiet {
-        // The dashboard's counters vanish with its screen: leave the totals in the scrollback.
-        eprintln!("{}", status_line(&sensors, started.elapsed()));
+    if let Some(d) = dash.take() {
+        close_dashboard(d, &sensors, started.elapsed(), args.quiet);
     }
     let finished = finish_files(&mut sensors, mcap);
     let mut gone = None;
@@ -144,6 +143,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     match gone {
         Some(e) => Err(e.into()),
         None => Ok(()),
+    }
+}
+
+/// Leave the dashboard's screen; its counters vanish with it, so unless `quiet` the totals are
+/// left in the scrollback, with the refreshes a slow terminal made it skip.
+fn close_dashboard(dash: Dashboard, sensors: &[Sensor], elapsed: Duration, quiet: bool) {
+    let skipped = dash.skipped();
+    drop(dash);
+    if !quiet {
+        eprintln!("{}", status_line(sensors, elapsed));
+        if skipped > 0 {
+            eprintln!("live view: {skipped} refreshes skipped (the terminal was slow)");
+        }
     }
 }
 
