@@ -134,6 +134,14 @@ pub struct EmuStats {
     pub frames_sent: AtomicU64,
     /// Sequence of the last frame written completely, +1 (0: none yet).
     pub last_seq_plus_one: AtomicU64,
+    /// Sequence of the first sample frame queued, +1 (0: none yet): with the last, the range a
+    /// recording of the whole stream must hold.
+    pub first_seq_plus_one: AtomicU64,
+    /// Frames the device dropped because its transmit queue was full (real-time pace).
+    pub frames_dropped: AtomicU64,
+    /// Most frames that fell due in one pass of the device loop: 1 when the emulator keeps its
+    /// pace, k when its thread was held off the CPU for about k frame periods.
+    pub max_burst: AtomicU64,
     pub requests: AtomicU64,
     /// The fault-injecting link's account (all zero without faults).
     pub injected: Mutex<Injected>,
@@ -372,9 +380,13 @@ impl Device {
             self.next_seq = Some(due);
             return;
         }
+        self.stats
+            .max_burst
+            .fetch_max(due.saturating_sub(next), Ordering::Relaxed);
         while next < due {
             if self.tx.len() > TX_QUEUE_BYTES {
                 self.dropped = self.dropped.saturating_add(1);
+                self.stats.frames_dropped.fetch_add(1, Ordering::Relaxed);
             } else {
                 self.send_frame(next);
                 self.dropped = 0;
@@ -402,6 +414,12 @@ impl Device {
             self.queue(&w);
         }
         self.stats.frames_sent.fetch_add(1, Ordering::Relaxed);
+        let _ = self.stats.first_seq_plus_one.compare_exchange(
+            0,
+            seq + 1,
+            Ordering::Relaxed,
+            Ordering::Relaxed,
+        );
         self.stats
             .last_seq_plus_one
             .store(seq + 1, Ordering::Relaxed);

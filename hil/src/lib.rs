@@ -7,6 +7,7 @@
 pub mod check;
 pub mod emu;
 pub mod native;
+pub mod procfs;
 pub mod pty;
 pub mod qemu;
 pub mod reference;

@@ -32,22 +32,11 @@ use std::time::{Duration, Instant};
 
 use hil::check::scratch;
 use hil::native::{NativeConfig, NativeSensor};
+use hil::procfs::{loadavg, own_session, rss_kib};
 use hil::pty::relink;
 
 /// Nice value of the soak's own session (scheduler autogroup): board, logger and reader.
 const SESSION_NICE: i32 = -10;
-
-/// A session of our own (the logger started later joins it) with its autogroup at `nice`;
-/// returns the autogroup line in effect (`/autogroup-N nice K`), or why not.
-fn own_session(nice: i32) -> String {
-    // SAFETY: setsid has no memory effects; it fails harmlessly if we lead a process group.
-    unsafe { libc::setsid() };
-    let _ = std::fs::write("/proc/self/autogroup", nice.to_string());
-    std::fs::read_to_string("/proc/self/autogroup").map_or_else(
-        |e| format!("autogroup unknown: {e}"),
-        |s| s.trim().to_owned(),
-    )
-}
 
 /// The highest lossless rate of the product: the ADC's 8 kSPS, the top rate the 921,600 baud
 /// link carries (protocol/SPEC.md: 8,777 samples/s with full batches). The pty has no baud
@@ -82,22 +71,6 @@ fn tactile_bin() -> PathBuf {
     }
     let exe = std::env::current_exe().unwrap();
     exe.parent().and_then(Path::parent).unwrap().join("tactile")
-}
-
-/// VmRSS and VmHWM of `pid` in KiB.
-fn rss_kib(pid: u32) -> Option<(u64, u64)> {
-    let s = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let field = |name: &str| -> Option<u64> {
-        let line = s.lines().find(|l| l.starts_with(name))?;
-        line.split_whitespace().nth(1)?.parse().ok()
-    };
-    Some((field("VmRSS:")?, field("VmHWM:")?))
-}
-
-fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_default()
 }
 
 /// The number after `key ` in the logger's status line.

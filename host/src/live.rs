@@ -3,7 +3,9 @@
 //! counter of damage (lost, dropped, CRC errors, resyncs, reconnects), with the link state.
 
 use std::collections::VecDeque;
-use std::io::Stdout;
+use std::io::{BufWriter, Stdout};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
 use crossterm::event::{self, Event as TermEvent, KeyCode, KeyModifiers};
@@ -137,56 +139,162 @@ impl SensorView {
     }
 }
 
-/// The terminal, in raw mode on the alternate screen while the dashboard lives.
+/// How often the screen is redrawn at most.
+const REFRESH_EVERY: Duration = Duration::from_millis(100);
+/// How often the screen thread looks at the keyboard between refreshes.
+const KEY_POLL: Duration = Duration::from_millis(50);
+/// Bytes of screen output gathered before a write (a full refresh of a large terminal fits).
+const SCREEN_BUFFER: usize = 256 * 1024;
+/// How long closing the dashboard waits for the screen thread to restore the terminal.
+const CLOSE_WAIT: Duration = Duration::from_secs(1);
+
+/// What one refresh shows: copies, so that the screen thread draws while recording goes on.
+struct Snapshot {
+    views: Vec<SensorView>,
+    counters: Vec<Counters>,
+    elapsed: Duration,
+    skipped: u64,
+}
+
+/// The dashboard. A thread of its own owns the terminal, because writing to a terminal can
+/// block for as long as the terminal pleases (a paused ssh session, Ctrl-S, a slow emulator
+/// with sixteen sensors' panels), and the recording must not wait for it: the logger hands the
+/// screen a snapshot at most every [`REFRESH_EVERY`], and when the screen is still busy with
+/// the previous one that refresh is dropped (and counted in the title), never a sample.
 pub struct Dashboard {
-    term: Terminal<CrosstermBackend<Stdout>>,
-    last_draw: Instant,
+    snapshots: Option<mpsc::SyncSender<Snapshot>>,
+    quit: Arc<AtomicBool>,
+    /// The screen thread's end, with its error if drawing failed.
+    done: mpsc::Receiver<std::io::Result<()>>,
+    ended: bool,
+    last_refresh: Instant,
+    skipped: u64,
 }
 
 impl Dashboard {
+    /// Raw mode, the alternate screen, and the screen thread.
     pub fn enter() -> std::io::Result<Self> {
         enable_raw_mode()?;
         crossterm::execute!(std::io::stdout(), EnterAlternateScreen)?;
-        let term = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
+        // One write per refresh: stdout alone is line-buffered in 1 KiB, and a screen of sixteen
+        // panels would go out in a few hundred writes, each a trip through the tty layer.
+        let out = BufWriter::with_capacity(SCREEN_BUFFER, std::io::stdout());
+        let term = match Terminal::new(CrosstermBackend::new(out)) {
+            Ok(t) => t,
+            Err(e) => {
+                restore_terminal();
+                return Err(e);
+            }
+        };
+        let (tx, rx) = mpsc::sync_channel(1);
+        let (done_tx, done) = mpsc::channel();
+        let quit = Arc::new(AtomicBool::new(false));
+        let q = quit.clone();
+        let spawned = std::thread::Builder::new()
+            .name("tactile-live".into())
+            .spawn(move || {
+                let r = screen_loop(term, &rx, &q);
+                restore_terminal();
+                let _ = done_tx.send(r);
+            });
+        if let Err(e) = spawned {
+            restore_terminal();
+            return Err(e);
+        }
         Ok(Self {
-            term,
-            last_draw: Instant::now() - Duration::from_secs(1),
+            snapshots: Some(tx),
+            quit,
+            done,
+            ended: false,
+            last_refresh: Instant::now() - REFRESH_EVERY,
+            skipped: 0,
         })
     }
 
-    /// Redraw (at most ten times a second); `true` when the user asked to quit (q, Esc, Ctrl-C).
+    /// Offer the screen a refresh (at most ten a second); `true` when the user asked to quit
+    /// (q, Esc, Ctrl-C). Never waits for the terminal.
     pub fn draw(
         &mut self,
         views: &[&SensorView],
         counters: &[Counters],
         elapsed: Duration,
     ) -> std::io::Result<bool> {
-        while event::poll(Duration::ZERO)? {
-            if let TermEvent::Key(k) = event::read()? {
-                let ctrl_c =
-                    k.code == KeyCode::Char('c') && k.modifiers.contains(KeyModifiers::CONTROL);
-                if matches!(k.code, KeyCode::Char('q') | KeyCode::Esc) || ctrl_c {
-                    return Ok(true);
-                }
-            }
+        if self.quit.load(Ordering::Relaxed) {
+            return Ok(true);
         }
-        if self.last_draw.elapsed() < Duration::from_millis(100) {
+        if let Ok(r) = self.done.try_recv() {
+            self.ended = true;
+            r?;
+            return Ok(true);
+        }
+        if self.last_refresh.elapsed() < REFRESH_EVERY {
             return Ok(false);
         }
-        self.last_draw = Instant::now();
-        self.term.draw(|f| render(f, views, counters, elapsed))?;
+        self.last_refresh = Instant::now();
+        let snapshot = Snapshot {
+            views: views.iter().map(|v| (*v).clone()).collect(),
+            counters: counters.to_vec(),
+            elapsed,
+            skipped: self.skipped,
+        };
+        if let Some(Err(mpsc::TrySendError::Full(_))) =
+            self.snapshots.as_ref().map(|s| s.try_send(snapshot))
+        {
+            self.skipped += 1;
+        }
         Ok(false)
+    }
+
+    /// Refreshes dropped because the screen was still drawing the previous one.
+    pub fn skipped(&self) -> u64 {
+        self.skipped
     }
 }
 
 impl Drop for Dashboard {
     fn drop(&mut self) {
-        let _ = disable_raw_mode();
-        let _ = crossterm::execute!(std::io::stdout(), LeaveAlternateScreen);
+        // The screen thread restores the terminal once it sees no more snapshots can come.
+        self.snapshots = None;
+        if !self.ended && self.done.recv_timeout(CLOSE_WAIT).is_err() {
+            // Still blocked on the terminal: leave raw mode at least (no write needed for it).
+            let _ = disable_raw_mode();
+        }
     }
 }
 
-fn render(f: &mut TermFrame<'_>, views: &[&SensorView], counters: &[Counters], elapsed: Duration) {
+fn restore_terminal() {
+    let _ = disable_raw_mode();
+    let _ = crossterm::execute!(std::io::stdout(), LeaveAlternateScreen);
+}
+
+/// The screen thread: draw each snapshot as it comes, watch the keyboard in between.
+fn screen_loop(
+    mut term: Terminal<CrosstermBackend<BufWriter<Stdout>>>,
+    snapshots: &mpsc::Receiver<Snapshot>,
+    quit: &AtomicBool,
+) -> std::io::Result<()> {
+    loop {
+        while event::poll(Duration::ZERO)? {
+            if let TermEvent::Key(k) = event::read()? {
+                let ctrl_c =
+                    k.code == KeyCode::Char('c') && k.modifiers.contains(KeyModifiers::CONTROL);
+                if matches!(k.code, KeyCode::Char('q') | KeyCode::Esc) || ctrl_c {
+                    quit.store(true, Ordering::Relaxed);
+                }
+            }
+        }
+        match snapshots.recv_timeout(KEY_POLL) {
+            Ok(s) => {
+                term.draw(|f| render(f, &s))?;
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => return Ok(()),
+        }
+    }
+}
+
+fn render(f: &mut TermFrame<'_>, s: &Snapshot) {
+    let (views, counters) = (&s.views, &s.counters);
     let area = f.area();
     let mut constraints = vec![Constraint::Length(1)];
     constraints.extend(views.iter().map(|_| Constraint::Min(9)));
@@ -194,7 +302,13 @@ fn render(f: &mut TermFrame<'_>, views: &[&SensorView], counters: &[Counters], e
         .direction(Direction::Vertical)
         .constraints(constraints)
         .split(area);
-    let title = format!(" tactile log — {:.1} s — q quits ", elapsed.as_secs_f64());
+    let mut title = format!(" tactile log — {:.1} s — q quits ", s.elapsed.as_secs_f64());
+    if s.skipped > 0 {
+        title.push_str(&format!(
+            "— {} refreshes skipped (slow terminal; recording unaffected) ",
+            s.skipped
+        ));
+    }
     f.render_widget(Paragraph::new(title).bold(), rows[0]);
     for (i, (v, c)) in views.iter().zip(counters).enumerate() {
         render_sensor(f, rows[i + 1], v, c);

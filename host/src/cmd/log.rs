@@ -104,6 +104,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         None
     };
+    let started = Instant::now();
     let result = pump(
         &mut sensors,
         &stop,
@@ -111,7 +112,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         dash.as_mut(),
         args.quiet || args.live,
     );
-    drop(dash);
+    if let Some(d) = dash.take() {
+        close_dashboard(d, &sensors, started.elapsed(), args.quiet);
+    }
     let finished = finish_files(&mut sensors, mcap);
     let mut gone = None;
     for s in sensors {
@@ -143,6 +146,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
 }
 
+/// Leave the dashboard's screen; its counters vanish with it, so unless `quiet` the totals are
+/// left in the scrollback, with the refreshes a slow terminal made it skip.
+fn close_dashboard(dash: Dashboard, sensors: &[Sensor], elapsed: Duration, quiet: bool) {
+    let skipped = dash.skipped();
+    drop(dash);
+    if !quiet {
+        eprintln!("{}", status_line(sensors, elapsed));
+        if skipped > 0 {
+            eprintln!("live view: {skipped} refreshes skipped (the terminal was slow)");
+        }
+    }
+}
+
 fn csv_paths(args: &Args) -> Vec<PathBuf> {
     let several = args.port.len() > 1;
     args.port
@@ -153,10 +169,23 @@ fn csv_paths(args: &Args) -> Vec<PathBuf> {
 
 type SharedSink = Rc<RefCell<McapSink>>;
 
+/// Fewest frames queued per sensor between its I/O thread and the files: 20 s at 1 kHz, 2.3 s
+/// at the link's top rate (8.8 kHz in batches of 10), while the logger empties every queue
+/// every few milliseconds.
+const MIN_QUEUE: usize = 2048;
+
+/// Frames queued per sensor. A queue is allocated whole when its port opens (~280 bytes an
+/// entry): the driver's default is 4.5 MiB per sensor, 72 MiB for a hand of sixteen. The hand
+/// together keeps what one sensor has.
+fn queue_per_sensor(sensors: usize) -> usize {
+    (OpenOptions::default().queue / sensors.max(1)).max(MIN_QUEUE)
+}
+
 fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Option<SharedSink>)> {
     let opts = OpenOptions {
         reconnect: !args.no_reconnect,
         reconnect_for: Duration::from_secs_f64(args.reconnect_for),
+        queue: queue_per_sensor(args.port.len()),
         ..OpenOptions::default()
     };
     let mut setup = Setup::from_hardware(String::new()).context("hardware parameters")?;
@@ -274,14 +303,15 @@ fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
             " DISCONNECTED"
         };
         line.push_str(&format!(
-            " | {}{state}: {:.0} S/s, {} rows, lost {} dropped {} crc {} reconnects {}",
+            " | {}{state}: {:.0} S/s, {} rows, lost {} dropped {} crc {} reconnects {} queue {}",
             s.view.label,
             s.view.rate_hz(),
             s.rec.rows,
             c.lost_on_link,
             c.dropped_by_device,
             c.crc_errors,
-            c.reconnects
+            c.reconnects,
+            c.host_queue_drops
         ));
     }
     line

@@ -8,10 +8,11 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::Instant;
 
 use mcap::records::MessageHeader;
 
-use super::FileError;
+use super::{FileError, FLUSH_EVERY};
 
 /// Encoding label of the raw topic: COBS frames of protocol/SPEC.md without delimiter.
 pub const RAW_ENCODING: &str = "tactile-cobs-v1";
@@ -43,6 +44,7 @@ pub struct McapSink {
     sample_schema: u16,
     gap_schema: u16,
     seq: u32,
+    last_flush: Instant,
 }
 
 impl McapSink {
@@ -71,6 +73,7 @@ impl McapSink {
             sample_schema,
             gap_schema,
             seq: 0,
+            last_flush: Instant::now(),
         })
     }
 
@@ -126,7 +129,18 @@ impl McapSink {
 
     /// Close the current chunk and push it to the file.
     pub fn flush(&mut self) -> Result<(), FileError> {
+        self.last_flush = Instant::now();
         self.w.flush().map_err(|e| self.err(e))
+    }
+
+    /// [`Self::flush`] unless the last was less than [`FLUSH_EVERY`] ago. Every sensor's
+    /// recorder asks on its own schedule: sixteen sensors closing a chunk each would write
+    /// sixteen times the chunks, and the writer keeps an index entry per chunk until the end.
+    pub fn flush_due(&mut self) -> Result<(), FileError> {
+        if self.last_flush.elapsed() >= FLUSH_EVERY {
+            self.flush()?;
+        }
+        Ok(())
     }
 
     /// Write the summary and footer.

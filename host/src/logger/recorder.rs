@@ -166,6 +166,8 @@ impl Recorder {
         extra[col::MISSING] = 0.0;
         extra[col::TEMP_CODE] = f64::from(f.frame.temp);
         extra[col::SATURATED] = f64::from(f.frame.status.saturated);
+        // Shared by the frame's samples: formatted once (a Unix time takes 17 digits).
+        let t_host_json = t_host.to_string();
         for (k, s) in f.frame.samples().iter().enumerate() {
             let t_dev_s = t_dev0_s + k as f64 / self.rate_hz;
             let t_s = (anchor + t_dev_s).max(self.last_t_s);
@@ -180,7 +182,7 @@ impl Recorder {
                 self.json.clear();
                 let _ = write!(
                     self.json,
-                    r#"{{"t_s":{t_s},"t_device_s":{t_dev_s},"t_host_s":{t_host},"seq":{},"session":{},"fz_V":{},"mx_V":{},"my_V":{},"fz_N":{},"mx_Nm":{},"my_Nm":{},"temp_code":{},"saturated":{}}}"#,
+                    r#"{{"t_s":{t_s},"t_device_s":{t_dev_s},"t_host_s":{t_host_json},"seq":{},"session":{},"fz_V":{},"mx_V":{},"my_V":{},"fz_N":{},"mx_Nm":{},"my_Nm":{},"temp_code":{},"saturated":{}}}"#,
                     f.seq,
                     f.session,
                     v[0],
@@ -245,9 +247,18 @@ impl Recorder {
         self.flush()
     }
 
+    /// Write the buffered rows out if [`FLUSH_EVERY`] has passed; the shared MCAP file closes
+    /// its chunk on its own schedule (one chunk per interval for all sensors together).
     pub fn maybe_flush(&mut self) -> Result<(), FileError> {
-        if self.last_flush.elapsed() >= FLUSH_EVERY {
-            self.flush()?;
+        if self.last_flush.elapsed() < FLUSH_EVERY {
+            return Ok(());
+        }
+        self.last_flush = Instant::now();
+        self.csv
+            .flush()
+            .map_err(|e| FileError::write(&self.path, e))?;
+        if let Some((m, _)) = &self.mcap {
+            m.borrow_mut().flush_due()?;
         }
         Ok(())
     }
