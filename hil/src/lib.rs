@@ -2,7 +2,7 @@
 //! the pty device emulator ([`emu`]), the firmware library running on the host against the
 //! emulated sensor behind a pseudo-terminal ([`native`]), the firmware's QEMU binary with its UART
 //! on a pty ([`qemu`]), the f64 references the decoded values are checked against
-//! ([`reference`]), and recording checks ([`check`]).
+//! ([`mod@reference`]), and recording checks ([`check`]).
 
 pub mod check;
 pub mod emu;

@@ -86,7 +86,7 @@ impl ReferenceFilter {
             .fold(self.smoothed, |y, s| s.step(y))
     }
 
-    /// Noise gain sqrt(Σ h[n]²): white noise of rms σ leaves the filter with rms σ times this.
+    /// Noise gain sqrt(Σ h\[n\]²): white noise of rms σ leaves the filter with rms σ times this.
     pub fn noise_gain(config: &FilterConfig, rate_hz: f64) -> f64 {
         let mut f = Self::new(config, rate_hz);
         f.step(0.0);

@@ -159,7 +159,7 @@ struct Snapshot {
 /// The dashboard. A thread of its own owns the terminal, because writing to a terminal can
 /// block for as long as the terminal pleases (a paused ssh session, Ctrl-S, a slow emulator
 /// with sixteen sensors' panels), and the recording must not wait for it: the logger hands the
-/// screen a snapshot at most every [`REFRESH_EVERY`], and when the screen is still busy with
+/// screen a snapshot at most every `REFRESH_EVERY`, and when the screen is still busy with
 /// the previous one that refresh is dropped (and counted in the title), never a sample.
 pub struct Dashboard {
     snapshots: Option<mpsc::SyncSender<Snapshot>>,
