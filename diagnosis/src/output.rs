@@ -1,4 +1,4 @@
-//! OUT.json of `diagnosis-v1.md`, field for field, plus extra fields (`localisation`,
+//! OUT.json of `docs/diagnosis-format.md`, field for field, plus extra fields (`localisation`,
 //! `candidates`, `seconds`) that the contract welcomes.
 
 use serde::ser::{Serialize, SerializeMap, Serializer};

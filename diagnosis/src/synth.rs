@@ -1,5 +1,5 @@
 //! Synthetic recordings: the baseline model of the compression test, optionally with catalogue
-//! effects and noise, written as a `recording-v1` recording. `tactile simulate` and the proof
+//! effects and noise, written as a recording (`docs/recording-format.md`). `tactile simulate` and the proof
 //! generator (`tactile prove`) both use this.
 
 use sim::compression::{rod_at_load, CompressionTest, RodHistory};

@@ -1,5 +1,5 @@
-//! Arbitrary bytes through the recording-v1 reader (`recording`), with small limits so
-//! the limit paths are reached too. Properties: no panic; every refusal but a size limit names
+//! Arbitrary bytes through the recording reader (`recording`, `docs/recording-format.md`), with
+//! small limits so the limit paths are reached too. Properties: no panic; every refusal but a size limit names
 //! its line; anything accepted writes back to a file that reads back to the same text.
 #![no_main]
 

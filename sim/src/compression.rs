@@ -1,4 +1,4 @@
-//! The standard compression test's rod history (`diagnosis-v1.md`, `simulate`): the rod waits
+//! The standard compression test's rod history (`docs/diagnosis-format.md`, `simulate`): the rod waits
 //! at its start, moves in at 20 mm/min until the load reaches the peak, holds 2 s, returns at
 //! 600 mm/min to its start and the fingertip recovers for 60 s; optionally several cycles.
 

@@ -23,9 +23,9 @@ use crate::pillar::Traction;
 /// The state of the load at one instant.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Contact {
-    /// Rod travel from first contact, mm (recording-v1's `rod_mm`).
+    /// Rod travel from first contact, mm (the recording's `rod_mm`).
     pub rod_mm: f64,
-    /// Force along the rod axis, N (the load cell, recording-v1's `load_N`).
+    /// Force along the rod axis, N (the load cell, the recording's `load_N`).
     pub load_n: f64,
     /// Mean traction of the gel on the package top.
     pub traction: Traction,

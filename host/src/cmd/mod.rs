@@ -70,3 +70,18 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_recording_is_no_input_and_a_broken_one_is_data() {
+        let missing = recording::read(std::path::Path::new("/nonexistent/rec.csv")).unwrap_err();
+        assert_eq!(exit_code_of(&missing), Some(exit::NO_INPUT));
+        let broken = recording::Recording::parse("").unwrap_err();
+        assert_eq!(exit_code_of(&broken), Some(exit::DATA));
+        let export = recording::machine::parse("t_s\n").unwrap_err();
+        assert_eq!(exit_code_of(&export), Some(exit::DATA));
+    }
+}

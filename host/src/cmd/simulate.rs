@@ -26,7 +26,7 @@ pub struct Args {
     /// Load at which the rod stops and holds, N.
     #[arg(long)]
     pub peak_load: f64,
-    /// Output recording (recording-v1 CSV).
+    /// Output recording (CSV, `docs/recording-format.md`).
     #[arg(long)]
     pub out: PathBuf,
     /// Sample rate, Hz [default: hardware/fingertip.toml test.sample_rate_hz].
