@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds everything (host workspace, both
 # firmware binaries), runs every test (host, firmware host tests, QEMU, HIL, ngspice).
+# Style is checked first: rustfmt, clippy (functions over 80 lines included, clippy.toml) and
+# rustdoc, with warnings as errors, for both workspaces.
 # Usage: ./test.sh            (CI runs exactly this through .ci/run)
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -11,6 +13,11 @@ bash scripts/setup.sh
 # The firmware first: it builds the QEMU binary that the host workspace's HIL test runs.
 echo "== firmware: host tests, release binaries, QEMU on-target tests"
 bash scripts/test-firmware.sh
+
+echo "== host workspace: style (rustfmt, clippy, rustdoc), warnings are errors"
+cargo fmt --all -- --check
+cargo clippy --workspace --all-targets --locked -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 
 echo "== host workspace: build and test (protocol, hardware, chip, fingertip, sim, host, HIL)"
 cargo build --workspace --all-targets --locked

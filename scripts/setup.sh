@@ -32,6 +32,14 @@ if ! command -v cargo >/dev/null; then
     exit 1
 fi
 
+# rustfmt and clippy check style in the test run; a minimal rustup profile lacks them.
+for component in rustfmt clippy; do
+    if ! rustup component list --installed | grep -q "^$component"; then
+        say "rustup component add $component"
+        rustup component add "$component"
+    fi
+done
+
 # The firmware's target: the Cortex-M4F of the QEMU mps2-an386 and the NUCLEO-F411RE.
 if ! rustup target list --installed | grep -qx thumbv7em-none-eabihf; then
     say "rustup target add thumbv7em-none-eabihf"

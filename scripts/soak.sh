@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The soak of issue 9: HIL 1's board -> pty -> `tactile log` for [minutes] (default 10) at the
+# The soak: HIL 1's board -> pty -> `tactile log` for [minutes] (default 10) at the
 # highest lossless rate (TACTILE_SOAK_RATE_HZ overrides it), printing samples, frames, losses,
 # CRC errors, the logger's RSS every minute and the throughput; fails on any loss or on memory
 # growth beyond the stated limit (hil/tests/soak_native.rs, docs/hil.md).

@@ -17,6 +17,8 @@
 
 use std::fmt;
 
+use nalgebra::DMatrix;
+
 use crate::sensitivity::Matrix3;
 
 /// One calibration sample: the bridge volts, an optional temperature, the known load.
@@ -99,48 +101,26 @@ pub fn fit(samples: &[Sample], with_temperature: bool) -> Result<Fit, FitError> 
     if let Some(index) = samples.iter().position(|s| !finite(s)) {
         return Err(FitError::NonFinite { index });
     }
-    let row = |s: &Sample| -> Vec<f64> {
-        let mut r = s.volts.to_vec();
-        if with_temperature {
-            r.push(s.temperature);
-        }
-        r.push(1.0);
-        r
-    };
-    let mut xtx = vec![vec![0.0; p]; p];
-    let mut xty = vec![[0.0; 3]; p];
-    for s in samples {
-        let x = row(s);
-        for i in 0..p {
-            for j in 0..p {
-                xtx[i][j] += x[i] * x[j];
-            }
-            for (c, y) in s.load.iter().enumerate() {
-                xty[i][c] += x[i] * y;
-            }
-        }
-    }
-    let inv = invert(xtx).ok_or(FitError::Singular)?;
-    let beta: Vec<[f64; 3]> = (0..p)
-        .map(|i| [0, 1, 2].map(|c| (0..p).map(|k| inv[i][k] * xty[k][c]).sum()))
-        .collect();
-    let mut rss = [0.0; 3];
-    for s in samples {
-        let x = row(s);
-        for c in 0..3 {
-            let predicted: f64 = (0..p).map(|i| x[i] * beta[i][c]).sum();
-            rss[c] += (s.load[c] - predicted).powi(2);
-        }
-    }
+    // X = [v | T | 1], one row per sample; Y = the loads.
+    let x = DMatrix::from_fn(n, p, |k, i| match i {
+        0..=2 => samples[k].volts[i],
+        3 if with_temperature => samples[k].temperature,
+        _ => 1.0,
+    });
+    let y = DMatrix::from_fn(n, 3, |k, c| samples[k].load[c]);
+    let inv = invert(x.tr_mul(&x)).ok_or(FitError::Singular)?;
+    let beta = &inv * x.tr_mul(&y);
+    let residual = &y - &x * &beta;
+    let rss: [f64; 3] = std::array::from_fn(|c| residual.column(c).norm_squared());
     let dof = (n - p) as f64;
-    let se = |i: usize, c: usize| (rss[c] / dof * inv[i][i]).sqrt();
+    let se = |i: usize, c: usize| (rss[c] / dof * inv[(i, i)]).sqrt();
     let t = with_temperature.then_some(3);
     Ok(Fit {
-        matrix: [0, 1, 2].map(|c| [0, 1, 2].map(|i| beta[i][c])),
+        matrix: [0, 1, 2].map(|c| [0, 1, 2].map(|i| beta[(i, c)])),
         matrix_std_err: [0, 1, 2].map(|c| [0, 1, 2].map(|i| se(i, c))),
-        temperature: t.map(|i| [0, 1, 2].map(|c| beta[i][c])),
+        temperature: t.map(|i| [0, 1, 2].map(|c| beta[(i, c)])),
         temperature_std_err: t.map(|i| [0, 1, 2].map(|c| se(i, c))),
-        offset: [0, 1, 2].map(|c| beta[p - 1][c]),
+        offset: [0, 1, 2].map(|c| beta[(p - 1, c)]),
         offset_std_err: [0, 1, 2].map(|c| se(p - 1, c)),
         residual_rms: rss.map(|r| (r / n as f64).sqrt()),
         samples: n,
@@ -151,48 +131,21 @@ fn finite(s: &Sample) -> bool {
     s.volts.iter().chain(&s.load).all(|v| v.is_finite()) && s.temperature.is_finite()
 }
 
-/// Gauss-Jordan inverse with partial pivoting of a small symmetric positive matrix, after
-/// scaling it to unit diagonal so that columns in volts and in degrees are treated alike.
-fn invert(mut a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
-    let p = a.len();
-    let d: Vec<f64> = (0..p).map(|i| a[i][i].sqrt()).collect();
+/// Inverse of the small symmetric positive matrix X^T X, scaled to unit diagonal first so that
+/// columns in volts and in degrees are treated alike; `None` when a pivot of the scaled matrix
+/// is below 1e-12 (loads that do not excite every column independently).
+fn invert(a: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let d = a.diagonal().map(f64::sqrt);
     if d.iter().any(|v| v.is_nan() || *v <= 0.0) {
         return None;
     }
-    for i in 0..p {
-        for j in 0..p {
-            a[i][j] /= d[i] * d[j];
-        }
+    let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / (d[i] * d[j]));
+    let lu = scaled.lu();
+    if lu.u().diagonal().iter().any(|pivot| pivot.abs() < 1e-12) {
+        return None;
     }
-    let mut inv: Vec<Vec<f64>> = (0..p)
-        .map(|i| (0..p).map(|j| f64::from(u8::from(i == j))).collect())
-        .collect();
-    for col in 0..p {
-        let pivot = (col..p).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
-        if a[pivot][col].abs() < 1e-12 {
-            return None;
-        }
-        a.swap(col, pivot);
-        inv.swap(col, pivot);
-        let div = a[col][col];
-        for j in 0..p {
-            a[col][j] /= div;
-            inv[col][j] /= div;
-        }
-        for r in 0..p {
-            if r != col {
-                let factor = a[r][col];
-                for j in 0..p {
-                    a[r][j] -= factor * a[col][j];
-                    inv[r][j] -= factor * inv[col][j];
-                }
-            }
-        }
-    }
-    for i in 0..p {
-        for j in 0..p {
-            inv[i][j] /= d[i] * d[j];
-        }
-    }
-    Some(inv)
+    let inv = lu.try_inverse()?;
+    Some(DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| {
+        inv[(i, j)] / (d[i] * d[j])
+    }))
 }

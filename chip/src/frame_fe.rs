@@ -10,6 +10,8 @@
 
 use std::fmt;
 
+use nalgebra::{DMatrix, DVector};
+
 use crate::params::{Beam, ChipParams, Load};
 use crate::section::{rectangle_torsion_factor_m4, section_modulus_m3};
 
@@ -114,32 +116,7 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
         return Err(FrameError::NoElements);
     }
     let g = &p.geometry;
-    let (e, gs) = (p.silicon.youngs_modulus_pa, p.silicon.shear_modulus_pa);
-    let beam_section = rectangle(
-        g.beam_width_m,
-        g.beam_thickness_m,
-        e,
-        gs,
-        opt.shear_deformation,
-    );
-    let block_section = if opt.real_block {
-        rectangle(
-            2.0 * g.block_half_width_m,
-            g.block_thickness_m,
-            e,
-            gs,
-            opt.shear_deformation,
-        )
-    } else {
-        let f = opt.block_stiffness_factor;
-        SectionStiffness {
-            ea: beam_section.ea * f,
-            gj: beam_section.gj * f,
-            ei_y: beam_section.ei_y * f,
-            ei_z: beam_section.ei_z * f,
-            kga: beam_section.kga * f,
-        }
-    };
+    let (beam_section, block_section) = sections(p, &opt);
     let (l, c) = (g.beam_length_m, g.block_half_width_m);
     let n_nodes = 1 + 4 * (n + 1);
     let mut coords = vec![[0.0; 3]; n_nodes];
@@ -178,6 +155,33 @@ pub fn solve(p: &ChipParams, load: Load, opt: FrameOptions) -> Result<FrameSolut
         displacement,
         beam_elements,
     })
+}
+
+/// The stiffnesses of a beam's section and of the block's stubs.
+fn sections(p: &ChipParams, opt: &FrameOptions) -> (SectionStiffness, SectionStiffness) {
+    let g = &p.geometry;
+    let (e, gs) = (p.silicon.youngs_modulus_pa, p.silicon.shear_modulus_pa);
+    let shear = opt.shear_deformation;
+    let beam = rectangle(g.beam_width_m, g.beam_thickness_m, e, gs, shear);
+    let block = if opt.real_block {
+        rectangle(
+            2.0 * g.block_half_width_m,
+            g.block_thickness_m,
+            e,
+            gs,
+            shear,
+        )
+    } else {
+        let f = opt.block_stiffness_factor;
+        SectionStiffness {
+            ea: beam.ea * f,
+            gj: beam.gj * f,
+            ei_y: beam.ei_y * f,
+            ei_z: beam.ei_z * f,
+            kga: beam.kga * f,
+        }
+    };
+    (beam, block)
 }
 
 /// Stiffnesses of a rectangular section `width` (in plane) by `thickness` (along z).
@@ -298,35 +302,17 @@ fn assemble(k: &mut [f64], n_dof: usize, el: &Element) {
     }
 }
 
-/// Solve K u = f with the `clamped` dofs held at zero (dense Cholesky on the free dofs).
+/// Solve K u = f with the `clamped` dofs held at zero (nalgebra's dense Cholesky on the free
+/// dofs).
 fn solve_clamped(k: &[f64], f: &[f64], clamped: &[bool]) -> Result<Vec<f64>, FrameError> {
     let n_dof = f.len();
     let free: Vec<usize> = (0..n_dof).filter(|&d| !clamped[d]).collect();
     let m = free.len();
-    let mut a: Vec<f64> = Vec::with_capacity(m * m);
-    for &i in &free {
-        a.extend(free.iter().map(|&j| k[i * n_dof + j]));
-    }
-    for j in 0..m {
-        let diag = a[j * m + j] - (0..j).map(|q| a[j * m + q] * a[j * m + q]).sum::<f64>();
-        if diag <= 0.0 || !diag.is_finite() {
-            return Err(FrameError::NotPositiveDefinite);
-        }
-        let ljj = diag.sqrt();
-        a[j * m + j] = ljj;
-        for i in j + 1..m {
-            let s = a[i * m + j] - (0..j).map(|q| a[i * m + q] * a[j * m + q]).sum::<f64>();
-            a[i * m + j] = s / ljj;
-        }
-    }
-    let mut y: Vec<f64> = free.iter().map(|&d| f[d]).collect();
-    for i in 0..m {
-        let s: f64 = (0..i).map(|q| a[i * m + q] * y[q]).sum();
-        y[i] = (y[i] - s) / a[i * m + i];
-    }
-    for i in (0..m).rev() {
-        let s: f64 = (i + 1..m).map(|q| a[q * m + i] * y[q]).sum();
-        y[i] = (y[i] - s) / a[i * m + i];
+    let a = DMatrix::from_fn(m, m, |i, j| k[free[i] * n_dof + free[j]]);
+    let cholesky = a.cholesky().ok_or(FrameError::NotPositiveDefinite)?;
+    let y = cholesky.solve(&DVector::from_fn(m, |q, _| f[free[q]]));
+    if y.iter().any(|v| !v.is_finite()) {
+        return Err(FrameError::NotPositiveDefinite);
     }
     let mut u = vec![0.0; n_dof];
     for (q, &d) in free.iter().enumerate() {

@@ -15,7 +15,7 @@ const UNIT_LOADS: [Load; 3] = [
     Load::new(0.0, 0.0, 1.0),
 ];
 
-/// S[i][j] = d(output of bridge i) / d(load component j), rows Fz, Mx, My bridges, columns
+/// `S[i][j]` = d(output of bridge i) / d(load component j), rows Fz, Mx, My bridges, columns
 /// Fz (V/N), Mx (V/(N·m)), My (V/(N·m)). Exact for the linearised bridges: the stresses are
 /// linear in the load, so Delta R / R at a unit load is the derivative.
 pub fn sensitivity_matrix(p: &ChipParams) -> Matrix3 {
@@ -89,7 +89,7 @@ pub fn calibration_matrix_after_gains(p: &ChipParams, gains: [f64; 3]) -> Option
     Some(c.map(|row| [row[0] / gains[0], row[1] / gains[1], row[2] / gains[2]]))
 }
 
-/// Crosstalk of load j into bridge i relative to bridge j's own response: S[i][j] / S[j][j]
+/// Crosstalk of load j into bridge i relative to bridge j's own response: `S[i][j] / S[j][j]`
 /// (zero on the diagonal).
 pub fn crosstalk(s: &Matrix3) -> Matrix3 {
     let mut x = [[0.0; 3]; 3];

@@ -19,6 +19,7 @@ use faer::{Mat, Side};
 
 use crate::contact::Rod;
 use crate::model::NONE;
+use crate::solver::Solver;
 use crate::{Error, Fingertip};
 
 /// Gauss–Seidel sweeps per update at most (fallback only).
@@ -81,68 +82,11 @@ impl Haptic {
     /// `margin_mm` of the rod face.
     pub fn new(ft: &mut Fingertip, margin_mm: f64) -> Result<Haptic, Error> {
         let rod = ft.rod_at(ft.travel_mm() * 1e-3);
-        let e = rod.axis;
+        let cand = candidate_nodes(&ft.solver, &rod, margin_mm);
+        let (w, unit_solutions) = condense(&mut ft.solver, &rod, &cand)?;
+        let g = chip_sensitivity(ft, &cand, &unit_solutions)?;
         let s = &mut ft.solver;
-        let radius = rod.radius_m;
-        let mut cand = Vec::new();
-        for &a in &s.surface_nodes {
-            let x = s.state.x[a];
-            let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
-            let rho2 = (0..3).map(|d| (x[d] - along * e[d]).powi(2)).sum::<f64>();
-            if along > rod.face_m - margin_mm * 1e-3 && rho2 < radius * radius {
-                cand.push(a);
-            }
-        }
-        // Gel tangent without contact at the converged state.
-        let rod_away = Rod {
-            face_m: f64::INFINITY,
-            ..rod
-        };
-        s.evaluate(&rod_away, 0.0);
-        s.ldlt.factorize(&s.asm.values)?;
-        let model = &s.model;
-        let n = model.n_dofs;
-        let nc = cand.len();
-        let mut rhs = vec![0.0; n * nc];
-        for (j, &a) in cand.iter().enumerate() {
-            for d in 0..3 {
-                // Force -e (the rod pushes the gel) per unit normal force.
-                rhs[j * n + model.dof_x[a][d] as usize] = -e[d];
-            }
-        }
-        s.ldlt.solve_in_place(&mut rhs, nc);
-        let mut w = vec![0.0; nc * nc];
-        for i in 0..nc {
-            for (j, &a) in cand.iter().enumerate() {
-                // Displacement of node a along -e (closing the gap) due to unit force at i.
-                w[j * nc + i] = -(0..3)
-                    .map(|d| rhs[i * n + model.dof_x[a][d] as usize] * e[d])
-                    .sum::<f64>();
-            }
-        }
-        let g = chip_sensitivity(ft, &cand, &rhs)?;
-        let s = &mut ft.solver;
-        let mut gap0 = Vec::with_capacity(nc);
-        let mut f0 = Vec::with_capacity(nc);
-        let mut shift = Vec::with_capacity(nc);
-        for &a in &cand {
-            let x = s.state.x[a];
-            let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
-            let pen = along - rod.face_m;
-            let f = if pen > 0.0 {
-                crate::contact::normal_law(pen, s.contact_k[a], s.contact_ramp[a]).0
-            } else {
-                0.0
-            };
-            gap0.push(-pen);
-            f0.push(f);
-            // Nodes in contact follow the penalty line through their base state.
-            shift.push(if f > 0.0 {
-                f / s.contact_k[a] - pen
-            } else {
-                0.0
-            });
-        }
+        let base = BaseState::new(s, &rod, &cand);
         // Restore the assembled contact state of the full model.
         s.evaluate(&rod, 0.0);
         let inv_k = cand.iter().map(|&a| 1.0 / s.contact_k[a]).collect();
@@ -151,10 +95,10 @@ impl Haptic {
             w,
             g,
             inv_k,
-            gap0,
-            shift,
-            f: f0.clone(),
-            f0,
+            gap0: base.gap,
+            shift: base.shift,
+            f: base.force.clone(),
+            f0: base.force,
             travel0_m: ft.travel_mm() * 1e-3,
             loads0: [p.fz_n, p.mx_nm, p.my_nm],
             force0_n: p.force_n,
@@ -373,5 +317,92 @@ fn element_reaction(
         load[0] += f[2];
         load[1] += x[1] * f[2] - x[2] * f[1];
         load[2] += x[2] * f[0] - x[0] * f[2];
+    }
+}
+
+/// Surface nodes under the rod face, within `margin_mm` of it: the ones that may touch.
+fn candidate_nodes(s: &Solver, rod: &Rod, margin_mm: f64) -> Vec<usize> {
+    let e = rod.axis;
+    let radius = rod.radius_m;
+    let mut cand = Vec::new();
+    for &a in &s.surface_nodes {
+        let x = s.state.x[a];
+        let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
+        let rho2 = (0..3).map(|d| (x[d] - along * e[d]).powi(2)).sum::<f64>();
+        if along > rod.face_m - margin_mm * 1e-3 && rho2 < radius * radius {
+            cand.push(a);
+        }
+    }
+    cand
+}
+
+/// The Delassus compliance W (n_c x n_c, row-major) of the gel tangent without contact, and the
+/// n_c unit-force solutions K^{-1} N it was read from (column j: unit normal force at `cand[j]`).
+fn condense(s: &mut Solver, rod: &Rod, cand: &[usize]) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let e = rod.axis;
+    let rod_away = Rod {
+        face_m: f64::INFINITY,
+        ..*rod
+    };
+    s.evaluate(&rod_away, 0.0);
+    s.ldlt.factorize(&s.asm.values)?;
+    let model = &s.model;
+    let n = model.n_dofs;
+    let nc = cand.len();
+    let mut rhs = vec![0.0; n * nc];
+    for (j, &a) in cand.iter().enumerate() {
+        for d in 0..3 {
+            // Force -e (the rod pushes the gel) per unit normal force.
+            rhs[j * n + model.dof_x[a][d] as usize] = -e[d];
+        }
+    }
+    s.ldlt.solve_in_place(&mut rhs, nc);
+    let mut w = vec![0.0; nc * nc];
+    for i in 0..nc {
+        for (j, &a) in cand.iter().enumerate() {
+            // Displacement of node a along -e (closing the gap) due to unit force at i.
+            w[j * nc + i] = -(0..3)
+                .map(|d| rhs[i * n + model.dof_x[a][d] as usize] * e[d])
+                .sum::<f64>();
+        }
+    }
+    Ok((w, rhs))
+}
+
+/// Each candidate's gap, penalty force and penalty-line shift at the converged state.
+struct BaseState {
+    gap: Vec<f64>,
+    force: Vec<f64>,
+    shift: Vec<f64>,
+}
+
+impl BaseState {
+    fn new(s: &Solver, rod: &Rod, cand: &[usize]) -> Self {
+        let e = rod.axis;
+        let nc = cand.len();
+        let (mut gap, mut force, mut shift) = (
+            Vec::with_capacity(nc),
+            Vec::with_capacity(nc),
+            Vec::with_capacity(nc),
+        );
+        for &a in cand {
+            let x = s.state.x[a];
+            let along = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
+            let pen = along - rod.face_m;
+            let f = if pen > 0.0 {
+                crate::contact::normal_law(pen, s.contact_k[a], s.contact_ramp[a]).0
+            } else {
+                0.0
+            };
+            gap.push(-pen);
+            force.push(f);
+            // Nodes in contact follow the penalty line through their base state.
+            shift.push(if f > 0.0 {
+                f / s.contact_k[a] - pen
+            } else {
+                0.0
+            });
+        }
+        Self { gap, force, shift }
     }
 }

@@ -43,6 +43,9 @@
 //! linearly with E (`tests/verification.rs`, `response_scales_linearly_with_youngs_modulus`). A curve at one modulus therefore calibrates E by a
 //! single factor.
 
+// Index loops follow the tensor and node-dof notation of the equations they implement.
+#![allow(clippy::needless_range_loop)]
+
 pub mod assembly;
 pub mod contact;
 mod fingertip;

@@ -178,62 +178,106 @@ fn mesh_block(
     }
 }
 
+/// The block lattices in units of R: lateral (x and y, symmetric), vertical, and radial
+/// through the shells.
+struct Lattices {
+    lat: Vec<f64>,
+    ver: Vec<f64>,
+    rad: Vec<f64>,
+}
+
+impl Lattices {
+    fn new(params: &MeshParams) -> Self {
+        let r = params.radius_mm;
+        let c = INNER_CUBE_FRACTION;
+        let h = params.size_mm;
+        let w = params.inclusion_half_width_mm.min(0.8 * c * r);
+        let hi = params.inclusion_height_mm.min(0.8 * c * r);
+        let h_fine = (CHIP_REFINEMENT * h).min(w / 2.0).min(hi / 2.0);
+        let half = half_lattice(w, c * r, h_fine, h);
+        let lat = half
+            .iter()
+            .rev()
+            .map(|v| -v / r)
+            .chain(half.iter().skip(1).map(|v| v / r))
+            .collect();
+        let ver = half_lattice(hi, c * r, h_fine, h)
+            .iter()
+            .map(|v| v / r)
+            .collect();
+        let shell = (1.0 - c) * r;
+        // Radially, grade towards the surface down to the cap's lateral spacing (h_fine / c at
+        // the pole), so the elements under the contact are about isotropic.
+        let h_surface = (SURFACE_REFINEMENT * h).min(h_fine / c);
+        let rad = graded(shell, h, h_surface)
+            .iter()
+            .map(|v| v / shell)
+            .collect();
+        Self { lat, ver, rad }
+    }
+
+    /// The lateral cell lies on the negative half of its axis (mirrored there).
+    fn negative(&self, cell: usize) -> bool {
+        self.lat[cell + 1] <= 0.0
+    }
+}
+
+/// A block's lattice point `(i, j, k)` -> (parameter, position).
+type PointFn<'a> = &'a dyn Fn(usize, usize, usize) -> ([f64; 3], [f64; 3]);
+/// Whether cell `c` along a block's local axis lies on a mirrored half.
+type NegativeFn<'a> = &'a dyn Fn(usize, usize) -> bool;
+
+/// Nodes, tetrahedra and surface triangles as the blocks add them.
+struct Builder {
+    table: NodeTable,
+    tets: Vec<[usize; 4]>,
+    tris: Vec<[usize; 3]>,
+}
+
+impl Builder {
+    fn add(&mut self, block: &Block) {
+        mesh_block(block, &mut self.table, &mut self.tets, &mut self.tris);
+    }
+}
+
 /// Generate the hemisphere mesh.
 pub fn generate(params: &MeshParams) -> Mesh {
-    let r = params.radius_mm;
-    let c = INNER_CUBE_FRACTION;
-    let h = params.size_mm;
-    let w = params.inclusion_half_width_mm.min(0.8 * c * r);
-    let hi = params.inclusion_height_mm.min(0.8 * c * r);
-    let h_fine = (CHIP_REFINEMENT * h).min(w / 2.0).min(hi / 2.0);
-    // Lattices in units of R.
-    let half = half_lattice(w, c * r, h_fine, h);
-    let lat: Vec<f64> = half
-        .iter()
-        .rev()
-        .map(|v| -v / r)
-        .chain(half.iter().skip(1).map(|v| v / r))
-        .collect();
-    let ver: Vec<f64> = half_lattice(hi, c * r, h_fine, h)
-        .iter()
-        .map(|v| v / r)
-        .collect();
-    let shell = (1.0 - c) * r;
-    // Radially, grade towards the surface down to the cap's lateral spacing (h_fine / c at the
-    // pole), so the elements under the contact are about isotropic.
-    let h_surface = (SURFACE_REFINEMENT * h).min(h_fine / c);
-    let rad: Vec<f64> = graded(shell, h, h_surface)
-        .iter()
-        .map(|v| v / shell)
-        .collect();
-
-    let r_m = r * 1e-3;
-    let mut table = NodeTable {
-        index: HashMap::new(),
-        nodes: Vec::new(),
-        param: Vec::new(),
+    let r_m = params.radius_mm * 1e-3;
+    let lattices = Lattices::new(params);
+    let mut builder = Builder {
+        table: NodeTable {
+            index: HashMap::new(),
+            nodes: Vec::new(),
+            param: Vec::new(),
+        },
+        tets: Vec::new(),
+        tris: Vec::new(),
     };
-    let mut tets = Vec::new();
-    let mut tris = Vec::new();
+    mesh_inner_cube(&lattices, r_m, &mut builder);
+    mesh_shells(&lattices, r_m, &mut builder);
+    finish(builder.table, builder.tets, builder.tris, params, r_m)
+}
 
+/// The inner half-cube as a graded Cartesian lattice.
+fn mesh_inner_cube(l: &Lattices, r_m: f64, builder: &mut Builder) {
+    let (lat, ver) = (&l.lat, &l.ver);
     let inner = |i: usize, j: usize, k: usize| {
         let p = [lat[i], lat[j], ver[k]];
         (p, p.map(|v| v * r_m))
     };
-    let neg = |cell: usize| lat[cell + 1] <= 0.0;
-    let inner_neg = |axis: usize, cell: usize| axis < 2 && neg(cell);
-    mesh_block(
-        &Block {
-            dims: [lat.len() - 1, lat.len() - 1, ver.len() - 1],
-            point: &inner,
-            negative: &inner_neg,
-            outer: false,
-        },
-        &mut table,
-        &mut tets,
-        &mut tris,
-    );
+    let inner_neg = |axis: usize, cell: usize| axis < 2 && l.negative(cell);
+    builder.add(&Block {
+        dims: [lat.len() - 1, lat.len() - 1, ver.len() - 1],
+        point: &inner,
+        negative: &inner_neg,
+        outer: false,
+    });
+}
 
+/// The five shell blocks (+z, ±x, ±y) from the cube's faces to the sphere.
+fn mesh_shells(l: &Lattices, r_m: f64, builder: &mut Builder) {
+    let c = INNER_CUBE_FRACTION;
+    let (lat, ver, rad) = (&l.lat, &l.ver, &l.rad);
     let shell_point = |t: f64, q: [f64; 3]| {
         let norm = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
         let m = c + t * (1.0 - c);
@@ -245,16 +289,15 @@ pub fn generate(params: &MeshParams) -> Mesh {
     let b = |k: usize| ver[k] / c;
     let nt = rad.len() - 1;
     let (na, nb) = (lat.len() - 1, ver.len() - 1);
-    let top = |l: usize, i: usize, j: usize| shell_point(rad[l], [a(i), a(j), 1.0]);
-    let xp = |l: usize, j: usize, k: usize| shell_point(rad[l], [1.0, a(j), b(k)]);
-    let xm = |l: usize, j: usize, k: usize| shell_point(rad[l], [-1.0, a(j), b(k)]);
-    let yp = |l: usize, i: usize, k: usize| shell_point(rad[l], [a(i), 1.0, b(k)]);
-    let ym = |l: usize, i: usize, k: usize| shell_point(rad[l], [a(i), -1.0, b(k)]);
+    let top = |m: usize, i: usize, j: usize| shell_point(rad[m], [a(i), a(j), 1.0]);
+    let xp = |m: usize, j: usize, k: usize| shell_point(rad[m], [1.0, a(j), b(k)]);
+    let xm = |m: usize, j: usize, k: usize| shell_point(rad[m], [-1.0, a(j), b(k)]);
+    let yp = |m: usize, i: usize, k: usize| shell_point(rad[m], [a(i), 1.0, b(k)]);
+    let ym = |m: usize, i: usize, k: usize| shell_point(rad[m], [a(i), -1.0, b(k)]);
     // Axis 0 is radial; the lateral axes are mirrored on their negative half, z never is.
-    let top_neg = |axis: usize, cell: usize| axis > 0 && neg(cell);
-    let side_neg = |axis: usize, cell: usize| axis == 1 && neg(cell);
-    type PointFn<'a> = &'a dyn Fn(usize, usize, usize) -> ([f64; 3], [f64; 3]);
-    let blocks: [(PointFn, [usize; 3], &dyn Fn(usize, usize) -> bool); 5] = [
+    let top_neg = |axis: usize, cell: usize| axis > 0 && l.negative(cell);
+    let side_neg = |axis: usize, cell: usize| axis == 1 && l.negative(cell);
+    let blocks: [(PointFn, [usize; 3], NegativeFn); 5] = [
         (&top, [nt, na, na], &top_neg),
         (&xp, [nt, na, nb], &side_neg),
         (&xm, [nt, na, nb], &side_neg),
@@ -262,19 +305,13 @@ pub fn generate(params: &MeshParams) -> Mesh {
         (&ym, [nt, na, nb], &side_neg),
     ];
     for (point, dims, negative) in blocks {
-        mesh_block(
-            &Block {
-                dims,
-                point,
-                negative,
-                outer: true,
-            },
-            &mut table,
-            &mut tets,
-            &mut tris,
-        );
+        builder.add(&Block {
+            dims,
+            point,
+            negative,
+            outer: true,
+        });
     }
-    finish(table, tets, tris, params, r_m)
 }
 
 /// Orient elements and surface triangles, flag base and inclusion nodes.

@@ -49,9 +49,9 @@ fn patch_test_homogeneous_deformation_is_in_equilibrium() {
         let area = s.model.mesh.surface_node_areas();
         let scale = s.model.material.mu_pa * 0.02 * 0.02;
         let mut checked = 0;
-        for a in 0..s.model.mesh.nodes.len() {
+        for (a, &node_area) in area.iter().enumerate() {
             let interior =
-                area[a] == 0.0 && !s.model.mesh.on_base[a] && !s.model.mesh.in_inclusion[a];
+                node_area == 0.0 && !s.model.mesh.on_base[a] && !s.model.mesh.in_inclusion[a];
             if interior {
                 for d in 0..3 {
                     let r = s.asm.residual[s.model.dof_x[a][d] as usize];

@@ -1,9 +1,9 @@
-//! Arbitrary bytes through the recording-v1 reader (`host::recording`), with small limits so
+//! Arbitrary bytes through the recording-v1 reader (`recording`), with small limits so
 //! the limit paths are reached too. Properties: no panic; every refusal but a size limit names
 //! its line; anything accepted writes back to a file that reads back to the same text.
 #![no_main]
 
-use host::recording::{read_from_with, Limits, Recording};
+use recording::{read_from_with, Limits, Recording};
 use libfuzzer_sys::fuzz_target;
 
 const LIMITS: Limits = Limits {

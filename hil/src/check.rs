@@ -5,7 +5,7 @@ use std::process::Command;
 
 use host::device::Scale;
 use host::logger::gap_code;
-use host::recording::{read as read_recording, Recording};
+use recording::{read as read_recording, Recording};
 
 use crate::emu::{info_for, truth_sample, truth_temp, EmuConfig};
 
@@ -105,33 +105,13 @@ pub fn verify(
             ));
         }
         if k == 0 {
-            if let Some((s, kp)) = prev {
-                if kp + 1 != batch {
-                    return Err(format!("row {i}: frame {s} has {} samples", kp + 1));
-                }
-                let jump = u64::from(seq.wrapping_sub(s));
-                let ok = jump == 1
-                    || allowance.is_some_and(|a| jump >= 1 && (a == UNKNOWN || jump - 1 == a));
-                if !ok {
-                    return Err(format!(
-                        "row {i}: frame {seq} follows {s} without a gap row accounting for it"
-                    ));
-                }
-                if let Some(a) = allowance {
-                    if a != UNKNOWN && jump - 1 != a {
-                        return Err(format!(
-                            "row {i}: gap says {a} frames missing, sequence says {}",
-                            jump - 1
-                        ));
-                    }
-                }
-            } else {
-                v.first_seq = seq;
+            match prev {
+                Some((s, kp)) => frame_follows(i, (s, kp + 1), seq, batch, allowance)?,
+                None => v.first_seq = seq,
             }
             allowance = None;
             v.frames += 1;
         }
-        let truth = truth_sample(u64::from(seq) * batch as u64 + k as u64, rate_hz);
         if temp_c[i] != f64::from(truth_temp(seq)) {
             return Err(format!(
                 "row {i}: frame {seq}: temperature code {} != truth {}",
@@ -139,8 +119,10 @@ pub fn verify(
                 truth_temp(seq)
             ));
         }
-        for c in 0..3 {
-            let code = (ch[c][i] / volts_per_code).round() as i32;
+        let volts = [ch[0][i], ch[1][i], ch[2][i]];
+        let truth = truth_sample(u64::from(seq) * batch as u64 + k as u64, rate_hz);
+        for (c, v) in volts.iter().enumerate() {
+            let code = (v / volts_per_code).round() as i32;
             if code != truth.ch[c] {
                 return Err(format!(
                     "row {i}: frame {seq} sample {k} channel {c}: {code} != truth {}",
@@ -153,4 +135,32 @@ pub fn verify(
         v.samples += 1;
     }
     Ok(v)
+}
+
+/// Frame `seq` starting at row `i` may follow frame `previous` (its sequence and sample count)
+/// if the previous one was whole and the jump is one, or what the gap rows between allow.
+fn frame_follows(
+    i: usize,
+    (s, samples): (u32, usize),
+    seq: u32,
+    batch: usize,
+    allowance: Option<u64>,
+) -> Result<(), String> {
+    if samples != batch {
+        return Err(format!("row {i}: frame {s} has {samples} samples"));
+    }
+    let jump = u64::from(seq.wrapping_sub(s));
+    let ok = jump == 1 || allowance.is_some_and(|a| jump >= 1 && (a == UNKNOWN || jump - 1 == a));
+    if !ok {
+        return Err(format!(
+            "row {i}: frame {seq} follows {s} without a gap row accounting for it"
+        ));
+    }
+    match allowance {
+        Some(a) if a != UNKNOWN && jump - 1 != a => Err(format!(
+            "row {i}: gap says {a} frames missing, sequence says {}",
+            jump - 1
+        )),
+        _ => Ok(()),
+    }
 }

@@ -15,11 +15,11 @@
 
 use std::time::{Duration, Instant};
 
+use hil::check::scratch;
+use hil::emu::{truth_frame, EmuConfig, EmuFaults, Emulator, Pace};
 use host::device::{Counters, Device, Event, GapKind, OpenOptions, PortSpec};
 use protocol::Status;
 use sim::link::{FaultRates, Injected};
-use hil::check::scratch;
-use hil::emu::{truth_frame, EmuConfig, EmuFaults, Emulator, Pace};
 
 /// Frames at each end that pass the link clean: a loss before the first accepted frame or after
 /// the last one would not show by sequence.

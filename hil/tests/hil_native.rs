@@ -9,10 +9,10 @@
 
 use std::time::{Duration, Instant};
 
-use host::device::{Device, Event, Frame, OpenOptions, PortSpec};
-use protocol::{FilterConfig, NullState};
 use hil::native::{NativeConfig, NativeSensor};
 use hil::reference::{code_to_v, ErrorStats, ReferenceFilter};
+use host::device::{Device, Event, Frame, OpenOptions, PortSpec};
+use protocol::{FilterConfig, NullState};
 
 const CFG: NativeConfig = NativeConfig {
     peak_load_n: 45.0,

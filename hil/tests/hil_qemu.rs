@@ -13,13 +13,13 @@
 
 use std::time::{Duration, Instant, SystemTime};
 
+use hil::pty::hold_open;
+use hil::qemu::{build_elf, ideal_code, Clock, QemuBoard, NULL_CODES};
+use hil::reference::ReferenceFilter;
 use host::device::{Device, Event, Frame, OpenOptions, PortSpec};
 use host::logger::{Recorder, Setup};
 use protocol::{FilterConfig, NullState};
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-use hil::pty::hold_open;
-use hil::qemu::{build_elf, ideal_code, Clock, QemuBoard, NULL_CODES};
-use hil::reference::ReferenceFilter;
 
 const FILTER: FilterConfig = FilterConfig {
     smoother_alpha: 1.0,
@@ -257,7 +257,7 @@ fn hil_qemu_firmware_under_qemu_streams_to_the_host_logger() {
     );
 
     // The recording: the contract's CSV with one row per sample.
-    let recording = host::recording::read(&out).expect("recording-v1 CSV reads back");
+    let recording = recording::read(&out).expect("recording-v1 CSV reads back");
     let fz = &recording.channels.fz_v;
     assert_eq!(fz.len() as u64, samples, "one row per sample");
     assert!(recording.meta.get("firmware_smoother_alpha").is_some());

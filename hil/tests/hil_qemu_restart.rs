@@ -14,13 +14,13 @@ use std::os::fd::OwnedFd;
 use std::path::Path;
 use std::time::{Duration, Instant, SystemTime};
 
+use hil::check::scratch;
+use hil::pty::{hold_open, relink};
+use hil::qemu::{build_elf, ideal_code, Clock, QemuBoard, NULL_CODES};
 use host::device::{Counters, Device, Event, Frame, GapKind, OpenOptions, PortSpec, Scale};
 use host::logger::{gap_code, Recorder, Setup};
 use protocol::NullState;
 use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
-use hil::check::scratch;
-use hil::pty::{hold_open, relink};
-use hil::qemu::{build_elf, ideal_code, Clock, QemuBoard, NULL_CODES};
 
 /// Settled frames wanted from each boot before moving on.
 const SETTLED_FRAMES: usize = 40;
@@ -106,8 +106,7 @@ fn check_values(frames: &[Frame]) -> u64 {
 /// The CSV holds exactly the received samples in order, with the two gap rows between the
 /// sessions, and reads back with the contract's reader.
 fn check_recording(path: &Path, log: &Log, scale: &Scale) {
-    let rec =
-        host::recording::read(path).expect("the recording reads back with the contract's reader");
+    let rec = recording::read(path).expect("the recording reads back with the contract's reader");
     let col = |n: &str| rec.column(n).unwrap_or_else(|| panic!("column {n}"));
     let (seq, session, gap, missing) = (col("seq"), col("session"), col("gap"), col("missing"));
     let volts = [col("fz_V"), col("mx_V"), col("my_V")];

@@ -6,9 +6,9 @@
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
 use hil::check::scratch;
 use hil::emu::truth_frame;
+use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
 
 fn emulator(link: &std::path::Path, epoch_s: f64) -> Child {
     let child = Command::new(env!("CARGO_BIN_EXE_tactile-emu"))

@@ -1,4 +1,4 @@
-//! The soak (issue 9): HIL 1's board (the firmware library against the emulated sensor chain,
+//! The soak: HIL 1's board (the firmware library against the emulated sensor chain,
 //! paced in real time) streams through a pty to the real `tactile log` process for ten minutes at
 //! the highest rate this path carries without loss; the logger's resident memory is sampled from
 //! /proc every second. Checks: zero loss (no gap row in the recording, sequence continuous, the

@@ -1,10 +1,12 @@
-//! Top-level argument tree and the error -> exit-code policy shared by every subcommand.
+//! Top-level argument tree, and how an error ends the process: one line on stderr and the exit
+//! code of [`crate::exit`].
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
 use crate::cmd;
+use crate::exit;
 
 /// Firmware and host toolkit for the MEMS force/moment sensor in a soft fingertip.
 #[derive(Debug, Parser)]
@@ -40,27 +42,6 @@ pub enum Command {
     Diagnose(cmd::diagnose::Args),
     /// Generate recordings with concealed effects, diagnose them blind and score the result.
     Prove(cmd::prove::Args),
-}
-
-/// Exit codes, after BSD sysexits so scripts can tell a bad file from a missing port.
-pub mod exit {
-    pub const SOFTWARE: u8 = 70;
-    pub const USAGE: u8 = 64;
-    pub const DATA: u8 = 65;
-    pub const NO_INPUT: u8 = 66;
-    pub const UNAVAILABLE: u8 = 69;
-    pub const IO: u8 = 74;
-    /// An output file could not be created or written.
-    pub const CANT_CREATE: u8 = 73;
-    pub const NO_PERM: u8 = 77;
-    /// The device answered but refused or spoke another protocol version.
-    pub const PROTOCOL: u8 = 76;
-}
-
-/// Something that knows which exit code it deserves. Error types of the library implement
-/// this; [`report`] finds the first one in an `anyhow` chain.
-pub trait ExitStatus {
-    fn exit_code(&self) -> u8;
 }
 
 /// Print `err` as one line on stderr and choose the exit code. A broken pipe is success:

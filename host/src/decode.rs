@@ -1,5 +1,5 @@
-//! The host's fast receive path: the same outcomes as [`protocol::Accumulator`] (a property test
-//! in `tests/decode_equivalence.rs` holds it to that), at memory speed.
+//! The host's fast receive path: the same outcomes as [`protocol::Accumulator`] (the property
+//! tests of this module's `tests::equivalence` hold it to that), at memory speed.
 //!
 //! Why it is faster than the plain pipeline: delimiters are found with `memchr` (SIMD) instead
 //! of a byte loop; frames that lie wholly inside the input are COBS-decoded straight from the

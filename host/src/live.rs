@@ -201,16 +201,8 @@ fn render(f: &mut TermFrame<'_>, views: &[&SensorView], counters: &[Counters], e
     }
 }
 
-fn render_sensor(f: &mut TermFrame<'_>, area: Rect, v: &SensorView, c: &Counters) {
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .title(format!(" {} ", v.label));
-    let inner = block.inner(area);
-    f.render_widget(block, area);
-    let parts = Layout::default()
-        .direction(Direction::Vertical)
-        .constraints([Constraint::Length(2), Constraint::Min(3)])
-        .split(inner);
+/// Rate, frames and every loss counter, red where it is not zero.
+fn stats_line(v: &SensorView, c: &Counters) -> Line<'static> {
     let bad = |n: u64| {
         if n > 0 {
             Style::default().fg(Color::Red)
@@ -218,17 +210,7 @@ fn render_sensor(f: &mut TermFrame<'_>, area: Rect, v: &SensorView, c: &Counters
             Style::default().fg(Color::Green)
         }
     };
-    let values = Line::from(vec![
-        Span::raw(format!(
-            "Fz {:+9.3} N   Mx {:+9.5} N·m   My {:+9.5} N·m   ",
-            v.loads[0], v.loads[1], v.loads[2]
-        )),
-        Span::raw(format!(
-            "({:+.5} {:+.5} {:+.5} V)",
-            v.volts[0], v.volts[1], v.volts[2]
-        )),
-    ]);
-    let stats = Line::from(vec![
+    Line::from(vec![
         Span::raw(format!(
             "rate {:6.0}/{} S/s  frames {}  ",
             v.rate_hz(),
@@ -251,8 +233,30 @@ fn render_sensor(f: &mut TermFrame<'_>, area: Rect, v: &SensorView, c: &Counters
                 .map(|g| format!("last gap: {g}"))
                 .unwrap_or_default(),
         ),
+    ])
+}
+
+fn render_sensor(f: &mut TermFrame<'_>, area: Rect, v: &SensorView, c: &Counters) {
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .title(format!(" {} ", v.label));
+    let inner = block.inner(area);
+    f.render_widget(block, area);
+    let parts = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints([Constraint::Length(2), Constraint::Min(3)])
+        .split(inner);
+    let values = Line::from(vec![
+        Span::raw(format!(
+            "Fz {:+9.3} N   Mx {:+9.5} N·m   My {:+9.5} N·m   ",
+            v.loads[0], v.loads[1], v.loads[2]
+        )),
+        Span::raw(format!(
+            "({:+.5} {:+.5} {:+.5} V)",
+            v.volts[0], v.volts[1], v.volts[2]
+        )),
     ]);
-    f.render_widget(Paragraph::new(vec![values, stats]), parts[0]);
+    f.render_widget(Paragraph::new(vec![values, stats_line(v, c)]), parts[0]);
     let sparks = Layout::default()
         .direction(Direction::Horizontal)
         .constraints([Constraint::Ratio(1, 3); 3])

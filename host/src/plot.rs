@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::recording::Recording;
+use recording::Recording;
 
 /// Output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use host::cli::exit;
 use hil::check::scratch;
+use host::exit;
 
 mod common;
 use common::{fails, tactile};
@@ -161,9 +161,9 @@ fn files_over_the_limit_are_refused_by_size_naming_file_and_limit() {
     // The reference export of `--reference` is checked before the capture is even opened.
     let reference = dir.join("machine.csv");
     sparse(&reference, b"time_s,position_mm,force_N\n", HUGE_BYTES);
-    let r = host::logger::reference::read_reference(&reference).unwrap_err();
+    let r = recording::machine::read(&reference).unwrap_err();
     assert!(r.to_string().contains("1073741824-byte limit"), "{r}");
-    assert_eq!(r.exit_code(), exit::DATA);
+    assert_eq!(host::cmd::exit_code_of(&r), Some(exit::DATA));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -175,9 +175,7 @@ fn a_reference_export_in_latin1_names_its_line() {
         "machine.csv",
         b"time_s,position_mm,force_N\n0,0,0\n0.1,0,1\n# Pr\xfcfer B\n",
     );
-    let e = host::logger::reference::read_reference(&p)
-        .unwrap_err()
-        .to_string();
+    let e = recording::machine::read(&p).unwrap_err().to_string();
     assert!(e.contains("machine.csv:4") && e.contains("UTF-8"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

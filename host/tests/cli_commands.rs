@@ -4,10 +4,10 @@
 use std::process::{Command, Output};
 use std::time::Duration;
 
-use host::cli::exit;
-use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
+use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
+use host::exit;
 
 fn tactile(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tactile"))

@@ -11,10 +11,10 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use host::cli::exit;
-use host::device::{Device, OpenOptions, PortSpec};
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
+use host::device::{Device, OpenOptions, PortSpec};
+use host::exit;
 
 mod common;
 use common::{fails, tactile};
@@ -42,23 +42,23 @@ fn missing_port_not_a_tty_and_permission_denied() {
     for cmd in DEVICE_COMMANDS {
         fails(
             &tactile(&with_port(cmd, "/nonexistent/ttyACM9")),
-            exit::NO_INPUT.into(),
+            exit::NO_INPUT,
             &["/nonexistent/ttyACM9", "no such device"],
         );
         fails(
             &tactile(&with_port(cmd, &dir_s)),
-            exit::NO_INPUT.into(),
+            exit::NO_INPUT,
             &[&dir_s, "directory"],
         );
         fails(
             &tactile(&with_port(cmd, &plain_s)),
-            exit::NO_INPUT.into(),
+            exit::NO_INPUT,
             &[&plain_s, "regular file"],
         );
     }
     fails(
         &tactile(&["info", "-p", "serial:NOPE123"]),
-        exit::NO_INPUT.into(),
+        exit::NO_INPUT,
         &["NOPE123"],
     );
 
@@ -75,7 +75,7 @@ fn missing_port_not_a_tty_and_permission_denied() {
     match cmd.output() {
         Ok(out) => fails(
             &out,
-            exit::NO_PERM.into(),
+            exit::NO_PERM,
             &[slave.to_str().unwrap(), "permission denied"],
         ),
         // The checkout is not readable by `nobody` (a private home): nothing to test this way.
@@ -98,7 +98,7 @@ fn busy_port_and_device_gone_mid_stream() {
         for cmd in DEVICE_COMMANDS {
             fails(
                 &tactile(&with_port(cmd, &link)),
-                exit::UNAVAILABLE.into(),
+                exit::UNAVAILABLE,
                 &["busy"],
             );
         }
@@ -125,8 +125,8 @@ fn busy_port_and_device_gone_mid_stream() {
     std::thread::sleep(Duration::from_millis(1200));
     emu.kill();
     let out = child.wait_with_output().unwrap();
-    fails(&out, exit::UNAVAILABLE.into(), &[&link, "device gone"]);
-    let rec = host::recording::read(&csv).expect("rows up to the loss are valid");
+    fails(&out, exit::UNAVAILABLE, &[&link, "device gone"]);
+    let rec = recording::read(&csv).expect("rows up to the loss are valid");
     assert!(rec.channels.len() > 100);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -138,7 +138,7 @@ fn a_serial_device_that_does_not_answer_times_out() {
     let out = tactile(&["info", "-p", p, "--timeout", "0.05"]);
     fails(
         &out,
-        exit::UNAVAILABLE.into(),
+        exit::UNAVAILABLE,
         &[p, "no reply to get info after 4 attempts"],
     );
 }
@@ -165,37 +165,37 @@ fn malformed_files_name_the_line_and_field() {
     std::fs::write(p("truncated.csv"), format!("{head}0,,,1,2")).unwrap();
     fails(
         &tactile(&["plot", &s(&p("bad-number.csv"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["bad-number.csv: line 12", "mx_V"],
     );
     fails(
         &tactile(&["plot", &s(&p("no-key.csv"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["no-key.csv", "gain_mx"],
     );
     fails(
         &tactile(&["plot", &s(&p("back-in-time.csv"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["back-in-time.csv: line 12", "t_s"],
     );
     fails(
         &tactile(&["plot", &s(&p("empty.csv"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["empty.csv: line 1", "header"],
     );
     fails(
         &tactile(&["plot", &s(&p("binary.csv"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["binary.csv: line 1", "UTF-8"],
     );
     fails(
         &tactile(&["plot", &s(&p("truncated.csv"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["truncated.csv: line 11", "mx_V", "no line end"],
     );
     fails(
         &tactile(&["plot", &s(&p("missing.csv"))]),
-        exit::NO_INPUT.into(),
+        exit::NO_INPUT,
         &["missing.csv"],
     );
     std::fs::write(
@@ -207,7 +207,7 @@ fn malformed_files_name_the_line_and_field() {
     .unwrap();
     fails(
         &tactile(&["replay", &s(&p("garbage.bin"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["garbage.bin"],
     );
     let mut fake_mcap = b"\x89MCAP0\r\n".to_vec();
@@ -215,7 +215,7 @@ fn malformed_files_name_the_line_and_field() {
     std::fs::write(p("broken.mcap"), fake_mcap).unwrap();
     fails(
         &tactile(&["replay", &s(&p("broken.mcap"))]),
-        exit::DATA.into(),
+        exit::DATA,
         &["broken.mcap"],
     );
     std::fs::write(p("cal.txt"), "1 0 0\n0 1 x\n0 0 1\n").unwrap();
@@ -227,7 +227,7 @@ fn malformed_files_name_the_line_and_field() {
             "--calibration",
             &s(&p("cal.txt")),
         ]),
-        exit::DATA.into(),
+        exit::DATA,
         &["cal.txt:2", "calibration"],
     );
     let _ = std::fs::remove_dir_all(&dir);

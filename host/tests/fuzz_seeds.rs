@@ -8,12 +8,12 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::time::{Duration, UNIX_EPOCH};
 
+use hil::check::scratch;
+use hil::emu::{info_for, truth_frame, EmuConfig};
 use host::device::{Event, Frame, Gap, GapKind};
 use host::logger::mcap_io::McapSink;
 use host::logger::{metadata, Recorder, Setup};
 use protocol::{encode_vec, Message, Status};
-use hil::check::scratch;
-use hil::emu::{info_for, truth_frame, EmuConfig};
 
 const EXAMPLE: &str = "# format = tactile-recording/1\n# sample_rate_hz = 1000\n# contact_angle_deg = 20\n\
 # azimuth_deg = 60\n# fingertip_radius_mm = 20\n# gain_fz = 3000\n# gain_mx = 1000\n# gain_my = 1000\n\

@@ -6,10 +6,10 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, SystemTime};
 
-use host::logger::mcap_io::recover;
-use host::logger::unix_s;
 use hil::check::{replay, scratch, verify_file};
 use hil::emu::{EmuConfig, Emulator};
+use host::logger::mcap_io::recover;
+use host::logger::unix_s;
 
 #[test]
 fn a_killed_logger_leaves_readable_files_up_to_the_last_second() {

@@ -4,11 +4,11 @@
 
 use std::time::{Duration, UNIX_EPOCH};
 
+use hil::check::scratch;
+use hil::emu::{info_for, truth_frame, EmuConfig};
 use host::device::{Event, Frame, Scale};
 use host::logger::{Recorder, Setup};
 use protocol::{encode_vec, FilterConfig, Message, Status};
-use hil::check::scratch;
-use hil::emu::{info_for, truth_frame, EmuConfig};
 
 #[test]
 fn the_logger_writes_contract_keys_filter_and_temperature() {
@@ -47,7 +47,7 @@ fn the_logger_writes_contract_keys_filter_and_temperature() {
     .unwrap();
     rec.flush().unwrap();
 
-    let r = host::recording::read(&path).unwrap();
+    let r = recording::read(&path).unwrap();
     let m = &r.meta;
     assert_eq!(m.sample_rate_hz, f64::from(cfg.rate_hz));
     assert_eq!([m.gain_fz, m.gain_mx, m.gain_my], [3000.0, 1000.0, 1000.0]);
@@ -63,7 +63,7 @@ fn the_logger_writes_contract_keys_filter_and_temperature() {
         Some(hw.fingertip.test.rod_speed_mm_per_min)
     );
     assert_eq!(m.source.as_deref(), Some("unit test"));
-    assert_eq!(m.get(host::diagnosis::baseline::SMOOTHER_KEY), Some("0.2"));
+    assert_eq!(m.get(diagnosis::baseline::SMOOTHER_KEY), Some("0.2"));
     assert_eq!(m.get("firmware_butterworth_order"), Some("2"));
     assert_eq!(m.get("firmware_cutoff_hz"), Some("50"));
     assert_eq!(

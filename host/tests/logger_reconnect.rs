@@ -7,10 +7,10 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, SystemTime};
 
-use host::logger::gap_code;
-use host::logger::mcap_io::recover;
 use hil::check::{replay, scratch, verify_file};
 use hil::emu::{EmuConfig, Emulator};
+use host::logger::gap_code;
+use host::logger::mcap_io::recover;
 
 #[test]
 fn reconnects_after_the_emulator_dies_and_marks_the_gap() {

@@ -3,10 +3,10 @@
 
 use std::process::Command;
 
-use host::logger::reference::interpolate;
-use host::recording::read as read_recording;
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
+use host::logger::reference::interpolate;
+use recording::read as read_recording;
 
 fn tactile(args: &[&std::ffi::OsStr]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_tactile"))

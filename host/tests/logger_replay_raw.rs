@@ -3,11 +3,11 @@
 
 use std::process::Command;
 
-use host::device::Scale;
-use host::recording::read as read_recording;
-use protocol::{Message, Status};
 use hil::check::{scratch, verify};
 use hil::emu::{info_for, truth_frame, EmuConfig};
+use host::device::Scale;
+use protocol::{Message, Status};
+use recording::read as read_recording;
 
 /// Index of the last byte of an encoded frame that is data, not a COBS length byte, and that
 /// a flip of bit 2 does not turn into a delimiter.

@@ -1,14 +1,16 @@
 //! The emulated sensor as one chain of the project's models, each stage callable alone:
 //!
 //! load history ([`crate::load`]) -> gel traction on the package top -> pillar ([`crate::pillar`])
-//! -> chip loads Fz, Mx, My -> beam stresses, piezoresistor ΔR/R, loaded bridge arms (crate
-//! `chip`) -> each bridge's arm mismatch, trim-DAC injection, two amplifier stages, anti-alias RC
-//! DC gain (`crate::frontend`) -> noise -> volts at the ADS131M04's four inputs, channel 3 the
-//! TMP235 ([`crate::temperature`]). As an [`AnalogInput`] and [`TrimInput`] the chain feeds the
-//! register-level ADC emulation ([`crate::ads131m04`]) and follows the trim DAC the firmware
+//! -> chip loads Fz, Mx, My -> the bridges' signal ([`crate::forward`], the forward model
+//! `tactile simulate` and the diagnosis use too: beam stresses, piezoresistor ΔR/R, bridges) ->
+//! each bridge channel's circuit around its operating point: the chip's unloaded arms with this
+//! board's mismatch, the trim-DAC injection, two amplifier stages with their rails, anti-alias
+//! RC DC gain (`crate::frontend`) -> noise -> volts at the ADS131M04's four inputs, channel 3
+//! the TMP235 ([`crate::temperature`]). As an [`AnalogInput`] and [`TrimInput`] the chain feeds
+//! the register-level ADC emulation ([`crate::ads131m04`]) and follows the trim DAC the firmware
 //! writes, so the firmware's real drivers run against it.
 //!
-//! Effects of the catalogue (`crate::effects`, `shared/contracts/diagnosis-v1.md`) are off by
+//! Effects of the catalogue (`crate::effects`, `docs/diagnosis-format.md`) are off by
 //! default; [`Chain::with_effects`] switches a set on. Their operators need a run's whole history
 //! (peak-normalised, hysteretic), so the run is computed once on a time grid: the chip loads go
 //! through the mechanical effects, the resulting offset-cut signal volts through the electrical
@@ -26,6 +28,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::ads131m04::trim_dac::TrimInput;
 use crate::ads131m04::AnalogInput;
+use crate::forward::SignalPath;
 use crate::frontend::{FrontEnd, CHANNELS};
 use crate::load::{Contact, LoadHistory};
 use crate::pillar::Pillar;
@@ -99,6 +102,8 @@ impl Noise {
 pub struct Chain<H> {
     pub chip: ChipParams,
     pub front_end: FrontEnd,
+    /// Chip loads to the bridges' signal and its volts: the one forward model.
+    pub signal: SignalPath,
     pub pillar: Pillar,
     pub warmup: WarmUp,
     pub history: H,
@@ -135,8 +140,10 @@ impl<H: LoadHistory> Chain<H> {
     pub fn from_params(p: &hardware::Params, history: H) -> Result<Self, ChainError> {
         let front_end = FrontEnd::from_params(p);
         let mid = front_end.channels[0].trim.codes() / 2;
+        let chip = ChipParams::try_from(&p.chip).map_err(ChainError::Chip)?;
         Ok(Self {
-            chip: ChipParams::try_from(&p.chip).map_err(ChainError::Chip)?,
+            signal: SignalPath::from_front_end(&chip, &front_end),
+            chip,
             clock: Clock::new(1.0 / front_end.adc.data_rate_hz),
             front_end,
             pillar: Pillar::from_params(p),
@@ -205,11 +212,10 @@ impl<H: LoadHistory> Chain<H> {
         }
     }
 
-    /// Offset-cut volts at the ADC inputs for a chip load: loaded minus unloaded, same trim.
+    /// Offset-cut volts at the ADC inputs for a chip load: the forward model's
+    /// ([`SignalPath::volts`]), what [`Self::truth_v`] reads inside the rails.
     pub fn signal_v(&self, load: Load) -> [f64; CHANNELS] {
-        let loaded = self.adc_input_v(self.arms_ohm(load));
-        let rest = self.adc_input_v(self.arms_ohm(Load::default()));
-        core::array::from_fn(|i| loaded[i] - rest[i])
+        self.signal.volts(load.to_array())
     }
 
     /// Noise at each ADC input, V rms, at the ADC's configured data rate.
@@ -235,7 +241,13 @@ impl<H: LoadHistory> Chain<H> {
             .chip_load(&self.chip, self.contact(t_s).traction)
     }
 
-    /// Stage 3: the chip's loaded bridge arms (Fz, Mx, My), in the front end's R1..R4 order.
+    /// Stage 3: the bridges' signal at their terminals for a chip load (the forward model).
+    pub fn bridge_v(&self, load: Load) -> [f64; CHANNELS] {
+        self.signal.bridge_v(load.to_array())
+    }
+
+    /// The chip's bridge arms (Fz, Mx, My) under `load`, exact, in the front end's R1..R4 order;
+    /// unloaded, the operating point the signal rides on.
     pub fn arms_ohm(&self, load: Load) -> [[f64; 4]; CHANNELS] {
         core::array::from_fn(|i| {
             let [ul, ll, ur, lr] =
@@ -245,12 +257,15 @@ impl<H: LoadHistory> Chain<H> {
         })
     }
 
-    /// Stage 4: noise-free volts at the ADC inputs of the three bridge channels for those arms
-    /// (mismatch, trim at [`Self::dac_codes`], amplifiers, RC).
-    pub fn adc_input_v(&self, arms: [[f64; 4]; CHANNELS]) -> [f64; CHANNELS] {
+    /// Stage 4: noise-free volts at the ADC inputs of the three bridge channels with the
+    /// bridges' signal `bridge_v` on the chip's unloaded arms (this board's mismatch, the trim at
+    /// [`Self::dac_codes`], amplifiers with their rails, RC).
+    pub fn adc_input_v(&self, bridge_v: [f64; CHANNELS]) -> [f64; CHANNELS] {
         let mid = self.front_end.mid_v();
+        let arms = self.arms_ohm(Load::default());
         core::array::from_fn(|i| {
-            self.front_end.channels[i].adc_input_v_for_arms(arms[i], self.dac_codes[i], mid)
+            let channel = &self.front_end.channels[i];
+            channel.adc_input_v_for_arms(arms[i], bridge_v[i], self.dac_codes[i], mid)
         })
     }
 
@@ -261,7 +276,7 @@ impl<H: LoadHistory> Chain<H> {
 
     /// Noise-free volts at the four ADC inputs at `t_s` (effects included when on).
     pub fn clean_v(&self, t_s: f64) -> [f64; 4] {
-        let mut bridges = self.adc_input_v(self.arms_ohm(self.chip_load(t_s)));
+        let mut bridges = self.adc_input_v(self.bridge_v(self.chip_load(t_s)));
         if let Some(run) = &self.effects {
             (0..CHANNELS).for_each(|i| bridges[i] += run.at(&run.added_v[i], t_s));
         }
@@ -272,7 +287,7 @@ impl<H: LoadHistory> Chain<H> {
     /// volts unloaded at the same trim codes (what a perfect tare removes).
     pub fn truth_v(&self, t_s: f64) -> [f64; CHANNELS] {
         let loaded = self.clean_v(t_s);
-        let rest = self.adc_input_v(self.arms_ohm(Load::default()));
+        let rest = self.adc_input_v([0.0; CHANNELS]);
         core::array::from_fn(|i| loaded[i] - rest[i])
     }
 

@@ -11,6 +11,7 @@ pub mod chain;
 pub mod compression;
 #[cfg(feature = "std")]
 pub mod effects;
+pub mod forward;
 pub mod frontend;
 pub mod load;
 pub mod pillar;

@@ -13,8 +13,8 @@
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use sim::link::FaultRates;
 use hil::emu::{EmuConfig, EmuFaults, Emulator, Pace};
+use sim::link::FaultRates;
 
 fn main() -> ExitCode {
     match run() {

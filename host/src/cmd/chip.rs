@@ -140,28 +140,14 @@ fn print_text(r: &Value) {
             num("ratio")
         );
     }
-    let matrix = |key: &str| {
-        println!(
-            "{key} ({}):",
-            r[key]["units"]
-                .as_str()
-                .or(r[key]["definition"].as_str())
-                .unwrap_or("")
-        );
-        for row in r[key]["value"].as_array().into_iter().flatten() {
-            let cells: Vec<String> = row
-                .as_array()
-                .into_iter()
-                .flatten()
-                .map(|v| format!("{:>13.5e}", v.as_f64().unwrap_or(f64::NAN)))
-                .collect();
-            println!("  {}", cells.join(" "));
-        }
-    };
-    matrix("sensitivity_matrix");
-    matrix("calibration_matrix");
-    matrix("crosstalk");
-    matrix("crosstalk_at_mask_misalignment");
+    for key in [
+        "sensitivity_matrix",
+        "calibration_matrix",
+        "crosstalk",
+        "crosstalk_at_mask_misalignment",
+    ] {
+        print_matrix(r, key);
+    }
     println!(
         "block deflection stiffness: {:.4} N/um",
         r["block_deflection_stiffness_n_per_um"]
@@ -184,6 +170,26 @@ fn print_text(r: &Value) {
                 100.0 * d
             );
         }
+    }
+}
+
+/// The 3x3 matrix `r[key]` with its units.
+fn print_matrix(r: &Value, key: &str) {
+    println!(
+        "{key} ({}):",
+        r[key]["units"]
+            .as_str()
+            .or(r[key]["definition"].as_str())
+            .unwrap_or("")
+    );
+    for row in r[key]["value"].as_array().into_iter().flatten() {
+        let cells: Vec<String> = row
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|v| format!("{:>13.5e}", v.as_f64().unwrap_or(f64::NAN)))
+            .collect();
+        println!("  {}", cells.join(" "));
     }
 }
 

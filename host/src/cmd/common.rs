@@ -7,8 +7,8 @@ use crate::device::{Device, OpenOptions, PortSpec};
 /// `--port`: a device path or `serial:<USB serial number>`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct PortArg {
-    /// Serial port: a device path (/dev/ttyACM0, a pty, a udev symlink) or serial:<USB serial
-    /// number> (see `tactile list`).
+    /// Serial port: a device path (/dev/ttyACM0, a pty, a udev symlink) or
+    /// `serial:<USB serial number>` (see `tactile list`).
     #[arg(long, short = 'p', value_name = "PORT")]
     pub port: String,
     /// Seconds to wait for each reply before retrying (3 retries).

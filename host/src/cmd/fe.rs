@@ -13,7 +13,7 @@ use std::time::Instant;
 use anyhow::Context;
 use fingertip::{Config, Fingertip, Material};
 
-use crate::cli::{exit, ExitStatus};
+use crate::exit::{self, ExitStatus};
 
 /// Gel law on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -17,13 +17,13 @@ use crate::logger::reference::{merge_file, Align};
 use crate::logger::{metadata, per_sensor_path, Recorder, Setup};
 
 /// Record sensors until --duration has passed or Ctrl-C: the recording CSV
-/// (shared/contracts/recording-v1.md, plus seq, both timestamps, gap marks and loads) and an
+/// (`docs/recording-format.md`, plus seq, both timestamps, gap marks and loads) and an
 /// MCAP file (raw frames, decoded samples, gaps; opens in Foxglove). Files are flushed four
 /// times a second, so a crash loses at most the last quarter second. An unplugged sensor is
 /// reopened when it returns, and the outage is marked in both files.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Serial port(s): device path or serial:<USB serial number>; repeat for several sensors.
+    /// Serial port(s): device path or `serial:<USB serial number>`; repeat for several sensors.
     #[arg(long, short = 'p', value_name = "PORT", required = true)]
     pub port: Vec<String>,
     /// Output CSV; with several sensors, one file per sensor named after it.

@@ -15,6 +15,7 @@ pub mod simulate;
 pub mod tare;
 
 use crate::cli::Command;
+use crate::exit::{self, ExitStatus};
 
 pub fn run(command: Command) -> anyhow::Result<()> {
     match command {
@@ -36,20 +37,18 @@ pub fn run(command: Command) -> anyhow::Result<()> {
 /// The exit code a library error asks for, if `cause` is one of ours. Each module that owns an
 /// error type adds its downcast here.
 pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
-    if let Some(e) = cause.downcast_ref::<crate::recording::RecordingError>() {
-        return Some(e.exit_code());
+    if let Some(e) = cause.downcast_ref::<recording::RecordingError>() {
+        return Some(e.io_kind().map_or(exit::DATA, exit::of_input));
     }
-    if cause
-        .downcast_ref::<crate::diagnosis::data::DataError>()
-        .is_some()
+    if let Some(e) = cause.downcast_ref::<recording::machine::MachineExportError>() {
+        return Some(e.io_kind().map_or(exit::DATA, exit::of_input));
+    }
+    if cause.is::<diagnosis::data::DataError>()
+        || cause.is::<::chip::from_hardware::FromHardwareError>()
+        || cause.is::<hardware::LoadError>()
+        || cause.is::<crate::calibration::CalibrationError>()
     {
-        return Some(crate::cli::exit::DATA);
-    }
-    if cause.is::<::chip::from_hardware::FromHardwareError>() || cause.is::<hardware::LoadError>() {
-        return Some(crate::cli::exit::DATA);
-    }
-    if let Some(e) = cause.downcast_ref::<crate::calibration::CalibrationError>() {
-        return Some(crate::cli::ExitStatus::exit_code(e));
+        return Some(exit::DATA);
     }
     if let Some(e) = cause.downcast_ref::<crate::device::DeviceError>() {
         return Some(e.exit_code());
@@ -58,15 +57,15 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
         return Some(e.exit_code());
     }
     if let Some(e) = cause.downcast_ref::<fe::FeError>() {
-        return Some(crate::cli::ExitStatus::exit_code(e));
+        return Some(e.exit_code());
     }
     if let Some(e) = cause.downcast_ref::<fingertip::Error>() {
         return Some(match e {
             fingertip::Error::InvalidConfig { .. } | fingertip::Error::PeakNotReached { .. } => {
-                crate::cli::exit::DATA
+                exit::DATA
             }
-            fingertip::Error::Io(_) => crate::cli::exit::IO,
-            _ => crate::cli::exit::SOFTWARE,
+            fingertip::Error::Io(_) => exit::IO,
+            _ => exit::SOFTWARE,
         });
     }
     None

@@ -4,11 +4,11 @@ use std::path::PathBuf;
 
 use crate::plot::{plot, Format};
 
-/// Plot a recording CSV: the three bridge outputs against time (<prefix>-time.png/.svg) and,
-/// when it has reference loads, against the load (<prefix>-load.png/.svg).
+/// Plot a recording CSV: the three bridge outputs against time (`<prefix>-time.png/.svg`) and,
+/// when it has reference loads, against the load (`<prefix>-load.png/.svg`).
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A recording CSV (shared/contracts/recording-v1.md).
+    /// A recording CSV (`docs/recording-format.md`).
     pub recording: PathBuf,
     /// Output prefix (default: the recording path without its extension).
     #[arg(long, short = 'o')]
@@ -26,7 +26,7 @@ pub enum FormatArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rec = crate::recording::read(&args.recording)?;
+    let rec = recording::read(&args.recording)?;
     let prefix = args
         .out
         .unwrap_or_else(|| args.recording.with_extension(""));

@@ -6,9 +6,9 @@ use std::time::Instant;
 
 use anyhow::Context;
 
-use crate::diagnosis::baseline::FrontEnd;
-use crate::diagnosis::prove::{csv, markdown, run as score, summary_svg, Plan, Summary};
-use crate::diagnosis::Options;
+use diagnosis::baseline::FrontEnd;
+use diagnosis::prove::{csv, markdown, run as score, summary_svg, Plan, Summary};
+use diagnosis::Options;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -40,7 +40,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         no_effect: args.no_effect,
         per_effect: args.per_effect,
         radius_mm: hw.fingertip.radius_mm,
-        options: Options::from_hardware(&hw, false)?,
+        options: Options::from_hardware(&hw)?,
         front_end: FrontEnd::from_hardware(&hw)?,
     };
     let started = Instant::now();
@@ -72,7 +72,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     std::fs::write(args.out.join("summary.svg"), summary_svg(&scores))?;
     anyhow::ensure!(
         summary.passes(),
-        "the acceptance criteria of issue 8 are not met (see the table)"
+        "the proof's acceptance criteria are not met (see the table)"
     );
     Ok(())
 }

@@ -1,15 +1,19 @@
 //! `tactile simulate`: the baseline model's recording of the standard compression test
-//! (diagnosis-v1), optionally with catalogue effects and noise.
+//! (`docs/diagnosis-format.md`), optionally with catalogue effects and noise, through the same
+//! forward model as the emulated sensor (`diagnosis::synth`, `sim::forward`).
 
 use std::path::PathBuf;
 
 use anyhow::Context;
+use diagnosis::baseline::{
+    smoother_tau_s, BaselineParams, FingertipResponse, FrontEnd, SMOOTHER_KEY,
+};
+use diagnosis::fe_response::FeSource;
+use diagnosis::synth::{simulate, Noise, SimSpec};
+use recording::machine::MachineExport;
+use recording::Recording;
+use sim::compression::CompressionTest;
 use sim::effects::Effect;
-
-use crate::diagnosis::baseline::{smoother_tau_s, BaselineParams, FrontEnd, SMOOTHER_KEY};
-use crate::diagnosis::fe_response::FeSource;
-use crate::diagnosis::synth::{simulate, Noise, SimSpec};
-use crate::recording::Recording;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -74,33 +78,14 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let params = hardware::Params::load_default().context("loading hardware/")?;
-    let tip = &params.fingertip;
     let effects = args
         .effects
         .iter()
         .map(|s| Effect::from_spec(s).map_err(anyhow::Error::msg))
         .collect::<anyhow::Result<Vec<_>>>()
         .context("--effect")?;
-    anyhow::ensure!(args.peak_load > 0.0, "--peak-load must be positive");
-    if let Some([_, period_s]) = args.ambient_swing.as_deref() {
-        anyhow::ensure!(
-            *period_s > 0.0,
-            "--ambient-swing: the period must be positive"
-        );
-    }
-    let test = sim::compression::CompressionTest {
-        sample_rate_hz: args.rate.unwrap_or(tip.test.sample_rate_hz),
-        speed_mm_per_min: tip.test.rod_speed_mm_per_min,
-        hold_s: tip.test.hold_s,
-        return_speed_mm_per_min: tip.test.return_speed_mm_per_min,
-        recovery_s: tip.test.recovery_s,
-        ..Default::default()
-    };
-    let nominal = FrontEnd::from_hardware(&params)?;
-    let gain = match args.gain.as_deref() {
-        Some([a, b, c]) => [*a, *b, *c],
-        _ => nominal.gain,
-    };
+    check(&args)?;
+    let test = compression_test(&params.fingertip, args.rate);
     if args.adc_stimulus.is_some() {
         anyhow::ensure!(
             sim::ads131m04::stimulus_file::is_data_rate(
@@ -112,29 +97,86 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             test.sample_rate_hz
         );
     }
-    let mut front_end = FrontEnd::from_chip(
-        &params,
-        gain,
-        args.excitation_v.unwrap_or(nominal.excitation_v),
+    let front_end = front_end(&args, &params, test.sample_rate_hz)?;
+    let fingertip = FeSource::from_hardware(&params)?.response(
+        params.fingertip.radius_mm,
+        args.contact_angle,
+        args.azimuth,
     )?;
+    let spec = spec(&args, &params, &fingertip, front_end, test, effects);
+    let mut rec: Recording = simulate(&spec);
+    if let Some(alpha) = args.smoother_alpha {
+        rec.meta
+            .other
+            .push((SMOOTHER_KEY.to_string(), alpha.to_string()));
+    }
+    write_outputs(&args, &params, &rec)
+}
+
+/// The values clap cannot check alone.
+fn check(args: &Args) -> anyhow::Result<()> {
+    anyhow::ensure!(args.peak_load > 0.0, "--peak-load must be positive");
+    if let Some([_, period_s]) = args.ambient_swing.as_deref() {
+        anyhow::ensure!(
+            *period_s > 0.0,
+            "--ambient-swing: the period must be positive"
+        );
+    }
     if let Some(alpha) = args.smoother_alpha {
         anyhow::ensure!(
             alpha > 0.0 && alpha < 1.0,
             "--smoother-alpha must lie in (0, 1)"
         );
-        front_end.smoother_tau_s = smoother_tau_s(alpha, test.sample_rate_hz);
     }
-    let fingertip = FeSource::from_hardware(&params)?.response(
-        tip.radius_mm,
-        args.contact_angle,
-        args.azimuth,
-    )?;
-    let names: Vec<String> = effects
-        .iter()
-        .map(|e| e.kind().name().to_string())
-        .collect();
-    let spec = SimSpec {
-        fingertip: &fingertip,
+    Ok(())
+}
+
+/// The standard test of `fingertip.toml`, at `rate_hz` if given.
+fn compression_test(tip: &hardware::Fingertip, rate_hz: Option<f64>) -> CompressionTest {
+    CompressionTest {
+        sample_rate_hz: rate_hz.unwrap_or(tip.test.sample_rate_hz),
+        speed_mm_per_min: tip.test.rod_speed_mm_per_min,
+        hold_s: tip.test.hold_s,
+        return_speed_mm_per_min: tip.test.return_speed_mm_per_min,
+        recovery_s: tip.test.recovery_s,
+        ..Default::default()
+    }
+}
+
+/// The emulated sensor's front end, with the gains, excitation and smoother given on the
+/// command line.
+fn front_end(
+    args: &Args,
+    params: &hardware::Params,
+    sample_rate_hz: f64,
+) -> anyhow::Result<FrontEnd> {
+    let nominal = FrontEnd::from_hardware(params)?;
+    let gain = match args.gain.as_deref() {
+        Some([a, b, c]) => [*a, *b, *c],
+        _ => nominal.signal.gain,
+    };
+    let excitation_v = args.excitation_v.unwrap_or(nominal.signal.excitation_v);
+    let mut front_end = FrontEnd::from_chip(params, gain, excitation_v)?;
+    front_end.smoother_tau_s = args
+        .smoother_alpha
+        .and_then(|alpha| smoother_tau_s(alpha, sample_rate_hz));
+    Ok(front_end)
+}
+
+/// The simulation: the nominal baseline at the given modulus, the lab's temperature of
+/// `sim.toml`, the command line's loads, effects and noise.
+fn spec<'a>(
+    args: &Args,
+    params: &hardware::Params,
+    fingertip: &'a dyn FingertipResponse,
+    front_end: FrontEnd,
+    test: CompressionTest,
+    effects: Vec<Effect>,
+) -> SimSpec<'a> {
+    let tip = &params.fingertip;
+    let names: Vec<&str> = effects.iter().map(|e| e.kind().name()).collect();
+    SimSpec {
+        fingertip,
         front_end,
         baseline: BaselineParams::nominal(args.modulus_pa.unwrap_or(tip.youngs_modulus_pa)),
         contact_angle_deg: args.contact_angle,
@@ -144,6 +186,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         peak_loads_n: std::iter::once(args.peak_load)
             .chain(args.then_peak_load.iter().copied())
             .collect(),
+        source: format!(
+            "tactile simulate (FE baseline); effects: [{}]",
+            names.join(" ")
+        ),
         effects,
         noise: Noise {
             load_n: args.noise_load_n,
@@ -151,34 +197,36 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             temp_c: 0.0,
         },
         seed: args.seed,
-        ambient_c: 25.0,
-        warm_up_rise_c: 5.0,
+        ambient_c: params.sim.ambient_c,
+        warm_up_rise_c: params.sim.warmup_rise_c,
         ambient_swing: match args.ambient_swing.as_deref() {
             Some([amplitude_c, period_s]) => Some((*amplitude_c, *period_s)),
             _ => None,
         },
-        source: format!(
-            "tactile simulate (FE baseline); effects: [{}]",
-            names.join(" ")
-        ),
-    };
-    let mut rec: Recording = simulate(&spec);
-    if let Some(alpha) = args.smoother_alpha {
-        rec.meta
-            .other
-            .push((SMOOTHER_KEY.to_string(), alpha.to_string()));
     }
+}
+
+/// The recording, and the ADC stimulus and the machine's export where asked for.
+fn write_outputs(args: &Args, params: &hardware::Params, rec: &Recording) -> anyhow::Result<()> {
     let file = std::fs::File::create(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     rec.write_to(file)
         .with_context(|| format!("writing {}", args.out.display()))?;
     if let Some(path) = &args.adc_stimulus {
-        let sensor = sim::frontend::FrontEnd::from_params(&params).temperature;
-        write_adc_stimulus(path, &rec, &sensor)
+        let sensor = sim::frontend::FrontEnd::from_params(params).temperature;
+        write_adc_stimulus(path, rec, &sensor)
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(path) = &args.machine_csv {
-        write_machine_csv(path, &rec).with_context(|| format!("writing {}", path.display()))?;
+        let c = &rec.channels;
+        let export = MachineExport {
+            t_s: c.t_s.clone(),
+            rod_mm: c.rod_mm.clone(),
+            load_n: c.load_n.clone(),
+        };
+        std::fs::File::create(path)
+            .and_then(|file| export.write_to(file))
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
 }
@@ -210,18 +258,5 @@ fn write_adc_stimulus(
         m.excitation_v as f32,
         &records,
     )?;
-    Ok(())
-}
-
-/// The test machine's side of the run: time, rod travel and load cell, one row per sample.
-fn write_machine_csv(path: &std::path::Path, rec: &Recording) -> anyhow::Result<()> {
-    use std::io::Write;
-    let c = &rec.channels;
-    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(out, "t_s,rod_mm,load_N")?;
-    for i in 0..c.len() {
-        writeln!(out, "{},{},{}", c.t_s[i], c.rod_mm[i], c.load_n[i])?;
-    }
-    out.flush()?;
     Ok(())
 }

@@ -55,7 +55,7 @@ pub enum DeviceError {
 impl DeviceError {
     /// The sysexits code the CLI exits with.
     pub fn exit_code(&self) -> u8 {
-        use crate::cli::exit;
+        use crate::exit;
         match self {
             Self::NotFound { .. } | Self::NoSuchSerial { .. } => exit::NO_INPUT,
             Self::PermissionDenied { .. } => exit::NO_PERM,

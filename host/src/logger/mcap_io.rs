@@ -270,11 +270,7 @@ impl Recovery {
                 op::CHANNEL => self.channel(Body(body))?,
                 op::MESSAGE => self.message(Body(body))?,
                 op::CHUNK if in_chunk => return Err("a chunk inside a chunk".into()),
-                op::CHUNK => {
-                    if self.chunk(Body(body))? {
-                        return Ok(true);
-                    }
-                }
+                op::CHUNK if self.chunk(Body(body))? => return Ok(true),
                 _ => {}
             }
         }

@@ -1,4 +1,4 @@
-//! Recording: the contract CSV (written by [`crate::recording::RecordingWriter`]) and the MCAP file, fed by the driver's [`Event`]s (live) or by
+//! Recording: the contract CSV (written by [`recording::RecordingWriter`]) and the MCAP file, fed by the driver's [`Event`](crate::device::Event)s (live) or by
 //! re-decoded raw frames (replay), with one code path for both.
 //!
 //! Crash safety: rows are formatted whole and buffered; [`Recorder::maybe_flush`] writes the
@@ -19,9 +19,9 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use protocol::Info;
 
-use crate::recording::Meta;
 use mcap_io::{McapSink, SensorChannels};
 pub use recorder::Recorder;
+use recording::Meta;
 
 /// The MCAP file shared by every sensor of one `log` run, with this sensor's channels.
 pub type SharedMcap = (Rc<RefCell<McapSink>>, SensorChannels);
@@ -39,9 +39,12 @@ pub enum FileError {
         path: PathBuf,
         source: std::io::Error,
     },
-    /// A recording CSV that the contract reader refused (names file, line and field).
+    /// A recording CSV that the format's reader refused (names file, line and field).
     #[error(transparent)]
-    Recording(#[from] crate::recording::RecordingError),
+    Recording(#[from] recording::RecordingError),
+    /// A test machine's export that its reader refused (names file, line and field).
+    #[error(transparent)]
+    Machine(#[from] recording::machine::MachineExportError),
     /// The file breaks its format at this line and field.
     #[error("{}:{line}: field {field}: {why}", .path.display())]
     Malformed {
@@ -85,14 +88,20 @@ impl FileError {
     }
 
     pub fn exit_code(&self) -> u8 {
-        use crate::cli::exit;
+        use crate::exit;
         match self {
             Self::Open { source, .. } => match source.kind() {
                 std::io::ErrorKind::NotFound => exit::NO_INPUT,
                 std::io::ErrorKind::PermissionDenied => exit::NO_PERM,
                 _ => exit::NO_INPUT,
             },
-            Self::Recording(e) => e.exit_code(),
+            Self::Recording(e) => e.io_kind().map_or(exit::DATA, exit::of_input),
+            // An export that cannot be opened is a missing input, whatever the reason.
+            Self::Machine(e) => match e.io_kind() {
+                Some(std::io::ErrorKind::PermissionDenied) => exit::NO_PERM,
+                Some(_) => exit::NO_INPUT,
+                None => exit::DATA,
+            },
             Self::Malformed { .. } | Self::Capture { .. } | Self::TooLarge { .. } => exit::DATA,
             Self::Write { .. } => exit::CANT_CREATE,
         }
@@ -170,7 +179,7 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
         ("firmware", format!("{}.{}.{}", fw[0], fw[1], fw[2])),
         ("start_unix_s", unix_s(start).to_string()),
         (
-            crate::diagnosis::baseline::SMOOTHER_KEY,
+            diagnosis::baseline::SMOOTHER_KEY,
             decimal(f.smoother_alpha).to_string(),
         ),
         (

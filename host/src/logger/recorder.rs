@@ -9,7 +9,7 @@ use protocol::Info;
 
 use super::{gap_code, metadata, unix_s, FileError, Setup, SharedMcap, EXTRA_COLUMNS, FLUSH_EVERY};
 use crate::device::{Event, Frame, Gap, GapKind, Scale};
-use crate::recording::RecordingWriter;
+use recording::RecordingWriter;
 
 /// Writes one sensor's CSV. Times: within a connection session `t_s` follows the device clock
 /// (no host jitter); each session is anchored to the host clock at its first frame, and `t_s`

@@ -1,117 +1,14 @@
-//! Merging a test machine's export (time, rod position, load) into a recording: the
-//! contract's `rod_mm` and `load_N` columns. Aligned either by timestamps (the machine's time
+//! Merging a test machine's export (time, rod position, load; read by `recording::machine`)
+//! into a recording: its `rod_mm` and `load_N` columns. Aligned either by timestamps (the machine's time
 //! zero is the recording's, plus an optional offset) or by the lag that maximises the
 //! cross-correlation of the machine's load with the sensor's Fz.
 
 use std::path::Path;
 
+use recording::machine::MachineExport;
+use recording::Recording;
+
 use super::FileError;
-use crate::recording::{Limits, Recording};
-
-/// A test machine's export: time in s, rod travel in mm, load in N.
-#[derive(Debug, Clone, Default)]
-pub struct Reference {
-    pub t_s: Vec<f64>,
-    pub rod_mm: Vec<f64>,
-    pub load_n: Vec<f64>,
-}
-
-const TIME_NAMES: [&str; 4] = ["t_s", "time_s", "time", "t"];
-const ROD_NAMES: [&str; 5] = [
-    "rod_mm",
-    "position_mm",
-    "displacement_mm",
-    "rod",
-    "position",
-];
-const LOAD_NAMES: [&str; 5] = ["load_N", "force_N", "load", "force", "load_n"];
-
-fn find(columns: &[String], names: &[&str]) -> Option<usize> {
-    columns
-        .iter()
-        .position(|c| names.iter().any(|n| c.eq_ignore_ascii_case(n)))
-}
-
-/// Read a machine export: `#` lines skipped, one header naming a time, a rod-position and a
-/// load column (common spellings accepted), then numeric rows with increasing time.
-pub fn read_reference(path: &Path) -> Result<Reference, FileError> {
-    let bytes = std::fs::metadata(path)
-        .map_err(|e| FileError::open(path, e))?
-        .len();
-    let limit_bytes = Limits::DEFAULT.max_bytes;
-    if bytes > limit_bytes {
-        return Err(FileError::TooLarge {
-            path: path.into(),
-            bytes,
-            limit_bytes,
-            why: "a reference export is read whole",
-        });
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::InvalidData => bad_encoding(path),
-        _ => FileError::open(path, e),
-    })?;
-    let bad = |line, field: &str, why: String| FileError::Malformed {
-        path: path.to_path_buf(),
-        line,
-        field: field.into(),
-        why,
-    };
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty());
-    let (hline, header) = lines
-        .next()
-        .ok_or_else(|| bad(1, "(header)", "no header line".into()))?;
-    let columns: Vec<String> = header.split(',').map(|c| c.trim().to_owned()).collect();
-    let need = |names: &[&str], what: &str| {
-        find(&columns, names)
-            .ok_or_else(|| bad(hline, what, format!("no column named one of {names:?}")))
-    };
-    let (ti, ri, li) = (
-        need(&TIME_NAMES, "time")?,
-        need(&ROD_NAMES, "rod position")?,
-        need(&LOAD_NAMES, "load")?,
-    );
-    let mut r = Reference::default();
-    for (n, line) in lines {
-        let f: Vec<&str> = line.split(',').collect();
-        let get = |i: usize| -> Result<f64, FileError> {
-            let s = f.get(i).map(|s| s.trim()).unwrap_or("");
-            s.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| bad(n, &columns[i], format!("not a number: {s:?}")))
-        };
-        let t = get(ti)?;
-        if r.t_s.last().is_some_and(|last| t <= *last) {
-            return Err(bad(n, &columns[ti], "time does not increase".into()));
-        }
-        r.t_s.push(t);
-        r.rod_mm.push(get(ri)?);
-        r.load_n.push(get(li)?);
-    }
-    if r.t_s.len() < 2 {
-        return Err(bad(hline, "(rows)", "fewer than two rows".into()));
-    }
-    Ok(r)
-}
-
-/// A reference export that is not UTF-8: name the first line that is not.
-fn bad_encoding(path: &Path) -> FileError {
-    let bytes = std::fs::read(path).unwrap_or_default();
-    let at = std::str::from_utf8(&bytes)
-        .err()
-        .map_or(0, |e| e.valid_up_to());
-    FileError::Malformed {
-        path: path.into(),
-        line: bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1,
-        field: "(text)".into(),
-        why: "not UTF-8 (UTF-16, Latin-1 or binary?): save the export as UTF-8".into(),
-    }
-}
 
 /// Linear interpolation of `y(x)` at `at`; `None` outside the sampled range.
 pub fn interpolate(x: &[f64], y: &[f64], at: f64) -> Option<f64> {
@@ -145,7 +42,12 @@ const XCORR_STEP_S: f64 = 0.01;
 
 /// The offset (machine time − recording time) that maximises the normalised correlation of
 /// the machine load with the sensor signal `s(t)`.
-pub fn xcorr_offset(t: &[f64], s: &[f64], reference: &Reference, max_lag_s: f64) -> Option<f64> {
+pub fn xcorr_offset(
+    t: &[f64],
+    s: &[f64],
+    reference: &MachineExport,
+    max_lag_s: f64,
+) -> Option<f64> {
     let ok: Vec<(f64, f64)> = t
         .iter()
         .zip(s)
@@ -205,7 +107,7 @@ fn correlation(pairs: &[(f64, f64)]) -> f64 {
 
 /// Fill `rod_mm` and `load_N` of `rec` from `reference`; returns the offset used. Gap rows
 /// (no sensor value at all) stay gaps.
-pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
+pub fn merge(rec: &mut Recording, reference: &MachineExport, align: Align) -> f64 {
     let offset = match align {
         Align::Time { offset_s } => offset_s,
         Align::Xcorr { max_lag_s } => {
@@ -238,8 +140,8 @@ pub fn merge(rec: &mut Recording, reference: &Reference, align: Align) -> f64 {
 /// Rewrite the recording at `path` with the reference merged in (written beside it, then
 /// renamed over it, so a crash never leaves a half-merged file).
 pub fn merge_file(path: &Path, reference_path: &Path, align: Align) -> Result<f64, FileError> {
-    let reference = read_reference(reference_path)?;
-    let mut rec = crate::recording::read(path)?;
+    let reference = recording::machine::read(reference_path)?;
+    let mut rec = recording::read(path)?;
     let offset = merge(&mut rec, &reference, align);
     rec.meta.other.push((
         "reference".into(),
@@ -263,7 +165,7 @@ mod tests {
         let t: Vec<f64> = (0..1000).map(|i| i as f64 * 0.01).collect();
         let s: Vec<f64> = t.iter().map(|t| pulse(*t)).collect();
         let rt: Vec<f64> = (0..1500).map(|i| i as f64 * 0.01).collect();
-        let r = Reference {
+        let r = MachineExport {
             load_n: rt.iter().map(|t| 60.0 * pulse(t - 2.3)).collect(),
             rod_mm: rt.clone(),
             t_s: rt,
@@ -275,7 +177,7 @@ mod tests {
     /// A triggered machine's time zero is the first sample, wherever the recording's clock was.
     #[test]
     fn start_alignment_puts_machine_zero_on_the_first_sample() {
-        let mut rec = Recording::new(crate::recording::Meta {
+        let mut rec = Recording::new(recording::Meta {
             sample_rate_hz: 500.0,
             contact_angle_deg: 20.0,
             azimuth_deg: 60.0,
@@ -298,7 +200,7 @@ mod tests {
             c.my_v.push(0.3);
         }
         let t_s: Vec<f64> = (0..10).map(|i| 0.002 * i as f64).collect();
-        let r = Reference {
+        let r = MachineExport {
             rod_mm: t_s.iter().map(|t| 100.0 * t).collect(),
             load_n: t_s.iter().map(|t| 1000.0 * t).collect(),
             t_s,

@@ -1,4 +1,4 @@
-//! The catalogue of physics the baseline leaves out (`shared/contracts/diagnosis-v1.md`), as
+//! The catalogue of physics the baseline leaves out (`docs/diagnosis-format.md`), as
 //! switchable, parameterised signal-level operators, one module per effect and named exactly as
 //! the catalogue. All are off unless listed in a [`Chain`]. The simulator applies them to make
 //! recordings with effects; the diagnosis fits the very same operators.

@@ -1,26 +1,12 @@
-//! A Wheatstone bridge of four arms with fractional mismatch, seen from its outputs.
+//! The chip's Wheatstone bridge as the front end sees it: four arms with this board's
+//! fractional mismatch, seen from its outputs.
 //!
 //! R1 (to the excitation) over R2 (to ground) form the negative output, R3 over R4 the positive
-//! one; each output node is a Thevenin source `V = V_exc R_bottom / (R_top + R_bottom)` behind
-//! `R_top || R_bottom`, so the offset-cut injection can be added exactly.
+//! one; each output node is the chip's divider as a Thevenin source ([`chip::bridge::divider`]),
+//! so the offset-cut injection can be added exactly.
 
-/// One output node as a Thevenin source.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Thevenin {
-    pub v: f64,
-    pub ohm: f64,
-}
-
-impl Thevenin {
-    /// A divider of `top` (to `supply_v`) over `bottom` (to ground).
-    pub fn divider(supply_v: f64, top_ohm: f64, bottom_ohm: f64) -> Self {
-        let sum = top_ohm + bottom_ohm;
-        Self {
-            v: supply_v * bottom_ohm / sum,
-            ohm: top_ohm * bottom_ohm / sum,
-        }
-    }
-}
+use chip::bridge::divider;
+pub use chip::bridge::Thevenin;
 
 /// A bridge with its arms' fabrication mismatch.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,8 +27,8 @@ impl Bridge {
     /// The (positive, negative) output nodes for the stress-induced changes `dr_r`.
     pub fn outputs(&self, dr_r: [f64; 4]) -> (Thevenin, Thevenin) {
         let [r1, r2, r3, r4] = self.arms_ohm(dr_r);
-        let pos = Thevenin::divider(self.excitation_v, r3, r4);
-        let neg = Thevenin::divider(self.excitation_v, r1, r2);
+        let pos = divider(self.excitation_v, r3, r4);
+        let neg = divider(self.excitation_v, r1, r2);
         (pos, neg)
     }
 
@@ -51,8 +37,8 @@ impl Bridge {
     pub fn outputs_for_arms(&self, arms_ohm: [f64; 4]) -> (Thevenin, Thevenin) {
         let [r1, r2, r3, r4] = core::array::from_fn(|i| arms_ohm[i] * (1.0 + self.mismatch[i]));
         (
-            Thevenin::divider(self.excitation_v, r3, r4),
-            Thevenin::divider(self.excitation_v, r1, r2),
+            divider(self.excitation_v, r3, r4),
+            divider(self.excitation_v, r1, r2),
         )
     }
 

@@ -57,11 +57,20 @@ impl Channel {
         self.amplify(self.amp_input_v(dr_r, imbalance_v, dac_code), mid_v)
     }
 
-    /// The ADC's differential input at DC for arm resistances from the chip model (its loaded
-    /// arms in [`CHIP_ARM_ORDER`], this bridge's mismatch applied on top).
-    pub fn adc_input_v_for_arms(&self, arms_ohm: [f64; 4], dac_code: u32, mid_v: f64) -> f64 {
+    /// The ADC's differential input at DC for arm resistances from the chip model (its arms in
+    /// [`CHIP_ARM_ORDER`], this bridge's mismatch applied on top) and a signal `signal_v` in
+    /// series with the positive output (the bridge's response to a load, `crate::forward`).
+    pub fn adc_input_v_for_arms(
+        &self,
+        arms_ohm: [f64; 4],
+        signal_v: f64,
+        dac_code: u32,
+        mid_v: f64,
+    ) -> f64 {
         let (pos, neg) = self.bridge.outputs_for_arms(arms_ohm);
-        let v_in = self.trim.inject(pos, dac_code).v - neg.v;
+        // The small offset first, then the signal: adding a 0.1 mV signal to a 1.65 V node would
+        // round it to 1e-12 of itself.
+        let v_in = (self.trim.inject(pos, dac_code).v - neg.v) + signal_v;
         self.antialias.dc_gain() * self.amplify(v_in, mid_v)
     }
 
@@ -228,7 +237,7 @@ mod tests {
         let mx = &fe.channels[1];
         let dr_r = [1.0e-4, -2.0e-4, 3.0e-4, -1.0e-4];
         let arms = core::array::from_fn(|i| mx.bridge.nominal_ohm[i] * (1.0 + dr_r[i]));
-        let a = mx.adc_input_v_for_arms(arms, codes[1], mid);
+        let a = mx.adc_input_v_for_arms(arms, 0.0, codes[1], mid);
         let b = mx.adc_input_v(dr_r, 0.0, codes[1], mid);
         assert!((a - b).abs() < 1e-12, "{a} vs {b}");
     }

@@ -2,14 +2,14 @@
 //! a swinging ambient is no exponential, yet it is named and its amplitude recovered, because
 //! the model follows the measured temperature.
 
-use host::diagnosis::baseline::{BaselineParams, FrontEnd};
-use host::diagnosis::synth::{simulate, Noise, SimSpec};
+use diagnosis::baseline::{BaselineParams, FrontEnd};
+use diagnosis::synth::{simulate, Noise, SimSpec};
 use sim::effects::Effect;
 
 #[test]
 fn drift_following_a_swinging_ambient_is_found_through_temp_c() {
     let hw = hardware::Params::load_default().unwrap();
-    let opt = host::diagnosis::Options::from_hardware(&hw, false).unwrap();
+    let opt = diagnosis::Options::from_hardware(&hw).unwrap();
     let fingertip = opt.fe.response(20.0, 20.0, 60.0).unwrap();
     let amplitude_v = 0.06;
     let spec = SimSpec {
@@ -42,9 +42,7 @@ fn drift_following_a_swinging_ambient_is_found_through_temp_c() {
         source: "thermal regression test".into(),
     };
     let rec = simulate(&spec);
-    let d = host::diagnosis::diagnose(&rec, "thermal", &opt)
-        .unwrap()
-        .report;
+    let d = diagnosis::diagnose(&rec, "thermal", &opt).unwrap().report;
     let names: Vec<&str> = d.effects.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(names, ["thermal_drift"], "{:#?}", d.candidates);
     let found = d.effects[0].params.get("amplitude_V").unwrap();

@@ -3,7 +3,7 @@
 //! rod moves fast or changes speed, 200 ms blocks (5 Hz) where everything is slow. Blocks of
 //! whole mains periods also cancel 50 Hz pickup and its harmonics.
 
-use crate::recording::Recording;
+use recording::Recording;
 
 /// Compared channels, in contract order.
 pub const CHANNELS: [&str; 4] = ["load_N", "fz_V", "mx_V", "my_V"];
@@ -230,7 +230,7 @@ pub fn peak_to_peak(x: &[f64]) -> f64 {
 
 /// Lag-1 correlation rho of AR(1) noise from second differences, which cancel any signal that
 /// is smooth on the sample scale. For AR(1) noise (autocovariance sigma^2 rho^h) the lag-1
-/// correlation of d[k] = e[k] - 2 e[k-1] + e[k-2] is
+/// correlation of `d[k] = e[k] - 2 e[k-1] + e[k-2]` is
 /// (-4 + 7 rho - 4 rho^2 + rho^3) / (6 - 8 rho + 2 rho^2), -2/3 for white noise, rising with
 /// rho; inverted by bisection. Clamped to [0, 0.99].
 pub fn noise_correlation(x: &[f64]) -> f64 {
@@ -259,7 +259,7 @@ pub fn noise_correlation(x: &[f64]) -> f64 {
 }
 
 /// White-noise level from second differences, which cancel any signal that is smooth on the
-/// sample scale: var(x[k+1] - 2x[k] + x[k-1]) = 6 sigma^2. The median absolute value (scaled
+/// sample scale: `var(x[k+1] - 2x[k] + x[k-1]) = 6 sigma^2`. The median absolute value (scaled
 /// for a normal law) keeps fast transients and clipping from inflating it.
 pub fn difference_noise(x: &[f64]) -> f64 {
     if x.len() < 3 {

@@ -1,14 +1,16 @@
-//! The recording interchange format, version 1 (`shared/contracts/recording-v1.md`): a CSV with
-//! `# key = value` metadata, one header line and numeric rows.
+//! The recording format `tactile-recording/1` (specified in `docs/recording-format.md`): a CSV with
+//! `# key = value` metadata, one header line and numeric rows; and the test machine's export
+//! (time, rod travel, load) that the logger merges into a recording ([`machine`]).
 //!
 //! [`read`] / [`Recording::parse`] refuse a file that breaks the layout with a
 //! [`RecordingError`] naming the line and the field (and the file, for [`read`]), and a file too
 //! big to hold in memory ([`Limits`]); [`RecordingWriter`] writes rows incrementally (the
 //! logger, `tactile simulate`, `replay` and the reference merge use it).
 //!
-//! A last line without its line end is refused ([`RecordingError::Unterminated`]): the contract
+//! A last line without its line end is refused ([`RecordingError::Unterminated`]): the format
 //! makes every line end with `\n` or `\r\n`, and a row cut short by a killed writer can still
 //! parse (`0.0012` cut to `0.00`), so reading it would silently alter the data.
+#![warn(missing_docs)]
 
 mod error;
 mod meta;
@@ -19,6 +21,8 @@ pub use error::RecordingError;
 pub use meta::Meta;
 pub use reader::{read, read_from, read_from_with, read_with, Limits};
 pub use writer::RecordingWriter;
+
+pub mod machine;
 
 /// The value of the `format` key this module reads and writes.
 pub const FORMAT: &str = "tactile-recording/1";
@@ -31,18 +35,26 @@ pub const TEMP_COLUMN: &str = "temp_C";
 /// One channel that is not required by the contract, carried along by name.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Column {
+    /// The column's name in the header.
     pub name: String,
+    /// One value per row; a missing value is `NaN`.
     pub values: Vec<f64>,
 }
 
 /// The required channels, one value per row; a missing value is `NaN`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Channels {
+    /// Time since the start of the recording, s (`t_s`).
     pub t_s: Vec<f64>,
+    /// Rod travel from first contact, mm (`rod_mm`).
     pub rod_mm: Vec<f64>,
+    /// Force along the rod axis from the reference load cell, N (`load_N`).
     pub load_n: Vec<f64>,
+    /// Fz channel at the ADC input, V (`fz_V`).
     pub fz_v: Vec<f64>,
+    /// Mx channel at the ADC input, V (`mx_V`).
     pub mx_v: Vec<f64>,
+    /// My channel at the ADC input, V (`my_V`).
     pub my_v: Vec<f64>,
 }
 
@@ -52,6 +64,7 @@ impl Channels {
         self.t_s.len()
     }
 
+    /// Whether there are no rows.
     pub fn is_empty(&self) -> bool {
         self.t_s.is_empty()
     }
@@ -87,7 +100,9 @@ impl Channels {
 /// A whole recording in memory.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Recording {
+    /// The metadata block.
     pub meta: Meta,
+    /// The required columns.
     pub channels: Channels,
     /// `temp_C`, when the file has that column.
     pub temp_c: Option<Vec<f64>>,

@@ -4,6 +4,8 @@
 
 use std::f64::consts::TAU;
 
+use nalgebra::{DMatrix, DVector};
+
 /// Line search band.
 const BAND_HZ: (f64, f64) = (45.0, 65.0);
 /// Scan resolution.
@@ -134,21 +136,22 @@ pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -
 /// Least squares of a sin + b cos at f (and 3f) on the selected samples.
 fn fit_coefficients(t: &[f64], r: &[f64], idx: &[usize], f: f64, harmonic: bool) -> [f64; 4] {
     let m = if harmonic { 4 } else { 2 };
-    let mut ata = vec![vec![0.0; m]; m];
-    let mut atb = vec![0.0; m];
+    let mut ata = DMatrix::zeros(m, m);
+    let mut atb = DVector::zeros(m);
     for &k in idx {
         let w = TAU * f * t[k];
         let basis = [w.sin(), w.cos(), (3.0 * w).sin(), (3.0 * w).cos()];
         for i in 0..m {
             atb[i] += basis[i] * r[k];
             for j in 0..m {
-                ata[i][j] += basis[i] * basis[j];
+                ata[(i, j)] += basis[i] * basis[j];
             }
         }
     }
-    let x = super::lm::solve_linear(ata, atb).unwrap_or_else(|| vec![0.0; m]);
     let mut c = [0.0; 4];
-    c[..m].copy_from_slice(&x);
+    if let Some(x) = super::lm::solve_linear(ata, atb) {
+        c[..m].copy_from_slice(x.as_slice());
+    }
     c
 }
 

@@ -6,7 +6,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::data::CHANNELS;
-use super::pipeline::Diagnosis;
+use super::output::Report;
+use super::pipeline::{Diagnosis, PlotData};
 use super::regimes::Regime;
 
 const W: f64 = 900.0;
@@ -16,9 +17,30 @@ const PAD: f64 = 45.0;
 /// Write `index.html` and one SVG per plot into `dir`.
 pub fn write(dir: &Path, d: &Diagnosis) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
+    let mut html = summary_html(&d.report);
+    html.push_str("<h2>Localisation timeline</h2>");
+    std::fs::write(dir.join("timeline.svg"), timeline_svg(d))?;
+    html.push_str("<img src=timeline.svg>");
+    html.push_str("<h2>Channels</h2>");
     let p = &d.plots;
+    for c in (0..4).filter(|&c| p.used[c]) {
+        let (fit, residual) = channel_svgs(p, c);
+        std::fs::write(dir.join(format!("{}.svg", CHANNELS[c])), &fit)?;
+        std::fs::write(dir.join(format!("{}_residual.svg", CHANNELS[c])), &residual)?;
+        let _ = write!(
+            html,
+            "<h3>{0}</h3><img src={0}.svg><br><img src={0}_residual.svg>",
+            CHANNELS[c]
+        );
+    }
+    html.push_str("<p>Shaded: the held-out stretch, never fitted. Series shown at the fitting rate (block means).</p>");
+    std::fs::write(dir.join("index.html"), html)
+}
+
+/// The report's head: verdict and RMSEs, each effect with its parameters, the baseline's
+/// calibration.
+fn summary_html(r: &Report) -> String {
     let mut html = String::new();
-    let r = &d.report;
     let _ = write!(
         html,
         "<!doctype html><meta charset=utf-8><title>tactile diagnose: {}</title>\
@@ -46,51 +68,40 @@ pub fn write(dir: &Path, d: &Diagnosis) -> std::io::Result<()> {
     for (k, v) in &r.baseline.params.0 {
         let _ = write!(html, "<tr><td>{k}</td><td>{v:.4e}</td></tr>");
     }
-    html.push_str("</table><h2>Localisation timeline</h2>");
-    let timeline = timeline_svg(d);
-    std::fs::write(dir.join("timeline.svg"), &timeline)?;
-    html.push_str("<img src=timeline.svg>");
-    html.push_str("<h2>Channels</h2>");
-    for c in (0..4).filter(|&c| p.used[c]) {
-        let fit = series_svg(
-            &p.t_s,
-            &[
-                (&p.recorded[c], "#888", "recording"),
-                (&p.baseline[c], "#d33", "baseline"),
-                (&p.improved[c], "#36c", "improved"),
-            ],
-            CHANNELS[c],
-            p.heldout,
-        );
-        let rb: Vec<f64> = p.recorded[c]
+    html.push_str("</table>");
+    html
+}
+
+/// Channel `c`'s plots: recording, baseline and improved model; the residual before and after.
+fn channel_svgs(p: &PlotData, c: usize) -> (String, String) {
+    let fit = series_svg(
+        &p.t_s,
+        &[
+            (&p.recorded[c], "#888", "recording"),
+            (&p.baseline[c], "#d33", "baseline"),
+            (&p.improved[c], "#36c", "improved"),
+        ],
+        CHANNELS[c],
+        p.heldout,
+    );
+    let minus = |model: &[f64]| -> Vec<f64> {
+        p.recorded[c]
             .iter()
-            .zip(&p.baseline[c])
+            .zip(model)
             .map(|(a, b)| a - b)
-            .collect();
-        let ri: Vec<f64> = p.recorded[c]
-            .iter()
-            .zip(&p.improved[c])
-            .map(|(a, b)| a - b)
-            .collect();
-        let res = series_svg(
-            &p.t_s,
-            &[
-                (&rb, "#d33", "residual before"),
-                (&ri, "#36c", "residual after"),
-            ],
-            &format!("{} residual", CHANNELS[c]),
-            p.heldout,
-        );
-        std::fs::write(dir.join(format!("{}.svg", CHANNELS[c])), &fit)?;
-        std::fs::write(dir.join(format!("{}_residual.svg", CHANNELS[c])), &res)?;
-        let _ = write!(
-            html,
-            "<h3>{0}</h3><img src={0}.svg><br><img src={0}_residual.svg>",
-            CHANNELS[c]
-        );
-    }
-    html.push_str("<p>Shaded: the held-out stretch, never fitted. Series shown at the fitting rate (block means).</p>");
-    std::fs::write(dir.join("index.html"), html)
+            .collect()
+    };
+    let (rb, ri) = (minus(&p.baseline[c]), minus(&p.improved[c]));
+    let residual = series_svg(
+        &p.t_s,
+        &[
+            (&rb, "#d33", "residual before"),
+            (&ri, "#36c", "residual after"),
+        ],
+        &format!("{} residual", CHANNELS[c]),
+        p.heldout,
+    );
+    (fit, residual)
 }
 
 fn esc(s: &str) -> String {

@@ -1,12 +1,12 @@
 //! Robustness study: recordings whose physics departs from the catalogue operators or from the
 //! nominal baseline in ways the diagnosis does not model. Prints what is found; asserts only that
 //! nothing is reported on the departures that are not catalogue effects at all.
-//! Run: `cargo test --release -p host --test diagnosis_robustness -- --ignored --nocapture`.
+//! Run: `cargo test --release -p diagnosis --test robustness -- --ignored --nocapture`.
 
-use host::diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
-use host::diagnosis::fe_response::AngleBlend;
-use host::diagnosis::synth::{simulate, Gaussian, Noise, SimSpec};
-use host::recording::Recording;
+use diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
+use diagnosis::fe_response::AngleBlend;
+use diagnosis::synth::{simulate, Gaussian, Noise, SimSpec};
+use recording::Recording;
 use sim::effects::Effect;
 
 /// A force law outside the diagnosis's family: the FE response stiffened as if the gel were
@@ -26,10 +26,7 @@ impl FingertipResponse for Thick {
     }
 }
 
-fn recording(
-    effects: &[&str],
-    tweak: impl Fn(&mut SimSpec),
-) -> (Recording, host::diagnosis::Options) {
+fn recording(effects: &[&str], tweak: impl Fn(&mut SimSpec)) -> (Recording, diagnosis::Options) {
     recording_with(effects, false, tweak)
 }
 
@@ -37,9 +34,9 @@ fn recording_with(
     effects: &[&str],
     thick: bool,
     tweak: impl Fn(&mut SimSpec),
-) -> (Recording, host::diagnosis::Options) {
+) -> (Recording, diagnosis::Options) {
     let hw = hardware::Params::load_default().unwrap();
-    let opt = host::diagnosis::Options::from_hardware(&hw, false).unwrap();
+    let opt = diagnosis::Options::from_hardware(&hw).unwrap();
     let fe = opt.fe.response(RADIUS_MM, 20.0, 60.0).unwrap();
     let thick_tip = Thick(fe.clone());
     let fingertip: &dyn FingertipResponse = if thick { &thick_tip } else { &fe };
@@ -76,8 +73,8 @@ fn recording_with(
     (rec, opt)
 }
 
-fn found(rec: &Recording, opt: &host::diagnosis::Options, label: &str) -> Vec<String> {
-    let d = host::diagnosis::diagnose(rec, label, opt).unwrap();
+fn found(rec: &Recording, opt: &diagnosis::Options, label: &str) -> Vec<String> {
+    let d = diagnosis::diagnose(rec, label, opt).unwrap();
     let names: Vec<String> = d
         .report
         .effects
@@ -122,7 +119,7 @@ fn coloured_noise(rec: &mut Recording, rho: f64, sigma: f64) {
 #[test]
 #[ignore = "study: run with --release --ignored --nocapture"]
 fn departures_from_the_models() {
-    let (rec, opt) = recording(&[], |s| s.front_end.sensitivity_per_v[1][1] *= 1.1);
+    let (rec, opt) = recording(&[], |s| s.front_end.signal.sensitivity_per_v[1][1] *= 1.1);
     let mismatched_gain = found(&rec, &opt, "Mx sensitivity 10 % above My (no effect)");
     let (rec, opt) = recording(&[], |s| s.baseline.exponent_shift = 0.25);
     let exponent = found(&rec, &opt, "force exponent 1.75 instead of 1.5 (no effect)");

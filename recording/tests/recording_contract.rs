@@ -1,7 +1,7 @@
-//! One test per rule of `recording-v1.md`: what is accepted, and what is refused with the line
+//! One test per rule of `docs/recording-format.md`: what is accepted, and what is refused with the line
 //! and the field named.
 
-use host::recording::{Recording, RecordingError};
+use recording::{Recording, RecordingError};
 
 const META: &str = "# format = tactile-recording/1\n# sample_rate_hz = 1000\n# contact_angle_deg = 20\n\
 # azimuth_deg = 60\n# fingertip_radius_mm = 20\n# gain_fz = 3000\n# gain_mx = 1000\n# gain_my = 1000\n\
@@ -195,9 +195,7 @@ fn wrong_field_count_is_refused() {
 fn bad_utf8_is_refused_naming_the_line_and_field() {
     let mut bytes = format!("{META}{HEADER}0,0,0,0,0,0\n").into_bytes();
     bytes.extend_from_slice(b"0.001,0,0,\xff\xfe,0,0\n");
-    let e = host::recording::read_from(&bytes[..])
-        .unwrap_err()
-        .to_string();
+    let e = recording::read_from(&bytes[..]).unwrap_err().to_string();
     assert_eq!(
         e,
         "line 13, field `fz_V`: not UTF-8 text (byte 0xff); Latin-1/Windows-1252 text or binary \
@@ -215,9 +213,7 @@ fn utf16_is_refused_as_utf16() {
                 .flat_map(u16::to_le_bytes),
         )
         .collect();
-    let e = host::recording::read_from(&bytes[..])
-        .unwrap_err()
-        .to_string();
+    let e = recording::read_from(&bytes[..]).unwrap_err().to_string();
     assert!(
         e.starts_with("line 1: not UTF-8 text (byte 0xff); UTF-16 text"),
         "{e}"
@@ -253,7 +249,7 @@ fn a_last_line_without_line_end_is_refused() {
 
 #[test]
 fn input_over_the_byte_limit_is_refused() {
-    use host::recording::{read_from_with, Limits};
+    use recording::{read_from_with, Limits};
     let text = format!("{META}{HEADER}0,0,0,0,0,0\n0.001,0,0,0,0,0\n");
     let limits = Limits {
         max_bytes: text.len() as u64 - 1,
@@ -280,7 +276,7 @@ fn input_over_the_byte_limit_is_refused() {
 
 #[test]
 fn a_file_over_the_byte_limit_is_refused_before_reading_naming_it() {
-    use host::recording::{read_with, Limits};
+    use recording::{read_with, Limits};
     let dir = std::env::temp_dir().join(format!("rec-limit-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("big.csv");
@@ -296,13 +292,13 @@ fn a_file_over_the_byte_limit_is_refused_before_reading_naming_it() {
     let msg = e.to_string();
     assert!(msg.starts_with(&format!("{}: ", path.display())), "{msg}");
     assert!(msg.contains("over the 100-byte limit"), "{msg}");
-    assert_eq!(e.exit_code(), host::cli::exit::DATA);
+    assert_eq!(e.io_kind(), None, "read, then refused");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn too_many_values_and_overlong_lines_are_refused() {
-    use host::recording::{read_from_with, Limits};
+    use recording::{read_from_with, Limits};
     let text = format!("{META}{HEADER}0,0,0,0,0,0\n0.001,0,0,0,0,0\n");
     let few = Limits {
         max_values: 11,
@@ -342,10 +338,10 @@ fn empty_file_is_refused() {
 }
 
 #[test]
-fn missing_file_maps_to_no_input_and_broken_file_to_data() {
-    let e = host::recording::read(std::path::Path::new("/nonexistent/rec.csv")).unwrap_err();
-    assert_eq!(e.exit_code(), host::cli::exit::NO_INPUT);
-    assert_eq!(parse("").unwrap_err().exit_code(), host::cli::exit::DATA);
+fn a_missing_file_is_an_io_error_and_a_broken_one_is_not() {
+    let e = recording::read(std::path::Path::new("/nonexistent/rec.csv")).unwrap_err();
+    assert_eq!(e.io_kind(), Some(std::io::ErrorKind::NotFound));
+    assert_eq!(parse("").unwrap_err().io_kind(), None);
 }
 
 #[test]
@@ -353,7 +349,7 @@ fn writer_streams_rows_and_flushes_on_demand() {
     let r = ok(&format!("{META}{HEADER}"));
     let mut buf = Vec::new();
     {
-        let mut w = host::recording::RecordingWriter::new(&mut buf, &r.meta, false, &[]).unwrap();
+        let mut w = recording::RecordingWriter::new(&mut buf, &r.meta, false, &[]).unwrap();
         for i in 0..1000 {
             w.write_row(&[i as f64 * 1e-3, 0.1, 0.2, 0.3, f64::NAN, 0.5], None, &[])
                 .unwrap();

@@ -9,9 +9,10 @@ use sim::effects::{Effect, EffectKind};
 
 use super::baseline::{BaselineParams, Drive};
 use super::fe_response::{AngleBlend, FeResponseError};
+use super::output::Report;
 use super::pipeline::{diagnose, Options};
 use super::synth::{simulate, Gaussian, Noise, SimSpec};
-use crate::recording::Recording;
+use recording::Recording;
 
 /// One generated recording and what is hidden in it.
 pub struct Case {
@@ -98,81 +99,113 @@ impl Plan {
                 .wrapping_add(id as u64 * 7919 + 1),
         );
         let mut u = |a: f64, b: f64| a + (b - a) * g.uniform();
-        // The jigs' settings: inclinations in equal steps (one between grid tables, so the
-        // blend is exercised) and two azimuths, the paper's 60 deg and 30 deg.
+        let jig = Jig::draw(id, &mut u);
+        let fingertip =
+            self.options
+                .fe
+                .response(self.radius_mm, jig.contact_angle_deg, jig.azimuth_deg)?;
+        let baseline = truth_baseline(jig.modulus_pa, &mut u);
+        // A rail must clip in both cycles to be seen in the held-out one.
+        let second_peak_output =
+            peak_output_v(&fingertip, &self.front_end, &baseline, jig.second_peak_n);
+        let truth: Vec<Effect> = kinds
+            .iter()
+            .map(|&k| k.with_params(&random_params(k, &mut u, second_peak_output)))
+            .collect();
+        // Every other drift follows an ambient that also swings: the regression on temp_C.
+        let ambient_swing = (kinds.contains(&EffectKind::ThermalDrift) && id % 2 == 0)
+            .then(|| (u(0.5, 1.0), u(30.0, 90.0)));
+        let spec = SimSpec {
+            fingertip: &fingertip,
+            front_end: self.front_end,
+            baseline,
+            contact_angle_deg: jig.contact_angle_deg,
+            azimuth_deg: jig.azimuth_deg,
+            radius_mm: self.radius_mm,
+            test: CompressionTest {
+                sample_rate_hz: self.sample_rate_hz,
+                recovery_s: 45.0,
+                ..Default::default()
+            },
+            peak_loads_n: vec![jig.peak_n, jig.second_peak_n],
+            effects: truth.clone(),
+            noise: jig.noise,
+            seed: self.seed ^ (id as u64) << 20,
+            ambient_c: 24.0,
+            warm_up_rise_c: 6.0,
+            ambient_swing,
+            source: "tactile prove".into(),
+        };
+        Ok(Case {
+            id,
+            truth,
+            low_snr: jig.low_snr,
+            recording: simulate(&spec),
+        })
+    }
+}
+
+/// The jig's settings and the measurement's noise of one case.
+struct Jig {
+    contact_angle_deg: f64,
+    azimuth_deg: f64,
+    peak_n: f64,
+    second_peak_n: f64,
+    modulus_pa: f64,
+    low_snr: bool,
+    noise: Noise,
+}
+
+impl Jig {
+    /// Drawn from the case's uniform deviates `u(a, b)`, in a fixed order.
+    fn draw(id: usize, u: &mut impl FnMut(f64, f64) -> f64) -> Self {
+        // Inclinations in equal steps (one between grid tables, so the blend is exercised) and
+        // two azimuths, the paper's 60 deg and 30 deg.
         let contact_angle_deg = JIG_ANGLES_DEG
             [(u(0.0, 1.0) * JIG_ANGLES_DEG.len() as f64) as usize % JIG_ANGLES_DEG.len()];
         let azimuth_deg = if u(0.0, 1.0) < 0.5 { 30.0 } else { 60.0 };
-        let peak = u(40.0, 70.0);
-        let second = peak * u(0.5, 0.8);
+        let peak_n = u(40.0, 70.0);
+        let second_peak_n = peak_n * u(0.5, 0.8);
         // Stiffer than nominal or nominal: the FE tables reach 75 N at the nominal modulus.
-        let modulus = u(1.0e5, 1.5e5);
+        let modulus_pa = u(1.0e5, 1.5e5);
         let low_snr = id % 4 == 3;
         let volts_noise = if low_snr {
             u(8e-3, 12e-3)
         } else {
             u(1e-3, 3e-3)
         };
-        let load_noise = if low_snr { 0.1 } else { 0.02 };
-        let fingertip = self
-            .options
-            .fe
-            .response(self.radius_mm, contact_angle_deg, azimuth_deg)?;
-        let front_end = self.front_end;
-        let test = CompressionTest {
-            sample_rate_hz: self.sample_rate_hz,
-            recovery_s: 45.0,
-            ..Default::default()
-        };
-        let baseline = BaselineParams {
-            youngs_modulus_pa: modulus,
-            exponent_shift: u(-0.1, 0.1),
-            exponent_curvature: u(-0.05, 0.05),
-            scale_fz: u(0.85, 1.15),
-            scale_moment: u(0.85, 1.15),
-            azimuth_shift_deg: u(-1.5, 1.5),
-            offset: [
-                u(-0.05, 0.05),
-                u(-0.02, 0.02),
-                u(-0.02, 0.02),
-                u(-0.02, 0.02),
-            ],
-        };
-        // A rail must clip in both cycles to be seen in the held-out one.
-        let second_peak_output = peak_output_v(&fingertip, &front_end, &baseline, second);
-        let truth: Vec<Effect> = kinds
-            .iter()
-            .map(|&k| k.with_params(&random_params(k, &mut u, second_peak_output)))
-            .collect();
-        let spec = SimSpec {
-            fingertip: &fingertip,
-            front_end,
-            baseline,
+        Self {
             contact_angle_deg,
             azimuth_deg,
-            radius_mm: self.radius_mm,
-            test,
-            peak_loads_n: vec![peak, second],
-            effects: truth.clone(),
+            peak_n,
+            second_peak_n,
+            modulus_pa,
+            low_snr,
             noise: Noise {
-                load_n: load_noise,
+                load_n: if low_snr { 0.1 } else { 0.02 },
                 volts: [volts_noise; 3],
                 temp_c: 0.02,
             },
-            seed: self.seed ^ (id as u64) << 20,
-            ambient_c: 24.0,
-            warm_up_rise_c: 6.0,
-            // Every other drift follows an ambient that also swings: the regression on temp_C.
-            ambient_swing: (kinds.contains(&EffectKind::ThermalDrift) && id % 2 == 0)
-                .then(|| (u(0.5, 1.0), u(30.0, 90.0))),
-            source: "tactile prove".into(),
-        };
-        Ok(Case {
-            id,
-            truth,
-            low_snr,
-            recording: simulate(&spec),
-        })
+        }
+    }
+}
+
+/// The truth's baseline: the drawn modulus, and the deviations from the nominal model
+/// (exponent, sensitivities, azimuth, offsets) a real sensor has and the diagnosis calibrates.
+fn truth_baseline(modulus_pa: f64, u: &mut impl FnMut(f64, f64) -> f64) -> BaselineParams {
+    BaselineParams {
+        youngs_modulus_pa: modulus_pa,
+        exponent_shift: u(-0.1, 0.1),
+        exponent_curvature: u(-0.05, 0.05),
+        scale_fz: u(0.85, 1.15),
+        scale_moment: u(0.85, 1.15),
+        azimuth_shift_deg: u(-1.5, 1.5),
+        offset: [
+            u(-0.05, 0.05),
+            u(-0.02, 0.02),
+            u(-0.02, 0.02),
+            u(-0.02, 0.02),
+        ],
     }
 }
 
@@ -187,11 +220,8 @@ fn peak_output_v(
     let e = base.youngs_modulus_pa;
     let rod = sim::compression::rod_at_load(|d| fingertip.unit_response(d).force_n * e, peak, 60.0);
     let drive = Drive::new(fingertip, vec![0.0], &[rod]);
-    let v = front_end.volts(drive.unit[0].chip.map(|c| c * e));
-    let scale = [base.scale_fz, base.scale_moment, base.scale_moment];
-    v.iter()
-        .zip(scale)
-        .fold(0.0f64, |m, (x, s)| m.max((x * s).abs()))
+    let v = front_end.scaled_volts(drive.unit[0].chip.map(|c| c * e), base);
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
 /// Physical ranges of each effect's parameters, catalogue order.
@@ -232,7 +262,7 @@ pub fn run(cases: &[Case], opt: &Options) -> Vec<Score> {
         .collect()
 }
 
-fn score(case: &Case, report: Option<super::output::Report>) -> Score {
+fn score(case: &Case, report: Option<Report>) -> Score {
     let truth: Vec<String> = case
         .truth
         .iter()
@@ -257,22 +287,7 @@ fn score(case: &Case, report: Option<super::output::Report>) -> Score {
     let mut b = found.clone();
     a.sort();
     b.sort();
-    let primary_errors = case
-        .truth
-        .iter()
-        .filter_map(|e| {
-            let kind = e.kind();
-            let primary = kind.param_names()[0];
-            let est = r
-                .effects
-                .iter()
-                .find(|x| x.name == kind.name())?
-                .params
-                .get(primary)?;
-            let truth = e.params()[0];
-            Some((kind.name().to_string(), ((est - truth) / truth).abs()))
-        })
-        .collect();
+    let primary_errors = primary_errors(&case.truth, &r);
     let chosen_bic = r
         .candidates
         .iter()
@@ -298,7 +313,27 @@ fn score(case: &Case, report: Option<super::output::Report>) -> Score {
     }
 }
 
-/// The acceptance figures of issue 8.
+/// Relative error of each true effect's primary parameter, where the diagnosis found that
+/// effect.
+fn primary_errors(truth: &[Effect], r: &Report) -> Vec<(String, f64)> {
+    truth
+        .iter()
+        .filter_map(|e| {
+            let kind = e.kind();
+            let primary = kind.param_names()[0];
+            let est = r
+                .effects
+                .iter()
+                .find(|x| x.name == kind.name())?
+                .params
+                .get(primary)?;
+            let truth = e.params()[0];
+            Some((kind.name().to_string(), ((est - truth) / truth).abs()))
+        })
+        .collect()
+}
+
+/// The acceptance figures of the proof.
 #[derive(Debug, Clone)]
 pub struct Summary {
     pub cases: usize,

@@ -6,17 +6,25 @@ use super::RecordingError;
 /// order, and written back unchanged.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Meta {
+    /// Nominal sample rate of the sensor channels, Hz.
     pub sample_rate_hz: f64,
     /// Inclination theta_p of the load axis from the fingertip axis.
     pub contact_angle_deg: f64,
     /// Azimuth phi of the tilt plane from the chip's x axis, counter-clockwise.
     pub azimuth_deg: f64,
+    /// Hemisphere radius, mm.
     pub fingertip_radius_mm: f64,
+    /// Voltage gain of the amplifiers ahead of the ADC, Fz channel.
     pub gain_fz: f64,
+    /// Voltage gain of the amplifiers ahead of the ADC, Mx channel.
     pub gain_mx: f64,
+    /// Voltage gain of the amplifiers ahead of the ADC, My channel.
     pub gain_my: f64,
+    /// Bridge supply, V (`excitation_V`).
     pub excitation_v: f64,
+    /// Nominal rod speed while loading, if given.
     pub rod_speed_mm_per_min: Option<f64>,
+    /// What produced the file, if given.
     pub source: Option<String>,
     /// Unknown keys, kept.
     pub other: Vec<(String, String)>,

@@ -1,11 +1,15 @@
 //! The baseline model of a compression test: what the project predicts with no catalogue effect.
 //!
 //! rod travel -> [`FingertipResponse`] (probe force and chip loads per unit gel modulus; the
-//! neo-Hookean response scales linearly with E at fixed geometry) -> x E -> chip sensitivity,
-//! excitation and amplifier gains ([`FrontEnd`]) -> output volts. The catalogue effects of
-//! `sim::effects` slot in between (mechanical on loads, electrical on volts); see [`evaluate`].
+//! neo-Hookean response scales linearly with E at fixed geometry) -> x E, force-law warp,
+//! azimuth correction -> chip loads -> volts at the ADC inputs through the emulated sensor's own
+//! signal path (`sim::forward`, inside [`FrontEnd`]) -> x the calibrated sensitivity scales,
+//! plus offsets. The calibrated parameters ([`BaselineParams`]) are adjustments around that one
+//! forward model; the catalogue effects of `sim::effects` slot in between (mechanical on loads,
+//! electrical on volts); see [`evaluate`].
 
 use sim::effects::Chain;
+use sim::forward::SignalPath;
 
 /// Probe force and chip loads per pascal of gel modulus at one rod travel.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -114,65 +118,64 @@ impl FingertipResponse for ResponseTable {
     }
 }
 
-/// From chip loads to the volts at the ADC input.
+/// From chip loads to the volts at the ADC inputs: the emulated sensor's signal path (the one
+/// forward model, [`SignalPath`]) with the recording's gains and excitation, and the firmware's
+/// smoother when the recording says it was on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrontEnd {
-    /// Bridge output per volt of excitation, per N (row Fz) or per N·m (rows Mx, My):
-    /// rows = bridges [Fz, Mx, My], columns = loads [Fz, Mx, My].
-    pub sensitivity_per_v: [[f64; 3]; 3],
-    /// Amplifier voltage gains [Fz, Mx, My].
-    pub gain: [f64; 3],
-    pub excitation_v: f64,
+    /// Chip loads to volts at the ADC inputs.
+    pub signal: SignalPath,
     /// Time constant of the firmware's first-order smoother y += alpha (x - y), if it is on:
-    /// tau = dt (1 - alpha) / alpha (see [`smoother_tau_s`]).
+    /// tau = dt / ln(1 / (1 - alpha)) (see [`smoother_tau_s`]).
     pub smoother_tau_s: Option<f64>,
 }
 
-/// The metadata key (this project's own; the contract keeps unknown keys) that records the
+/// The metadata key (this project's own; the format keeps unknown keys) that records the
 /// firmware smoother's alpha.
 pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
 
-/// The smoother y[k] = y[k-1] + alpha (x[k] - y[k-1]) at `sample_rate_hz` as a first-order
+/// The smoother `y[k] = y[k-1] + alpha (x[k] - y[k-1])` at `sample_rate_hz` as a first-order
 /// low-pass: its step response e^{-k ln(1/(1-alpha))} gives tau = dt / ln(1 / (1 - alpha)).
 pub fn smoother_tau_s(alpha: f64, sample_rate_hz: f64) -> Option<f64> {
     (alpha > 0.0 && alpha < 1.0).then(|| 1.0 / sample_rate_hz / (1.0 / (1.0 - alpha)).ln())
 }
 
 impl FrontEnd {
-    /// The chip's sensitivity matrix (the `chip` crate's beam and bridge model of
-    /// `hardware/chip.toml`) per volt of its excitation; gains and excitation as given (the
-    /// recording's metadata when diagnosing).
+    /// The chip of `hardware/chip.toml` (its sensitivity matrix per volt of its excitation);
+    /// gains and excitation as given (the recording's metadata when diagnosing).
     pub fn from_chip(
         hw: &hardware::Params,
         gain: [f64; 3],
         excitation_v: f64,
     ) -> Result<Self, chip::from_hardware::FromHardwareError> {
-        let params = chip::params::ChipParams::try_from(&hw.chip)?;
-        let s = chip::sensitivity_matrix(&params);
-        let per_v = s.map(|row| row.map(|v| v / hw.chip.excitation_v));
+        let chip = chip::ChipParams::try_from(&hw.chip)?;
         Ok(Self {
-            sensitivity_per_v: per_v,
-            gain,
-            excitation_v,
+            signal: SignalPath::from_chip(&chip, gain, excitation_v),
             smoother_tau_s: None,
         })
     }
 
-    /// Everything from `hardware/`: the chip's sensitivities, the amplifier chain's DC gains
-    /// (`sim::frontend`, from `frontend.toml`) and the bridge excitation of `chip.toml`.
+    /// Everything from `hardware/`: the emulated sensor's own signal path (the chip's
+    /// sensitivities, the amplifier chains' DC gains, the bridge excitation), smoother off.
     pub fn from_hardware(
         hw: &hardware::Params,
     ) -> Result<Self, chip::from_hardware::FromHardwareError> {
-        let fe = sim::frontend::FrontEnd::from_params(hw);
-        let gain = std::array::from_fn(|i| fe.channels[i].gain());
-        Self::from_chip(hw, gain, hw.chip.excitation_v)
+        Ok(Self {
+            signal: SignalPath::from_params(hw)?,
+            smoother_tau_s: None,
+        })
     }
 
+    /// The volts at the ADC inputs for chip loads `chip` [Fz N, Mx N·m, My N·m].
     pub fn volts(&self, chip: [f64; 3]) -> [f64; 3] {
-        std::array::from_fn(|b| {
-            let s = &self.sensitivity_per_v[b];
-            self.gain[b] * self.excitation_v * (s[0] * chip[0] + s[1] * chip[1] + s[2] * chip[2])
-        })
+        self.signal.volts(chip)
+    }
+
+    /// [`Self::volts`] with the calibrated sensitivity scales of `p`.
+    pub fn scaled_volts(&self, chip: [f64; 3], p: &BaselineParams) -> [f64; 3] {
+        let v = self.volts(chip);
+        let scale = p.scales();
+        std::array::from_fn(|b| v[b] * scale[b])
     }
 }
 
@@ -196,6 +199,12 @@ pub struct BaselineParams {
 }
 
 impl BaselineParams {
+    /// The sensitivity scales of the three output channels [Fz, Mx, My].
+    pub fn scales(&self) -> [f64; 3] {
+        [self.scale_fz, self.scale_moment, self.scale_moment]
+    }
+
+    /// The nominal model at modulus `youngs_modulus_pa`: no deviation, no offset.
     pub fn nominal(youngs_modulus_pa: f64) -> Self {
         Self {
             youngs_modulus_pa,
@@ -306,14 +315,11 @@ pub fn evaluate(
         chip[2].push(mx * s + my * c);
     }
     chain.apply_mechanical(&drive.t_s, &mut load, &mut chip, contact_angle_deg);
-    let scale = [p.scale_fz, p.scale_moment, p.scale_moment];
     let mut volts: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let [fz, mx, my] = &chip;
     for ((&a, &b), &c) in fz.iter().zip(mx).zip(my) {
-        let v = front_end.volts([a, b, c]);
-        for ((out, v), s) in volts.iter_mut().zip(v).zip(scale) {
-            out.push(v * s);
-        }
+        let v = front_end.scaled_volts([a, b, c], p);
+        volts.iter_mut().zip(v).for_each(|(out, v)| out.push(v));
     }
     chain.apply_electrical_at(&drive.t_s, drive.temp_c.as_deref(), &mut volts);
     load.iter_mut().for_each(|f| *f += p.offset[0]);
@@ -392,9 +398,11 @@ mod tests {
     #[test]
     fn outputs_scale_linearly_with_modulus() {
         let fe = FrontEnd {
-            sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-            gain: [2.0, 3.0, 3.0],
-            excitation_v: 1.5,
+            signal: SignalPath {
+                sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                gain: [2.0, 3.0, 3.0],
+                excitation_v: 1.5,
+            },
             smoother_tau_s: None,
         };
         let drive = Drive::new(&Linear, vec![0.0, 1.0, 2.0], &[0.0, 1.0, 2.0]);

@@ -1,12 +1,12 @@
-//! Speed targets of issue 8, as ratios against their limits measured in this run (not timed
+//! Speed targets of the diagnosis, as ratios against their limits measured in this run (not timed
 //! asserts): reading a 300 s, 1 kHz recording (limit 1 s) and diagnosing it (limit 10 s).
-//! Run: `cargo test --release -p host --test diagnosis_speed -- --ignored --nocapture`.
+//! Run: `cargo test --release -p diagnosis --test speed -- --ignored --nocapture`.
 
 use std::time::Instant;
 
-use host::diagnosis::baseline::{BaselineParams, FrontEnd};
-use host::diagnosis::fe_cache;
-use host::diagnosis::synth::{simulate, Noise, SimSpec};
+use diagnosis::baseline::{BaselineParams, FrontEnd};
+use diagnosis::fe_cache;
+use diagnosis::synth::{simulate, Noise, SimSpec};
 use sim::effects::Effect;
 
 #[test]
@@ -17,7 +17,7 @@ fn read_and_diagnose_300_s_at_1_khz() {
     let _ = std::fs::remove_dir_all(&cache);
     std::env::set_var(fe_cache::CACHE_DIR_ENV, &cache);
     let hw = hardware::Params::load_default().unwrap();
-    let opt = host::diagnosis::Options::from_hardware(&hw, false).unwrap();
+    let opt = diagnosis::Options::from_hardware(&hw).unwrap();
     let fingertip = opt.fe.response(20.0, 20.0, 60.0).unwrap();
     let spec = SimSpec {
         fingertip: &fingertip,
@@ -51,17 +51,17 @@ fn read_and_diagnose_300_s_at_1_khz() {
     let path = std::env::temp_dir().join(format!("tactile-speed-{}.csv", std::process::id()));
     rec.write_to(std::fs::File::create(&path).unwrap()).unwrap();
     let t = Instant::now();
-    let back = host::recording::read(&path).unwrap();
+    let back = recording::read(&path).unwrap();
     let read_s = t.elapsed().as_secs_f64();
     // Cold: no table on disk or in memory; warm: on disk (a second run of `tactile diagnose`).
     let _ = std::fs::remove_dir_all(&cache);
     fe_cache::forget_in_memory();
     let t = Instant::now();
-    host::diagnosis::diagnose(&back, "speed", &opt).unwrap();
+    diagnosis::diagnose(&back, "speed", &opt).unwrap();
     let cold_s = t.elapsed().as_secs_f64();
     fe_cache::forget_in_memory();
     let t = Instant::now();
-    let d = host::diagnosis::diagnose(&back, "speed", &opt).unwrap();
+    let d = diagnosis::diagnose(&back, "speed", &opt).unwrap();
     let diag_s = t.elapsed().as_secs_f64();
     let _ = std::fs::remove_dir_all(&cache);
     std::fs::remove_file(&path).ok();

@@ -350,8 +350,19 @@ pub struct Fitted {
 /// fit).
 fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
     let r = setup.data.range;
-    let off = |c: usize| 10.0 * r[c].max(1e-9);
     let scale_step = |v: f64| 1e-6 * v.abs().max(1e-3);
+    // An offset may reach ten times the channel's recorded range.
+    let offset = |name, c: usize| {
+        let range = r[c].max(1e-9);
+        spec(
+            name,
+            -10.0 * range,
+            10.0 * range,
+            1e-6 * range,
+            &[base[5 + c]],
+            false,
+        )
+    };
     vec![
         spec(
             "youngs_modulus_Pa",
@@ -386,38 +397,10 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
             &[base[4]],
             false,
         ),
-        spec(
-            "offset_load_N",
-            -off(0),
-            off(0),
-            1e-6 * r[0].max(1e-9),
-            &[base[5]],
-            false,
-        ),
-        spec(
-            "offset_fz_V",
-            -off(1),
-            off(1),
-            1e-6 * r[1].max(1e-9),
-            &[base[6]],
-            false,
-        ),
-        spec(
-            "offset_mx_V",
-            -off(2),
-            off(2),
-            1e-6 * r[2].max(1e-9),
-            &[base[7]],
-            false,
-        ),
-        spec(
-            "offset_my_V",
-            -off(3),
-            off(3),
-            1e-6 * r[3].max(1e-9),
-            &[base[8]],
-            false,
-        ),
+        offset("offset_load_N", 0),
+        offset("offset_fz_V", 1),
+        offset("offset_mx_V", 2),
+        offset("offset_my_V", 3),
         spec("exponent_curvature", -0.5, 0.5, 1e-5, &[base[9]], false),
     ]
 }
@@ -503,7 +486,7 @@ pub fn stderr(model: &Model, fitted: &Fitted, i: usize, rho: f64) -> Option<f64>
     let cov = fitted.solution.jtj_inv.as_ref()?;
     let dof = (fitted.solution.n as f64 - fitted.free.len() as f64).max(1.0);
     let rho = rho.clamp(0.0, 0.99);
-    let var = fitted.solution.sse / dof * (1.0 + rho) / (1.0 - rho) * cov[pos][pos];
+    let var = fitted.solution.sse / dof * (1.0 + rho) / (1.0 - rho) * cov[(pos, pos)];
     let se = var.max(0.0).sqrt();
     Some(if model.specs()[i].log {
         se * fitted.full[i].exp()

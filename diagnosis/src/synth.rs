@@ -2,11 +2,11 @@
 //! effects and noise, written as a `recording-v1` recording. `tactile simulate` and the proof
 //! generator (`tactile prove`) both use this.
 
-use sim::compression::{rod_at_load, CompressionTest};
-use sim::effects::{Chain, Effect, ThermalReference};
+use sim::compression::{rod_at_load, CompressionTest, RodHistory};
+use sim::effects::{Chain, Effect, ThermalDrift, ThermalReference};
 
 use super::baseline::{evaluate, BaselineParams, Drive, FingertipResponse, FrontEnd};
-use crate::recording::{Channels, Meta, Recording};
+use recording::{Channels, Meta, Recording};
 
 /// Standard deviations of white measurement noise.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -47,14 +47,7 @@ const MAX_ROD_MM: f64 = 60.0;
 
 /// Run the baseline (plus effects and noise) through the standard test.
 pub fn simulate(spec: &SimSpec) -> Recording {
-    let force_at =
-        |d: f64| spec.fingertip.unit_response(d).force_n * spec.baseline.youngs_modulus_pa;
-    let turns: Vec<f64> = spec
-        .peak_loads_n
-        .iter()
-        .map(|&l| rod_at_load(force_at, l, MAX_ROD_MM))
-        .collect();
-    let history = spec.test.rod_history(&turns);
+    let history = rod_history(spec);
     let warm_up = spec.effects.iter().find_map(|e| match e {
         Effect::ThermalDrift(d) => Some(*d),
         _ => None,
@@ -62,16 +55,7 @@ pub fn simulate(spec: &SimSpec) -> Recording {
     // The true temperature; the offset drift follows it (for a pure warm-up this is exactly
     // the exponential law, `ThermalDrift::apply_regressed`).
     let rise_c = warm_up.map_or(0.0, |_| spec.warm_up_rise_c);
-    let true_temp_c: Vec<f64> = history
-        .t_s
-        .iter()
-        .map(|&t| {
-            let swing = spec.ambient_swing.map_or(0.0, |(a, period_s)| {
-                a * (std::f64::consts::TAU * t / period_s).sin()
-            });
-            spec.ambient_c + warm_up.map_or(0.0, |d| rise_c * d.warm_up(t)) + swing
-        })
-        .collect();
+    let true_temp_c = true_temperature_c(spec, &history.t_s, warm_up, rise_c);
     let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm)
         .with_temperature(Some(true_temp_c.clone()));
     let mut chain = Chain::new(spec.effects.clone());
@@ -107,22 +91,8 @@ pub fn simulate(spec: &SimSpec) -> Recording {
         .map(|t| t + noise.temp_c * rng.normal())
         .collect();
     let [fz_v, mx_v, my_v] = out.volts;
-    let fe = &spec.front_end;
-    let meta = Meta {
-        sample_rate_hz: spec.test.sample_rate_hz,
-        contact_angle_deg: spec.contact_angle_deg,
-        azimuth_deg: spec.azimuth_deg,
-        fingertip_radius_mm: spec.radius_mm,
-        gain_fz: fe.gain[0],
-        gain_mx: fe.gain[1],
-        gain_my: fe.gain[2],
-        excitation_v: fe.excitation_v,
-        rod_speed_mm_per_min: Some(spec.test.speed_mm_per_min),
-        source: Some(spec.source.clone()),
-        other: Vec::new(),
-    };
     Recording {
-        meta,
+        meta: meta(spec),
         channels: Channels {
             t_s: history.t_s,
             rod_mm: history.rod_mm,
@@ -133,6 +103,55 @@ pub fn simulate(spec: &SimSpec) -> Recording {
         },
         temp_c: Some(temp_c),
         extra: Vec::new(),
+    }
+}
+
+/// The rod's travel: the standard test turning at each peak load of the truth's baseline.
+fn rod_history(spec: &SimSpec) -> RodHistory {
+    let force_at =
+        |d: f64| spec.fingertip.unit_response(d).force_n * spec.baseline.youngs_modulus_pa;
+    let turns: Vec<f64> = spec
+        .peak_loads_n
+        .iter()
+        .map(|&l| rod_at_load(force_at, l, MAX_ROD_MM))
+        .collect();
+    spec.test.rod_history(&turns)
+}
+
+/// The temperature next to the chip at each time: the ambient, the warm-up `rise_c` when there
+/// is a thermal drift, and the ambient's swing.
+fn true_temperature_c(
+    spec: &SimSpec,
+    t_s: &[f64],
+    warm_up: Option<ThermalDrift>,
+    rise_c: f64,
+) -> Vec<f64> {
+    t_s.iter()
+        .map(|&t| {
+            let swing = spec.ambient_swing.map_or(0.0, |(a, period_s)| {
+                a * (std::f64::consts::TAU * t / period_s).sin()
+            });
+            spec.ambient_c + warm_up.map_or(0.0, |d| rise_c * d.warm_up(t)) + swing
+        })
+        .collect()
+}
+
+/// The recording's metadata: the test's rate and speed, the jig's angles, the front end's
+/// gains and excitation.
+fn meta(spec: &SimSpec) -> Meta {
+    let signal = &spec.front_end.signal;
+    Meta {
+        sample_rate_hz: spec.test.sample_rate_hz,
+        contact_angle_deg: spec.contact_angle_deg,
+        azimuth_deg: spec.azimuth_deg,
+        fingertip_radius_mm: spec.radius_mm,
+        gain_fz: signal.gain[0],
+        gain_mx: signal.gain[1],
+        gain_my: signal.gain[2],
+        excitation_v: signal.excitation_v,
+        rod_speed_mm_per_min: Some(spec.test.speed_mm_per_min),
+        source: Some(spec.source.clone()),
+        other: Vec::new(),
     }
 }
 

@@ -169,9 +169,39 @@ pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording,
         total: 0,
         limits,
     };
+    let head = read_head(&mut lines)?;
+    let meta = Meta::from_pairs(head.pairs, head.line)?;
+    let (names, slots) = parse_header(&head.header, head.line)?;
+    let mut rec = Recording::new(meta);
+    if slots.iter().any(|s| matches!(s, Slot::Temp)) {
+        rec.temp_c = Some(Vec::new());
+    }
+    rec.extra = slots
+        .iter()
+        .zip(&names)
+        .filter(|(s, _)| matches!(s, Slot::Extra(_)))
+        .map(|(_, n)| Column {
+            name: n.clone(),
+            values: Vec::new(),
+        })
+        .collect();
+    read_rows(&mut lines, &names, &slots, &mut rec)?;
+    Ok(rec)
+}
+
+/// What comes before the data rows.
+struct Head {
+    /// Metadata as `(line, key, value)`.
+    pairs: Vec<(usize, String, String)>,
+    /// The header line's text and its number.
+    header: String,
+    line: usize,
+}
+
+/// Metadata and comments up to the header, and the header.
+fn read_head<R: BufRead>(lines: &mut Lines<R>) -> Result<Head, RecordingError> {
     let mut pairs = Vec::new();
-    // Metadata and comments up to the header.
-    let (header, header_line) = loop {
+    loop {
         let Some(line) = lines.next()? else {
             return Err(RecordingError::Empty);
         };
@@ -191,27 +221,26 @@ pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording,
                 field: "header".into(),
             });
         }
-        break (text.to_string(), line.no);
-    };
-    let meta = Meta::from_pairs(pairs, header_line)?;
-    let (names, slots) = parse_header(&header, header_line)?;
-    let mut rec = Recording::new(meta);
-    if slots.iter().any(|s| matches!(s, Slot::Temp)) {
-        rec.temp_c = Some(Vec::new());
+        return Ok(Head {
+            pairs,
+            header: text.to_string(),
+            line: line.no,
+        });
     }
-    rec.extra = slots
-        .iter()
-        .zip(&names)
-        .filter(|(s, _)| matches!(s, Slot::Extra(_)))
-        .map(|(_, n)| Column {
-            name: n.clone(),
-            values: Vec::new(),
-        })
-        .collect();
+}
+
+/// The data rows after the header, each checked whole before it is kept in `rec`.
+fn read_rows<R: BufRead>(
+    lines: &mut Lines<R>,
+    names: &[String],
+    slots: &[Slot],
+    rec: &mut Recording,
+) -> Result<(), RecordingError> {
+    let max_values = lines.limits.max_values;
     let mut previous_t = f64::NEG_INFINITY;
     let mut values = 0u64;
     while let Some(line) = lines.next()? {
-        let text = line.text(&names)?;
+        let text = line.text(names)?;
         if text.trim().is_empty() {
             continue;
         }
@@ -223,13 +252,13 @@ pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording,
             });
         }
         values += slots.len() as u64;
-        if values > limits.max_values {
+        if values > max_values {
             return Err(RecordingError::TooManyValues {
                 line: line.no,
-                limit: limits.max_values,
+                limit: max_values,
             });
         }
-        let row = parse_row(text, line.no, &names, &slots)?;
+        let row = parse_row(text, line.no, names, slots)?;
         let t = row.required[0];
         if t < previous_t {
             return Err(RecordingError::DecreasingTime {
@@ -241,9 +270,9 @@ pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording,
         if !t.is_nan() {
             previous_t = t;
         }
-        row.push_into(&mut rec);
+        row.push_into(rec);
     }
-    Ok(rec)
+    Ok(())
 }
 
 /// One parsed data row.

@@ -1,0 +1,232 @@
+//! A Levenberg–Marquardt least-squares solver with box bounds and forward-difference
+//! Jacobians (Marquardt 1963; scaling by diag(JᵀJ) as in Moré 1978). Problems here have at most
+//! a dozen parameters and a few ten thousand residuals, so dense normal equations suffice.
+//!
+//! Our own because the fits need box bounds and no maintained Rust least-squares crate has them
+//! (`levenberg-marquardt`, the nalgebra one, is unbounded); nalgebra does the linear algebra.
+
+use nalgebra::{DMatrix, DVector, Dyn, LU};
+
+/// A least-squares problem: residuals r(p) to minimise sum r².
+pub trait Problem: Sync {
+    /// The residuals at parameters `p`, into `out` (same length at every `p`).
+    fn residuals(&self, p: &[f64], out: &mut Vec<f64>);
+}
+
+/// Result of a fit.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// The parameters at the optimum.
+    pub p: Vec<f64>,
+    /// Sum of squared residuals there.
+    pub sse: f64,
+    /// Number of residuals.
+    pub n: usize,
+    /// (JᵀJ)⁻¹ at the optimum (unscaled covariance), when JᵀJ is invertible.
+    pub jtj_inv: Option<DMatrix<f64>>,
+    /// Iterations taken.
+    pub iterations: usize,
+}
+
+/// Limits, steps and bounds of a fit.
+pub struct Options {
+    /// Most iterations (Jacobians) before giving up.
+    pub max_iterations: usize,
+    /// Finite-difference step per parameter (absolute).
+    pub step: Vec<f64>,
+    /// Lower bound per parameter.
+    pub lower: Vec<f64>,
+    /// Upper bound per parameter.
+    pub upper: Vec<f64>,
+}
+
+fn sse(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+/// Minimise from `p0`.
+pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
+    let mut p: Vec<f64> = p0
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| v.clamp(opt.lower[i], opt.upper[i]))
+        .collect();
+    let mut r = Vec::new();
+    problem.residuals(&p, &mut r);
+    let mut cost = sse(&r);
+    let mut lambda = 1e-3;
+    let mut iterations = 0;
+    let mut trial = Vec::new();
+    for it in 0..opt.max_iterations {
+        iterations = it + 1;
+        let normal = normal_equations(&jacobian(problem, &p, &r, opt), &r);
+        let Some(step) = damped_step(problem, &p, &normal, cost, &mut lambda, opt, &mut trial)
+        else {
+            break;
+        };
+        let gain = (cost - step.cost) / cost.max(1e-300);
+        p = step.p;
+        std::mem::swap(&mut r, &mut trial);
+        cost = step.cost;
+        if gain < 1e-9 {
+            break;
+        }
+    }
+    finish(problem, p, r, cost, opt, iterations)
+}
+
+/// An accepted step: its parameters and cost (its residuals are in `trial`).
+struct Step {
+    p: Vec<f64>,
+    cost: f64,
+}
+
+/// Try up to twelve dampings from `lambda` on; the first step that lowers the cost is taken
+/// (`lambda` then shrinks), `None` if none does.
+fn damped_step(
+    problem: &dyn Problem,
+    p: &[f64],
+    (jtj, jtr): &(DMatrix<f64>, DVector<f64>),
+    cost: f64,
+    lambda: &mut f64,
+    opt: &Options,
+    trial: &mut Vec<f64>,
+) -> Option<Step> {
+    let m = p.len();
+    // A parameter with no influence here (a zero column) gets a unit diagonal, so it stays put
+    // instead of making the system singular.
+    let floor = 1e-12 * jtj.diagonal().iter().fold(0.0, |a: f64, &b| a.max(b));
+    for _ in 0..12 {
+        let mut a = jtj.clone();
+        for i in 0..m {
+            if jtj[(i, i)] <= floor {
+                a[(i, i)] = 1.0;
+            } else {
+                a[(i, i)] += *lambda * jtj[(i, i)];
+            }
+        }
+        let Some(delta) = solve_linear(a, -jtr) else {
+            *lambda *= 10.0;
+            continue;
+        };
+        let cand: Vec<f64> = (0..m)
+            .map(|i| (p[i] + delta[i]).clamp(opt.lower[i], opt.upper[i]))
+            .collect();
+        problem.residuals(&cand, trial);
+        let c = sse(trial);
+        if c.is_finite() && c < cost {
+            *lambda = (*lambda / 3.0).max(1e-9);
+            return Some(Step { p: cand, cost: c });
+        }
+        *lambda *= 8.0;
+    }
+    None
+}
+
+fn finish(
+    problem: &dyn Problem,
+    p: Vec<f64>,
+    r: Vec<f64>,
+    sse: f64,
+    opt: &Options,
+    iterations: usize,
+) -> Solution {
+    let (jtj, _) = normal_equations(&jacobian(problem, &p, &r, opt), &r);
+    Solution {
+        n: r.len(),
+        jtj_inv: invert(jtj),
+        p,
+        sse,
+        iterations,
+    }
+}
+
+/// Forward differences, stepping inward at an upper bound: one column per parameter.
+fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options) -> DMatrix<f64> {
+    let mut jac = DMatrix::zeros(r.len(), p.len());
+    let mut q = p.to_vec();
+    let mut out = Vec::new();
+    for i in 0..p.len() {
+        let h = if p[i] + opt.step[i] > opt.upper[i] {
+            -opt.step[i]
+        } else {
+            opt.step[i]
+        };
+        q[i] = p[i] + h;
+        problem.residuals(&q, &mut out);
+        q[i] = p[i];
+        for (d, (a, b)) in jac.column_mut(i).iter_mut().zip(out.iter().zip(r)) {
+            *d = (a - b) / h;
+        }
+    }
+    jac
+}
+
+/// JᵀJ and Jᵀr.
+fn normal_equations(jac: &DMatrix<f64>, r: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+    let r = DVector::from_column_slice(r);
+    (jac.tr_mul(jac), jac.tr_mul(&r))
+}
+
+/// The LU factors of `a` (partial pivoting), `None` when a pivot is below 1e-14 of the largest
+/// element: singular for these fits.
+fn factor(a: DMatrix<f64>) -> Option<LU<f64, Dyn, Dyn>> {
+    let scale = a.amax().max(1e-300);
+    let lu = a.lu();
+    lu.u()
+        .diagonal()
+        .iter()
+        .all(|pivot| pivot.abs() > 1e-14 * scale)
+        .then_some(lu)
+}
+
+/// Solve `a x = b`; `None` if `a` is singular.
+pub fn solve_linear(a: DMatrix<f64>, b: DVector<f64>) -> Option<DVector<f64>> {
+    factor(a)?.solve(&b)
+}
+
+/// The inverse of `a`; `None` if it is singular.
+pub fn invert(a: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    factor(a)?.try_inverse()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Exponential decay y = a e^{-t/tau} recovered from exact data, with a bound respected.
+    struct Decay {
+        t: Vec<f64>,
+        y: Vec<f64>,
+    }
+    impl Problem for Decay {
+        fn residuals(&self, p: &[f64], out: &mut Vec<f64>) {
+            out.clear();
+            out.extend(
+                self.t
+                    .iter()
+                    .zip(&self.y)
+                    .map(|(t, y)| p[0] * (-t / p[1]).exp() - y),
+            );
+        }
+    }
+
+    #[test]
+    fn fits_an_exponential() {
+        let t: Vec<f64> = (0..200).map(|k| k as f64 * 0.05).collect();
+        let y = t.iter().map(|t| 2.0 * (-t / 1.7f64).exp()).collect();
+        let opt = Options {
+            max_iterations: 100,
+            step: vec![1e-6, 1e-6],
+            lower: vec![0.0, 0.1],
+            upper: vec![10.0, 10.0],
+        };
+        let s = solve(&Decay { t, y }, &[1.0, 5.0], &opt);
+        assert!(
+            (s.p[0] - 2.0).abs() < 1e-6 && (s.p[1] - 1.7).abs() < 1e-6,
+            "{:?}",
+            s.p
+        );
+        assert!(s.jtj_inv.is_some());
+    }
+}
