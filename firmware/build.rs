@@ -75,37 +75,37 @@ fn adc_constants(adc: &hardware::Adc) -> Vec<Constant> {
     };
     vec![
         (
-            "adc.toml [clock] clkin_hz",
+            "adc.toml `[clock] clkin_hz`",
             format!("ADC_CLKIN_HZ: u32 = {}", adc.clkin_hz.round() as u32),
         ),
         (
-            "adc.toml [clock] osr",
+            "adc.toml `[clock] osr`",
             format!("ADC_OSR: u32 = {}", adc.osr),
         ),
         (
-            "adc.toml [reference] internal_v",
+            "adc.toml `[reference] internal_v`",
             format!("ADC_VREF_V: f64 = {:?}", adc.reference_v),
         ),
         (
-            "adc.toml [reference] internal_v, in mV (the unit of the info frame)",
+            "adc.toml `[reference] internal_v`, in mV (the unit of the info frame)",
             format!(
                 "ADC_VREF_MV: u16 = {}",
                 (adc.reference_v * 1000.0).round() as u16
             ),
         ),
         (
-            "adc.toml [channels] pga_gain",
+            "adc.toml `[channels] pga_gain`",
             format!(
                 "ADC_PGA_GAIN: [u8; 4] = {:?}",
                 adc.pga_gain.map(|g| g as u8)
             ),
         ),
         (
-            "adc.toml [interface] word_bits",
+            "adc.toml `[interface] word_bits`",
             format!("ADC_WORD_BITS: u32 = {}", adc.word_bits),
         ),
         (
-            "adc.toml [interface] crc (CCITT on the input side too)",
+            "adc.toml `[interface] crc` (CCITT on the input side too)",
             format!("ADC_INPUT_CRC: bool = {input_crc}"),
         ),
     ]
@@ -121,22 +121,22 @@ fn frontend_constants(params: &hardware::Params) -> Vec<Constant> {
         .collect();
     vec![
         (
-            "Channel gain bridge -> ADC input, sim::frontend::Channel::gain() of frontend.toml",
+            "Channel gain bridge -> ADC input, `sim::frontend::Channel::gain()` of frontend.toml",
             format!("AMP_GAIN: [f32; 3] = [{}]", gains.join(", ")),
         ),
         (
-            "chip.toml bridge.excitation_v",
+            "chip.toml `bridge.excitation_v`",
             format!(
                 "EXCITATION_V: f32 = {:?}f32",
                 params.chip.excitation_v as f32
             ),
         ),
         (
-            "frontend.toml [supply] mid_dac_code (MCP4728 channel D, VMID)",
+            "frontend.toml `[supply] mid_dac_code` (MCP4728 channel D, VMID)",
             format!("DAC_VMID_CODE: u16 = {}", params.frontend.mid_dac_code),
         ),
         (
-            "frontend.toml [trim] dac_bits: mid code, the trims' start before the null search",
+            "frontend.toml `[trim] dac_bits`: mid code, the trims' start before the null search",
             format!(
                 "DAC_TRIM_MID_CODE: u16 = {}",
                 1u32 << (params.frontend.trim.dac_bits - 1)
@@ -154,19 +154,19 @@ fn board_constants(board: &hardware::Board) -> Vec<Constant> {
         .collect();
     vec![
         (
-            "board.toml [i2c] dac_address",
+            "board.toml `[i2c] dac_address`",
             format!("DAC_ADDRESS: u8 = {}", board.dac_address),
         ),
         (
-            "board.toml [spi] clock_hz",
+            "board.toml `[spi] clock_hz`",
             format!("SPI_HZ: u32 = {}", board.spi_clock_hz.round() as u32),
         ),
         (
-            "board.toml [i2c] clock_hz",
+            "board.toml `[i2c] clock_hz`",
             format!("I2C_HZ: u32 = {}", board.i2c_clock_hz.round() as u32),
         ),
         (
-            "board.toml [uart] baud",
+            "board.toml `[uart] baud`",
             format!("UART_BAUD: u32 = {}", board.uart_baud),
         ),
         (

@@ -1,14 +1,22 @@
 #!/usr/bin/env bash
-# The firmware's tests: host unit tests of the library (drivers, DSP, offset cut, framing,
-# commands, against mocks and the sim's emulated ADC), both release board binaries built, the
-# on-target self-test under QEMU mps2-an386 (FPU DSP, queue under interrupt pressure, semihosting
-# exit code), and the QEMU board binary's byte stream decoded by the host.
+# The firmware's checks and tests: style first (rustfmt; clippy on the host build of the library,
+# its tests and the binaries' host stubs, and on the thumb release binaries as they are built
+# below; rustdoc; warnings are errors), then host unit tests of the library (drivers, DSP, offset
+# cut, framing, commands, against mocks and the sim's emulated ADC), both release board binaries
+# built, the on-target self-test under QEMU mps2-an386 (FPU DSP, queue under interrupt pressure,
+# semihosting exit code), and the QEMU board binary's byte stream decoded by the host.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 "$here/setup-firmware.sh"
 cd "$here/../firmware"
 
 host="$(rustc -vV | sed -n "s/^host: //p")"
+echo "== firmware style: rustfmt, clippy (host and thumb), rustdoc; warnings are errors"
+cargo fmt --all -- --check
+cargo clippy --all-targets --target "$host" -- -D warnings
+cargo clippy --release --bins -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
+
 echo "== firmware host tests"
 cargo test --target "$host"
 

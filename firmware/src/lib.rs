@@ -8,6 +8,7 @@
 //! binary its panic handler, logger and interrupt table); `#[entry]`, interrupt handlers and each
 //! binary's own logic live in `src/bin/`.
 #![cfg_attr(not(test), no_std)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 pub mod ads131m04;
 pub mod board;

@@ -153,7 +153,7 @@ impl<I2C: I2c> Mcp4728<I2C> {
 }
 
 /// Multi-write entries for the three bridge trims on channels A..=C, VDD reference, gain 1
-/// (hardware/frontend.toml, [trim]: "VDD reference: 12 bits over 0 .. analog_v"). Channel D is
+/// (hardware/frontend.toml, `[trim]`: "VDD reference: 12 bits over 0 .. analog_v"). Channel D is
 /// left alone: it holds the mid-rail reference.
 pub fn trim_writes(codes: [u16; 3]) -> [ChannelWrite; 3] {
     core::array::from_fn(|ch| ChannelWrite {

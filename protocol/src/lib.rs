@@ -18,6 +18,7 @@
 //! assert_eq!(got, vec![Outcome::Message(msg)]);
 //! ```
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 mod accumulator;
 pub mod codes;

@@ -1,5 +1,6 @@
 //! The emulated sensor: mechanics -> beam stress -> piezoresistors -> bridges -> amplifier -> ADC.
 #![cfg_attr(not(feature = "std"), no_std)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 #[cfg(feature = "std")]
 pub mod link;

@@ -1,6 +1,7 @@
 //! The whole analog chain from the shipped `hardware/*.toml`, against a case computed by hand
 //! from the datasheet equations (not from the models' own functions).
 
+use protocol::codes::FULL_SCALE;
 use sim::frontend::FrontEnd;
 
 fn front_end() -> FrontEnd {
@@ -21,7 +22,7 @@ fn push_pull_strain_on_mx_gives_the_hand_computed_code_step() {
     let g1 = 1.0 + 100.0e3 / 1010.0; // INA333, RG = 1.01 kOhm
     let g2 = 1.1 / (1.0 + 1.1 / 10f64.powf(130.0 / 20.0)); // OPA333, 1 + 1k/10k, A0 130 dB
     let rc = 330.0e3 / (330.0e3 + 200.0); // ADC input impedance against 2 x 100 Ohm
-    let expected = bridge * g1 * g2 * rc / 1.2 * f64::from(1 << 23); // PGA 1, 1.2 V reference
+    let expected = bridge * g1 * g2 * rc / 1.2 * f64::from(FULL_SCALE); // PGA 1, 1.2 V reference
     let error = (f64::from(step) - expected).abs() / expected;
     assert!(
         error < 1.0e-4,

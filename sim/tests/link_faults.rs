@@ -5,7 +5,9 @@
 
 use std::time::Duration;
 
-use protocol::{encode_vec, Accumulator, Message, Outcome, Sample, SampleFrame, Status};
+use protocol::{
+    encode_vec, Accumulator, Message, Outcome, Sample, SampleFrame, Status, CODE_MAX, CODE_MIN,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sim::link::{FaultRates, FaultyLink, Injected};
@@ -15,7 +17,7 @@ fn frame(seq: u32, rng: &mut ChaCha8Rng) -> Message {
     for _ in 0..rng.random_range(1..=16) {
         let mut ch = [0; 3];
         for v in &mut ch {
-            *v = rng.random_range(-(1 << 23)..(1 << 23));
+            *v = rng.random_range(CODE_MIN..=CODE_MAX);
         }
         f.push(Sample { ch }).unwrap();
     }

@@ -12,6 +12,7 @@
 //! over defmt (RCC_CSR.IWDGRSTF); the protocol has no field for a reset cause, so the host sees
 //! it only as a new power-up (a fresh info frame, sequence numbers from 0).
 #![cfg_attr(target_os = "none", no_std, no_main)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 firmware::nucleo_f411re_binary!();
 
@@ -40,9 +41,9 @@ mod target {
 
     type AdcSpi = ExclusiveDevice<Spi<SPI1>, PB6<Output>, embedded_hal_bus::spi::NoDelay>;
     type Adc = Ads131m04<AdcSpi, PC7<Input>>;
+    type AdcSampler = Sampler<'static, AdcSpi, PC7<Input>>;
 
-    static SAMPLER: Mutex<RefCell<Option<Sampler<'static, AdcSpi, PC7<Input>>>>> =
-        Mutex::new(RefCell::new(None));
+    static SAMPLER: Mutex<RefCell<Option<AdcSampler>>> = Mutex::new(RefCell::new(None));
     static mut QUEUE: SampleQueue = SampleQueue::new();
     static OVERRUNS: Overruns = Overruns::new();
 

@@ -23,6 +23,7 @@
 //! For a per-function profile of run A, run QEMU with `-d in_asm,exec,nochain` and weigh each
 //! translated block's instruction count by its executions.
 #![cfg_attr(target_os = "none", no_std, no_main)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 firmware::mps2_an386_binary!();
 

@@ -4,6 +4,7 @@
 //! Run: `scripts/test-firmware.sh` (builds it, then runs `qemu-system-arm -machine mps2-an386
 //! -semihosting-config enable=on,target=native -icount shift=0 -kernel <elf>`).
 #![cfg_attr(target_os = "none", no_std, no_main)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 firmware::mps2_an386_binary!();
 

@@ -1,6 +1,6 @@
-//! The first-order recursive smoother of the original work, y[n] = a·x[n] + (1 − a)·y[n−1], for a
-//! single signal (the firmware's three channels run it inside [`super::FilterBank`]). The first
-//! sample primes y (y[0] = x[0]).
+//! The first-order recursive smoother of the original work, `y[n] = a·x[n] + (1 − a)·y[n−1]`, for
+//! a single signal (the firmware's three channels run it inside [`super::FilterBank`]). The first
+//! sample primes y (`y[0] = x[0]`).
 
 /// One signal's smoother.
 #[derive(Clone, Copy, Debug, PartialEq)]
