@@ -13,6 +13,7 @@
 //!     mesh_size_mm: 4.0, rod_radius_mm: 10.0, contact_angle_deg: 20.0, azimuth_deg: 60.0,
 //!     friction_mu: 0.0, inclusion_half_width_mm: 1.5, inclusion_height_mm: 1.5,
 //!     load_steps: 40, rod_speed_mm_per_s: 20.0 / 60.0,
+//!     rod_shape: fingertip::RodShape::FlatEnd, drive: fingertip::Drive::RodAxis,
 //! };
 //! let curve = fingertip::compress(&config, 60.0)?;
 //! for p in &curve.points { println!("{} {} {}", p.rod_mm, p.force_n, p.fz_n); }
@@ -54,6 +55,7 @@ pub mod material;
 pub mod mesh;
 pub mod model;
 pub mod quality;
+pub mod rod_shape;
 pub mod solver;
 pub mod viscoelastic;
 pub mod vtk;
@@ -62,6 +64,7 @@ pub use fingertip::{compress, Curve, CurvePoint, Fingertip};
 pub use haptic::Haptic;
 pub use loads::ChipLoads;
 pub use quality::QualityReport;
+pub use rod_shape::{Drive, RodShape};
 pub use viscoelastic::PronyTerm;
 
 /// Constitutive model of the gel.
@@ -104,6 +107,10 @@ pub struct Config {
     pub load_steps: usize,
     /// Rod speed, for the viscoelastic time step (mm/s).
     pub rod_speed_mm_per_s: f64,
+    /// Shape of the rod's end.
+    pub rod_shape: RodShape,
+    /// Direction the machine drives the rod (and measures its load) along.
+    pub drive: Drive,
 }
 
 /// What can go wrong.
@@ -167,6 +174,8 @@ impl Config {
             inclusion_height_mm: hw.inclusion_height_mm,
             load_steps: 40,
             rod_speed_mm_per_s: hw.test.rod_speed_mm_per_min / 60.0,
+            rod_shape: RodShape::FlatEnd,
+            drive: Drive::RodAxis,
         }
     }
 
