@@ -54,6 +54,7 @@ pub mod loads;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod observations;
 pub mod quality;
 pub mod rod_shape;
 pub mod solver;
