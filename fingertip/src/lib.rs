@@ -34,6 +34,11 @@
 //!   node graph), Newton systems by GMRES preconditioned with a kept single-precision factor
 //!   that is refreshed on a background thread, inexact Newton;
 //! - haptic ([`haptic`]): Schur complement of the tangent onto the contact normals.
+//! - rod geometry ([`rod_shape`]): flat end (default), sphere or cylinder lying across, driven
+//!   along its own axis (default) or the fingertip's;
+//! - observations ([`observations`]): the paper's seven observations as a scorecard, the
+//!   causes tried for its disagreements and the elastic energy along the inclination
+//!   (`fingertip/OBSERVATIONS.md`).
 //!
 //! Data note: with the nominal gel (E = 0.1 MPa) a 5 mm-radius flat rod cannot carry 60 N
 //! without the gel wrapping round its rim (a flat punch needs d ≈ F (1 - nu^2) / (2 a E) ≈ 45 mm
