@@ -214,6 +214,28 @@ mod tests {
         assert!(rod.probe(rod.axis.map(|v| v * 0.0185)).is_none());
     }
 
+    /// Driven along z by s, the rod is its first-touch body translated by -s z: the point that
+    /// was the face centre, moved with it and pushed 0.1 mm into the rod, is 0.1 mm deep.
+    #[test]
+    fn rod_driven_along_z_translates_the_whole_body() {
+        use crate::rod_shape::{Drive, RodShape};
+        let (r_m, s_m) = (0.02, 0.005);
+        let rod0 = Rod::new(20.0, 60.0, 0.03, r_m, 0.0);
+        let rod = rod0.driven(RodShape::FlatEnd, Drive::FingertipAxis, r_m, s_m);
+        let e = rod.axis;
+        let x = [0, 1, 2].map(|k| r_m * e[k] - if k == 2 { s_m } else { 0.0 } + 1e-4 * e[k]);
+        let c = rod.probe(x).expect("inside");
+        assert!(
+            (c.penetration_m - 1e-4).abs() < 1e-12,
+            "{}",
+            c.penetration_m
+        );
+        assert_eq!(rod.drive, [0.0, 0.0, 1.0]);
+        // Driven along its own axis it is the old rod, face at R - s.
+        let same = rod0.driven(RodShape::FlatEnd, Drive::RodAxis, r_m, s_m);
+        assert!((same.face_m - (r_m - s_m)).abs() < 1e-15 && same.lateral_m == [0.0; 3]);
+    }
+
     #[test]
     fn rim_gap_is_continuous_with_the_face() {
         let rod = Rod::new(0.0, 0.0, 0.005, 0.0, 0.0);
