@@ -25,6 +25,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         inclusion_height_mm: 1.5,
         load_steps: 40,
         rod_speed_mm_per_s: 20.0 / 60.0,
+        rod_shape: fingertip::RodShape::FlatEnd,
+        drive: fingertip::Drive::RodAxis,
     };
     let curve = compress(&config, num(4, 60.0))?;
     println!("{:?}", curve.quality);

@@ -29,6 +29,8 @@ const FILLET_FRACTION: f64 = 0.1;
 /// Regularisation slip length of Coulomb friction as a fraction of the rod radius.
 const SLIP_FRACTION: f64 = 1e-3;
 
+use crate::rod_shape::{curved_end_probe, cylinder_axis, Drive, RodShape};
+
 /// The rigid rod.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rod {
@@ -40,6 +42,15 @@ pub struct Rod {
     pub face_m: f64,
     /// Coulomb friction coefficient (0: frictionless).
     pub mu: f64,
+    /// Shape of the end ([`RodShape`]).
+    pub shape: RodShape,
+    /// Axis of a cylinder lying across ([`RodShape::CylinderAcross`]), unit, perpendicular to e.
+    pub across: [f64; 3],
+    /// Displacement of the rod perpendicular to e since first touch, m (zero when the machine
+    /// drives along e; see [`Drive`]).
+    pub lateral_m: [f64; 3],
+    /// Unit direction along which the machine drives the rod and its load cell measures.
+    pub drive: [f64; 3],
 }
 
 /// Contact of one node: penetration, outward normal of the rod at that point.
@@ -52,17 +63,55 @@ pub struct NodeContact {
 impl Rod {
     pub fn new(theta_deg: f64, phi_deg: f64, radius_m: f64, face_m: f64, mu: f64) -> Rod {
         let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+        let axis = [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
         Rod {
-            axis: [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()],
+            axis,
             radius_m,
             face_m,
             mu,
+            shape: RodShape::FlatEnd,
+            across: cylinder_axis(theta_deg, phi_deg),
+            lateral_m: [0.0; 3],
+            drive: axis,
         }
+    }
+
+    /// The rod of `shape` driven along `drive` by `travel_m` since first touch, whose end first
+    /// touched the hemisphere of radius `r_hemisphere_m` (its end at s_face = R then).
+    pub fn driven(self, shape: RodShape, drive: Drive, r_hemisphere_m: f64, travel_m: f64) -> Rod {
+        let m = drive.direction(self.axis);
+        let along = m[0] * self.axis[0] + m[1] * self.axis[1] + m[2] * self.axis[2];
+        // The machine moves the rod by -travel m: along e by -travel (m.e), across by the rest.
+        let lateral_m = [0, 1, 2].map(|k| -travel_m * (m[k] - along * self.axis[k]));
+        Rod {
+            shape,
+            face_m: r_hemisphere_m - travel_m * along,
+            lateral_m,
+            drive: m,
+            ..self
+        }
+    }
+
+    /// The rod's displacement since first touch relative to `face0_m`/`lateral0_m`, m.
+    pub fn displacement_from(&self, face0_m: f64, lateral0_m: [f64; 3]) -> [f64; 3] {
+        [0, 1, 2]
+            .map(|k| (self.face_m - face0_m) * self.axis[k] + self.lateral_m[k] - lateral0_m[k])
     }
 
     /// Penetration of point `x` into the rod body (None when outside).
     pub fn probe(&self, x: [f64; 3]) -> Option<NodeContact> {
+        // In the frame that moves across e with the rod, the rod's axis passes through 0.
+        let x = [0, 1, 2].map(|k| x[k] - self.lateral_m[k]);
         let e = self.axis;
+        if self.shape != RodShape::FlatEnd {
+            let r = self.radius_m;
+            let c = e.map(|v| v * (self.face_m + r));
+            let t = (self.shape == RodShape::CylinderAcross).then_some(self.across);
+            return curved_end_probe(x, c, r, t).map(|(penetration_m, normal)| NodeContact {
+                penetration_m,
+                normal,
+            });
+        }
         let s = x[0] * e[0] + x[1] * e[1] + x[2] * e[2];
         if s <= self.face_m {
             return None;
@@ -163,6 +212,28 @@ mod tests {
         assert!((c.penetration_m - 0.0005).abs() < 1e-12);
         assert!((c.normal[2] + rod.axis[2]).abs() < 1e-12);
         assert!(rod.probe(rod.axis.map(|v| v * 0.0185)).is_none());
+    }
+
+    /// Driven along z by s, the rod is its first-touch body translated by -s z: the point that
+    /// was the face centre, moved with it and pushed 0.1 mm into the rod, is 0.1 mm deep.
+    #[test]
+    fn rod_driven_along_z_translates_the_whole_body() {
+        use crate::rod_shape::{Drive, RodShape};
+        let (r_m, s_m) = (0.02, 0.005);
+        let rod0 = Rod::new(20.0, 60.0, 0.03, r_m, 0.0);
+        let rod = rod0.driven(RodShape::FlatEnd, Drive::FingertipAxis, r_m, s_m);
+        let e = rod.axis;
+        let x = [0, 1, 2].map(|k| r_m * e[k] - if k == 2 { s_m } else { 0.0 } + 1e-4 * e[k]);
+        let c = rod.probe(x).expect("inside");
+        assert!(
+            (c.penetration_m - 1e-4).abs() < 1e-12,
+            "{}",
+            c.penetration_m
+        );
+        assert_eq!(rod.drive, [0.0, 0.0, 1.0]);
+        // Driven along its own axis it is the old rod, face at R - s.
+        let same = rod0.driven(RodShape::FlatEnd, Drive::RodAxis, r_m, s_m);
+        assert!((same.face_m - (r_m - s_m)).abs() < 1e-15 && same.lateral_m == [0.0; 3]);
     }
 
     #[test]

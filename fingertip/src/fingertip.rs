@@ -27,7 +27,8 @@ pub struct CurvePoint {
     pub t_s: f64,
     /// Rod travel since first touch, mm.
     pub rod_mm: f64,
-    /// Contact force along the rod axis (what a load cell on the rod reads), N; positive pushing.
+    /// Contact force along the machine's drive (what its load cell reads; the rod axis unless
+    /// [`crate::Drive::FingertipAxis`]), N; positive pushing.
     pub force_n: f64,
     /// Chip loads (see [`ChipLoads`]): force along chip z, N (negative when pressed).
     pub fz_n: f64,
@@ -125,13 +126,15 @@ impl Fingertip {
 
     pub fn rod_at(&self, travel_m: f64) -> Rod {
         let c = &self.config;
+        let r_m = c.radius_mm * 1e-3;
         Rod::new(
             c.contact_angle_deg,
             c.azimuth_deg,
             c.rod_radius_mm * 1e-3,
-            c.radius_mm * 1e-3 - travel_m,
+            r_m - travel_m,
             c.friction_mu,
         )
+        .driven(c.rod_shape, c.drive, r_m, travel_m)
     }
 
     /// Advance the rod to `travel_mm` over `dt_s` seconds, cutting the step back if needed.
@@ -143,7 +146,8 @@ impl Fingertip {
     fn advance(&mut self, target_m: f64, dt_s: f64, depth: usize) -> Result<(), Error> {
         let saved: State = self.solver.state.clone();
         let rod = self.rod_at(target_m);
-        self.solver.begin_step(self.rod_at(self.travel_m).face_m);
+        let from = self.rod_at(self.travel_m);
+        self.solver.begin_step_at(from.face_m, from.lateral_m);
         self.predict(target_m);
         match self.solver.equilibrate(&rod, dt_s) {
             Ok(_) => {
@@ -217,7 +221,7 @@ impl Fingertip {
                 }
             }
         }
-        let force = -(0..3).map(|d| f[d] * rod.axis[d]).sum::<f64>();
+        let force = -(0..3).map(|d| f[d] * rod.drive[d]).sum::<f64>();
         let loads: ChipLoads = chip_loads(&s.model, &s.asm.pillar_force);
         CurvePoint {
             t_s: self.t_s,

@@ -13,6 +13,7 @@
 //!     mesh_size_mm: 4.0, rod_radius_mm: 10.0, contact_angle_deg: 20.0, azimuth_deg: 60.0,
 //!     friction_mu: 0.0, inclusion_half_width_mm: 1.5, inclusion_height_mm: 1.5,
 //!     load_steps: 40, rod_speed_mm_per_s: 20.0 / 60.0,
+//!     rod_shape: fingertip::RodShape::FlatEnd, drive: fingertip::Drive::RodAxis,
 //! };
 //! let curve = fingertip::compress(&config, 60.0)?;
 //! for p in &curve.points { println!("{} {} {}", p.rod_mm, p.force_n, p.fz_n); }
@@ -33,6 +34,11 @@
 //!   node graph), Newton systems by GMRES preconditioned with a kept single-precision factor
 //!   that is refreshed on a background thread, inexact Newton;
 //! - haptic ([`haptic`]): Schur complement of the tangent onto the contact normals.
+//! - rod geometry ([`rod_shape`]): flat end (default), sphere or cylinder lying across, driven
+//!   along its own axis (default) or the fingertip's;
+//! - observations ([`observations`]): the paper's seven observations as a scorecard, the
+//!   causes tried for its disagreements and the elastic energy along the inclination
+//!   (`fingertip/OBSERVATIONS.md`).
 //!
 //! Data note: with the nominal gel (E = 0.1 MPa) a 5 mm-radius flat rod cannot carry 60 N
 //! without the gel wrapping round its rim (a flat punch needs d ≈ F (1 - nu^2) / (2 a E) ≈ 45 mm
@@ -56,7 +62,9 @@ pub mod loads;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod observations;
 pub mod quality;
+pub mod rod_shape;
 pub mod solver;
 pub mod viscoelastic;
 pub mod vtk;
@@ -65,6 +73,7 @@ pub use fingertip::{compress, Curve, CurvePoint, Fingertip};
 pub use haptic::Haptic;
 pub use loads::ChipLoads;
 pub use quality::QualityReport;
+pub use rod_shape::{Drive, RodShape};
 pub use viscoelastic::PronyTerm;
 
 /// Constitutive model of the gel.
@@ -107,6 +116,10 @@ pub struct Config {
     pub load_steps: usize,
     /// Rod speed, for the viscoelastic time step (mm/s).
     pub rod_speed_mm_per_s: f64,
+    /// Shape of the rod's end.
+    pub rod_shape: RodShape,
+    /// Direction the machine drives the rod (and measures its load) along.
+    pub drive: Drive,
 }
 
 /// What can go wrong.
@@ -170,6 +183,8 @@ impl Config {
             inclusion_height_mm: hw.inclusion_height_mm,
             load_steps: 40,
             rod_speed_mm_per_s: hw.test.rod_speed_mm_per_min / 60.0,
+            rod_shape: RodShape::FlatEnd,
+            drive: Drive::RodAxis,
         }
     }
 

@@ -98,6 +98,8 @@ pub struct Solver {
     step_start: Vec<[f64; 3]>,
     /// Rod face position at the start of the step, m.
     step_face_m: f64,
+    /// Rod displacement across its axis at the start of the step, m.
+    step_lateral_m: [f64; 3],
     pub stats: Stats,
     /// Factor every Newton system (no Krylov reuse), for comparisons (`FINGERTIP_DIRECT=1`).
     pub direct_only: bool,
@@ -182,6 +184,7 @@ impl Solver {
             parts: Vec::new(),
             step_start,
             step_face_m: 0.0,
+            step_lateral_m: [0.0; 3],
             stats: Stats::default(),
             direct_only: std::env::var_os("FINGERTIP_DIRECT").is_some(),
             background_refresh: std::env::var_os("FINGERTIP_SYNC_REFRESH").is_none(),
@@ -190,8 +193,14 @@ impl Solver {
 
     /// Mark the current state as the start of a load step with the rod face at `face_m`.
     pub fn begin_step(&mut self, face_m: f64) {
+        self.begin_step_at(face_m, [0.0; 3]);
+    }
+
+    /// As [`Solver::begin_step`], for a rod also displaced across its axis by `lateral_m`.
+    pub fn begin_step_at(&mut self, face_m: f64, lateral_m: [f64; 3]) {
         self.step_start.clone_from(&self.state.x);
         self.step_face_m = face_m;
+        self.step_lateral_m = lateral_m;
     }
 
     /// Residual and tangent at the current state with the rod at `rod`.
@@ -215,10 +224,9 @@ impl Solver {
             let Some(c) = rod.probe(self.state.x[a]) else {
                 continue;
             };
-            // Slip relative to the rod since the step began; the rod moved by (face - face0) e.
-            let rod_move = rod.face_m - self.step_face_m;
-            let slip = [0, 1, 2]
-                .map(|d| self.state.x[a][d] - self.step_start[a][d] - rod_move * rod.axis[d]);
+            // Slip relative to the rod since the step began.
+            let rod_move = rod.displacement_from(self.step_face_m, self.step_lateral_m);
+            let slip = [0, 1, 2].map(|d| self.state.x[a][d] - self.step_start[a][d] - rod_move[d]);
             let (f, kt) = node_response(&c, self.contact_k[a], self.contact_ramp[a], slip, rod);
             let dofs = self.model.dof_x[a];
             for i in 0..3 {

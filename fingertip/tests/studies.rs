@@ -21,6 +21,8 @@ fn base(material: Material, mesh_size_mm: f64) -> Config {
         inclusion_height_mm: 1.5,
         load_steps: 40,
         rod_speed_mm_per_s: 20.0 / 60.0,
+        rod_shape: fingertip::RodShape::FlatEnd,
+        drive: fingertip::Drive::RodAxis,
     }
 }
 

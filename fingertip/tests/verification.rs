@@ -22,6 +22,8 @@ fn coarse(material: Material) -> Config {
         inclusion_height_mm: 3.0,
         load_steps: 6,
         rod_speed_mm_per_s: 20.0 / 60.0,
+        rod_shape: fingertip::RodShape::FlatEnd,
+        drive: fingertip::Drive::RodAxis,
     }
 }
 

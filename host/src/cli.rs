@@ -36,6 +36,8 @@ pub enum Command {
     Chip(cmd::chip::Args),
     /// Run the soft-fingertip finite-element model of a rod compression.
     Fe(cmd::fe::Args),
+    /// The paper's seven observations against the fingertip model: a scorecard.
+    Observations(cmd::observations::Args),
     /// Write the baseline model's recording of the standard compression test.
     Simulate(cmd::simulate::Args),
     /// Locate where a recording and the simulation disagree and name the missing physics.

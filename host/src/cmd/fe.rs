@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
-use fingertip::{Config, Fingertip, Material};
+use fingertip::{Config, Drive, Fingertip, Material, RodShape};
 
 use crate::exit::{self, ExitStatus};
 
@@ -22,6 +22,26 @@ pub enum MaterialArg {
     Linear,
     /// Finite-strain neo-Hookean (locking-free nodal-pressure tetrahedra).
     NeoHookean,
+}
+
+/// Rod end on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RodShapeArg {
+    /// Flat end disc with a rounded rim.
+    Flat,
+    /// Spherical end of the rod's radius.
+    Sphere,
+    /// Cylinder of the rod's radius lying across the fingertip, axis in the tilt plane.
+    Cylinder,
+}
+
+/// Drive direction on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DriveArg {
+    /// Along the rod's axis.
+    Rod,
+    /// Along the fingertip's axis z.
+    Fingertip,
 }
 
 #[derive(Debug, clap::Args)]
@@ -61,6 +81,13 @@ pub struct Args {
     /// Coulomb friction between rod and gel; `--friction` alone takes the toml's value.
     #[arg(long, value_name = "MU", num_args = 0..=1, allow_negative_numbers = true)]
     pub friction: Option<Option<f64>>,
+    /// Shape of the rod's end.
+    #[arg(long, value_enum, default_value_t = RodShapeArg::Flat)]
+    pub rod_shape: RodShapeArg,
+    /// What the machine drives the rod along: its own axis (fingertip tilted on a jig) or the
+    /// fingertip's axis (fingertip upright, rod end inclined); the load is measured along it.
+    #[arg(long, value_enum, default_value_t = DriveArg::Rod)]
+    pub drive: DriveArg,
     /// Minimum number of load steps to the peak.
     #[arg(long, default_value_t = 40)]
     pub load_steps: usize,
@@ -152,6 +179,15 @@ pub fn config(args: &Args, hw: &hardware::Fingertip) -> Result<(Config, f64), Fe
         )?,
         friction_mu: in_range("--friction", friction, 0.0, 2.0)?,
         load_steps: in_range("--load-steps", args.load_steps as f64, 1.0, 10_000.0)? as usize,
+        rod_shape: match args.rod_shape {
+            RodShapeArg::Flat => RodShape::FlatEnd,
+            RodShapeArg::Sphere => RodShape::SphereEnd,
+            RodShapeArg::Cylinder => RodShape::CylinderAcross,
+        },
+        drive: match args.drive {
+            DriveArg::Rod => Drive::RodAxis,
+            DriveArg::Fingertip => Drive::FingertipAxis,
+        },
         ..Config::from_hardware(hw, args.mesh_size)
     };
     let peak = in_range(

@@ -8,6 +8,7 @@ pub mod fe;
 pub mod info;
 pub mod list;
 pub mod log;
+pub mod observations;
 pub mod plot;
 pub mod prove;
 pub mod replay;
@@ -28,6 +29,7 @@ pub fn run(command: Command) -> anyhow::Result<()> {
         Command::Plot(a) => plot::run(a),
         Command::Chip(a) => chip::run(a),
         Command::Fe(a) => fe::run(a),
+        Command::Observations(a) => observations::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Diagnose(a) => diagnose::run(a),
         Command::Prove(a) => prove::run(a),
