@@ -19,6 +19,13 @@ pub const GEL_RELAXATION: PronyTerm = PronyTerm { g: 0.3, tau_s: 4.0 };
 
 /// The FE causes, in the order of the table.
 pub fn fe_causes() -> Vec<Cause> {
+    let mut causes = contact_causes();
+    causes.extend(body_causes());
+    causes
+}
+
+/// Causes at the rod: friction, the drive's axis, the end's shape.
+fn contact_causes() -> Vec<Cause> {
     vec![
         Cause {
             name: "friction_0.3",
@@ -73,6 +80,12 @@ pub fn fe_causes() -> Vec<Cause> {
                 ..c.clone()
             },
         },
+    ]
+}
+
+/// Causes in the fingertip's body: compressibility, the pillar, the gel's relaxation.
+fn body_causes() -> Vec<Cause> {
+    vec![
         Cause {
             name: "compressible_0.45",
             why: "a more compressible gel (nu = 0.45 against 0.49): less lateral bulging",
