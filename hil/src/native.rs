@@ -182,20 +182,7 @@ fn run(cfg: NativeConfig, pty: Pty, stop: &AtomicBool) -> io::Result<NativeStats
         clkin_hz: dev_cfg.clkin_hz,
     };
     let emu: Shared = RefCell::new(Emu::new(chain, adc_params));
-    let (spi, drdy) = handles(&emu);
-    let mut adc = Driver::new(spi, drdy);
-    let adc_cfg = Config {
-        word_length: WordLength::Bits24,
-        osr: dev_cfg.osr,
-        gains: dev_cfg.pga,
-        input_crc: true,
-    };
-    adc.init(&adc_cfg)
-        .map_err(|e| io::Error::other(format!("ADC init: {e:?}")))?;
-    let mut bench = Bench {
-        adc,
-        dac: Mcp4728::new(TrimDac(&emu), DEFAULT_ADDRESS),
-    };
+    let mut bench = bench(&emu, &dev_cfg)?;
     let mut queue = SampleQueue::new();
     let overruns = Overruns::new();
     let (producer, mut consumer) = queue.split();
@@ -257,6 +244,24 @@ fn run(cfg: NativeConfig, pty: Pty, stop: &AtomicBool) -> io::Result<NativeStats
     stats.wall_s = start.elapsed().as_secs_f64();
     drop(pty);
     Ok(stats)
+}
+
+/// The board's drivers on the emulated chip, the ADC initialised for `dev_cfg`.
+fn bench<'a>(emu: &'a Shared, dev_cfg: &DeviceConfig) -> io::Result<Bench<'a>> {
+    let (spi, drdy) = handles(emu);
+    let mut adc = Driver::new(spi, drdy);
+    let adc_cfg = Config {
+        word_length: WordLength::Bits24,
+        osr: dev_cfg.osr,
+        gains: dev_cfg.pga,
+        input_crc: true,
+    };
+    adc.init(&adc_cfg)
+        .map_err(|e| io::Error::other(format!("ADC init: {e:?}")))?;
+    Ok(Bench {
+        adc,
+        dac: Mcp4728::new(TrimDac(emu), DEFAULT_ADDRESS),
+    })
 }
 
 /// The DRDY interrupt: a conversion is ready; read it through the driver.
