@@ -3,8 +3,8 @@
 //! its line; anything accepted writes back to a file that reads back to the same text.
 #![no_main]
 
-use recording::{read_from_with, Limits, Recording};
 use libfuzzer_sys::fuzz_target;
+use recording::{read_from_with, Limits, Recording};
 
 const LIMITS: Limits = Limits {
     max_bytes: 1 << 16,
