@@ -186,7 +186,25 @@ pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording,
         })
         .collect();
     read_rows(&mut lines, &names, &slots, &mut rec)?;
+    refuse_empty_columns(&rec, head.line)?;
     Ok(rec)
+}
+
+/// Refuse a recording with rows whose `t_s`, `rod_mm` or `load_N` is empty on every row: those
+/// are never "not measured".
+fn refuse_empty_columns(rec: &Recording, header_line: usize) -> Result<(), RecordingError> {
+    if rec.channels.is_empty() {
+        return Ok(());
+    }
+    for (column, values) in rec.channels.required().into_iter().take(3) {
+        if values.iter().all(|v| v.is_nan()) {
+            return Err(RecordingError::ColumnEmpty {
+                line: header_line,
+                column,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// What comes before the data rows.
