@@ -22,6 +22,7 @@ pub use meta::Meta;
 pub use reader::{read, read_from, read_from_with, read_with, Limits};
 pub use writer::RecordingWriter;
 
+pub mod import;
 pub mod machine;
 
 /// The value of the `format` key this module reads and writes.
