@@ -8,7 +8,8 @@ use host::exit;
 mod common;
 use common::{fails, tactile};
 
-const HEAD: &str = "# format = tactile-recording/1\n# sample_rate_hz = 1000\n# contact_angle_deg = 0\n\
+const HEAD: &str =
+    "# format = tactile-recording/1\n# sample_rate_hz = 1000\n# contact_angle_deg = 0\n\
 # azimuth_deg = 0\n# fingertip_radius_mm = 20\n# gain_fz = 1100\n# gain_mx = 110\n# gain_my = 110\n\
 # excitation_V = 3.3\n";
 const COLUMNS: &str = "t_s,rod_mm,load_N,fz_V,mx_V,my_V\n";
@@ -38,10 +39,30 @@ fn diagnose_fails(name: &str, text: &str, needles: &[&str]) {
 #[test]
 fn bad_metadata_exits_65_naming_file_line_and_key() {
     let cases = [
-        ("rate-negative.csv", "# sample_rate_hz = 1000", "# sample_rate_hz = -1000", "line 2, field `sample_rate_hz`"),
-        ("rate-zero.csv", "# sample_rate_hz = 1000", "# sample_rate_hz = 0", "line 2, field `sample_rate_hz`"),
-        ("gain-zero.csv", "# gain_fz = 1100", "# gain_fz = 0", "line 6, field `gain_fz`"),
-        ("twice.csv", "# gain_my = 110", "# gain_my = 110\n# gain_my = 120", "line 9, field `gain_my`"),
+        (
+            "rate-negative.csv",
+            "# sample_rate_hz = 1000",
+            "# sample_rate_hz = -1000",
+            "line 2, field `sample_rate_hz`",
+        ),
+        (
+            "rate-zero.csv",
+            "# sample_rate_hz = 1000",
+            "# sample_rate_hz = 0",
+            "line 2, field `sample_rate_hz`",
+        ),
+        (
+            "gain-zero.csv",
+            "# gain_fz = 1100",
+            "# gain_fz = 0",
+            "line 6, field `gain_fz`",
+        ),
+        (
+            "twice.csv",
+            "# gain_my = 110",
+            "# gain_my = 110\n# gain_my = 120",
+            "line 9, field `gain_my`",
+        ),
     ];
     for (name, from, to, needle) in cases {
         let text = format!("{}{COLUMNS}{ROWS}", HEAD.replace(from, to));
