@@ -172,10 +172,12 @@ impl Recording {
         read_from(text.as_bytes())
     }
 
-    /// The same recording without its gap rows (rows with a missing value in a measured required
-    /// column); a column not measured stays empty on every row.
+    /// The same recording without its gap rows (rows with a missing time, rod or load, or a
+    /// missing value in a measured sensor column); a sensor column not measured stays empty.
     pub fn without_gaps(&self) -> Recording {
-        let measured = self.channels.measured();
+        let mut measured = self.channels.measured();
+        // Only a sensor column may be "not measured"; time, rod and load always count.
+        measured[..3].fill(true);
         let keep: Vec<usize> = (0..self.channels.len())
             .filter(|&i| !self.channels.is_gap_in(i, &measured))
             .collect();

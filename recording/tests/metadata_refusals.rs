@@ -147,8 +147,8 @@ fn a_sensor_column_measured_on_one_row_is_measured() {
 fn time_rod_or_load_empty_on_every_row_is_refused_naming_it() {
     let cases = [
         ("t_s", ",0,0,1,1,1\n,0.1,0.2,1,1,1\n"),
-        ("rod_mm", "0,,0,1,1,1\n0.01,nan,0.2,1,1,1\n"),
-        ("load_N", "0,0,,1,1,1\n0.01,0.1,NaN,1,1,1\n"),
+        ("rod_mm", "0,,0,,,\n0.01,nan,0.2,,,\n"),
+        ("load_N", "0,0,,,,\n0.01,0.1,NaN,,,\n"),
     ];
     for (column, rows) in cases {
         let e = err(&format!("{META}{HEADER}{rows}"));
@@ -157,6 +157,17 @@ fn time_rod_or_load_empty_on_every_row_is_refused_naming_it() {
             "{column}: {e}"
         );
     }
+}
+
+#[test]
+fn a_sensor_only_log_without_rod_and_load_is_read() {
+    let r = Recording::parse(&format!("{META}{HEADER}0,,,1,2,3\n0.01,,,1,2,3\n")).unwrap();
+    assert!(!r.measured("rod_mm") && r.measured("fz_V"));
+    assert_eq!(
+        r.without_gaps().channels.len(),
+        0,
+        "rod and load always count for gaps"
+    );
 }
 
 #[test]
