@@ -44,6 +44,8 @@ pub enum Command {
     Diagnose(cmd::diagnose::Args),
     /// Generate recordings with concealed effects, diagnose them blind and score the result.
     Prove(cmd::prove::Args),
+    /// Convert a test machine's export (Mach-1 text, generic CSV) to a recording.
+    Import(cmd::import::Args),
 }
 
 /// Print `err` as one line on stderr and choose the exit code. A broken pipe is success:

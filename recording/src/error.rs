@@ -81,6 +81,32 @@ pub enum RecordingError {
         /// Its value.
         value: String,
     },
+    /// A metadata key is given a second time (any key: which one counts would be a guess).
+    DuplicateKey {
+        /// 1-based line of the second occurrence.
+        line: usize,
+        /// 1-based line of the first occurrence.
+        first_line: usize,
+        /// The key.
+        key: String,
+    },
+    /// A metadata value that must be a positive number (a rate, a radius, a gain, the
+    /// excitation) is zero or negative.
+    NotPositive {
+        /// 1-based line.
+        line: usize,
+        /// The key.
+        key: &'static str,
+        /// Its value.
+        value: String,
+    },
+    /// A column that must be measured (`t_s`, `rod_mm`, `load_N`) is empty on every row.
+    ColumnEmpty {
+        /// The header line.
+        line: usize,
+        /// The column.
+        column: &'static str,
+    },
     /// The `format` key names another format or version.
     WrongFormat {
         /// 1-based line.
@@ -181,6 +207,9 @@ impl RecordingError {
             | TooManyValues { line, .. }
             | MissingKey { line, .. }
             | BadMetaValue { line, .. }
+            | DuplicateKey { line, .. }
+            | NotPositive { line, .. }
+            | ColumnEmpty { line, .. }
             | WrongFormat { line, .. }
             | MissingColumn { line, .. }
             | DuplicateColumn { line, .. }
@@ -196,7 +225,9 @@ impl RecordingError {
         match self {
             NotUtf8 { field, .. } => field.as_deref(),
             Unterminated { field, .. } => Some(field),
-            BadMetaValue { key, .. } => Some(key),
+            BadMetaValue { key, .. } | DuplicateKey { key, .. } => Some(key),
+            NotPositive { key, .. } => Some(key),
+            ColumnEmpty { column, .. } => Some(column),
             WrongFormat { .. } => Some("format"),
             DuplicateColumn { column, .. } | NotNumeric { column, .. } => Some(column),
             DecreasingTime { .. } => Some("t_s"),
@@ -234,6 +265,14 @@ impl RecordingError {
             }
             BadMetaValue { value, .. } | NotNumeric { value, .. } => {
                 format!("`{value}` is not a number")
+            }
+            DuplicateKey { first_line, .. } => {
+                format!("metadata key given twice (first on line {first_line})")
+            }
+            NotPositive { value, .. } => format!("`{value}` is not a positive number"),
+            ColumnEmpty { .. } => {
+                "empty on every row: a required measured column (time, rod or load) has no value"
+                    .into()
             }
             WrongFormat { value, .. } => format!("`{value}` is not `{}`", super::FORMAT),
             MissingColumn { column, .. } => {

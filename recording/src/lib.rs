@@ -22,6 +22,7 @@ pub use meta::Meta;
 pub use reader::{read, read_from, read_from_with, read_with, Limits};
 pub use writer::RecordingWriter;
 
+pub mod import;
 pub mod machine;
 
 /// The value of the `format` key this module reads and writes.
@@ -91,9 +92,28 @@ impl Channels {
         ]
     }
 
-    /// Whether row `i` is a gap (a required value missing).
+    /// Whether row `i` is a gap (a required value missing). Counts every required column; use
+    /// [`Channels::is_gap_in`] with [`Channels::measured`] to ignore columns not measured.
     pub fn is_gap(&self, i: usize) -> bool {
         self.required().iter().any(|(_, c)| c[i].is_nan())
+    }
+
+    /// Which required columns were measured, in the order of [`Channels::required`]: a column
+    /// empty on every row was not measured (`docs/recording-format.md`, "Quantities not
+    /// measured"). With no rows, every column counts as measured.
+    pub fn measured(&self) -> [bool; 6] {
+        let empty = self.is_empty();
+        self.required()
+            .map(|(_, c)| empty || c.iter().any(|v| !v.is_nan()))
+    }
+
+    /// Whether row `i` is a gap in one of the columns `measured` marks (see
+    /// [`Channels::measured`]).
+    pub fn is_gap_in(&self, i: usize, measured: &[bool; 6]) -> bool {
+        self.required()
+            .iter()
+            .zip(measured)
+            .any(|((_, c), &m)| m && c[i].is_nan())
     }
 }
 
@@ -140,15 +160,26 @@ impl Recording {
             .map(|c| c.values.as_slice())
     }
 
+    /// Whether column `name` is in the recording and has a value on at least one row; a
+    /// required sensor column empty on every row was not measured.
+    pub fn measured(&self, name: &str) -> bool {
+        self.column(name)
+            .is_some_and(|v| v.is_empty() || v.iter().any(|x| !x.is_nan()))
+    }
+
     /// Parse a recording from text already in memory.
     pub fn parse(text: &str) -> Result<Self, RecordingError> {
         read_from(text.as_bytes())
     }
 
-    /// The same recording without its gap rows (rows with a missing required value).
+    /// The same recording without its gap rows (rows with a missing time, rod or load, or a
+    /// missing value in a measured sensor column); a sensor column not measured stays empty.
     pub fn without_gaps(&self) -> Recording {
+        let mut measured = self.channels.measured();
+        // Only a sensor column may be "not measured"; time, rod and load always count.
+        measured[..3].fill(true);
         let keep: Vec<usize> = (0..self.channels.len())
-            .filter(|&i| !self.channels.is_gap(i))
+            .filter(|&i| !self.channels.is_gap_in(i, &measured))
             .collect();
         let pick = |v: &Vec<f64>| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
         let c = &self.channels;

@@ -43,6 +43,30 @@ pub(super) const REQUIRED_KEYS: [&str; 9] = [
     "format",
 ];
 
+/// Keys whose value must be a positive finite number.
+pub(super) const POSITIVE_KEYS: [&str; 6] = [
+    "sample_rate_hz",
+    "fingertip_radius_mm",
+    "gain_fz",
+    "gain_mx",
+    "gain_my",
+    "excitation_V",
+];
+
+/// Refuse any key given twice, naming both lines.
+fn refuse_repeated_keys(pairs: &[(usize, String, String)]) -> Result<(), RecordingError> {
+    for (i, (line, key, _)) in pairs.iter().enumerate() {
+        if let Some((first_line, _, _)) = pairs[..i].iter().find(|(_, k, _)| k == key) {
+            return Err(RecordingError::DuplicateKey {
+                line: *line,
+                first_line: *first_line,
+                key: key.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
 impl Meta {
     /// The value of a key the contract does not type (the last one, if repeated).
     pub fn get(&self, key: &str) -> Option<&str> {
@@ -83,17 +107,26 @@ impl Meta {
         pairs: Vec<(usize, String, String)>,
         header_line: usize,
     ) -> Result<Self, RecordingError> {
+        refuse_repeated_keys(&pairs)?;
         let find = |key: &'static str| pairs.iter().rev().find(|(_, k, _)| k == key);
         let num = |key: &'static str| -> Result<f64, RecordingError> {
             let (line, _, value) = find(key).ok_or(RecordingError::MissingKey {
                 line: header_line,
                 key,
             })?;
-            parse_number(value).ok_or_else(|| RecordingError::BadMetaValue {
+            let v = parse_number(value).ok_or_else(|| RecordingError::BadMetaValue {
                 line: *line,
                 key: key.to_string(),
                 value: value.clone(),
-            })
+            })?;
+            if POSITIVE_KEYS.contains(&key) && v <= 0.0 {
+                return Err(RecordingError::NotPositive {
+                    line: *line,
+                    key,
+                    value: value.clone(),
+                });
+            }
+            Ok(v)
         };
         let (fline, _, fvalue) = find("format").ok_or(RecordingError::MissingKey {
             line: header_line,

@@ -186,7 +186,28 @@ pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording,
         })
         .collect();
     read_rows(&mut lines, &names, &slots, &mut rec)?;
+    refuse_empty_columns(&rec, head.line)?;
     Ok(rec)
+}
+
+/// Refuse a recording with rows whose `t_s` is empty on every row, or whose `rod_mm` or
+/// `load_N` is: except in a sensor-only log (the logger without a reference machine writes rod
+/// and load empty), which still has a measured sensor column to read.
+fn refuse_empty_columns(rec: &Recording, header_line: usize) -> Result<(), RecordingError> {
+    if rec.channels.is_empty() {
+        return Ok(());
+    }
+    let measured = rec.channels.measured();
+    let sensor_measured = measured[3..].iter().any(|&m| m);
+    for (k, (column, values)) in rec.channels.required().into_iter().take(3).enumerate() {
+        if (k == 0 || !sensor_measured) && values.iter().all(|v| v.is_nan()) {
+            return Err(RecordingError::ColumnEmpty {
+                line: header_line,
+                column,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// What comes before the data rows.

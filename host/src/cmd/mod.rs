@@ -5,6 +5,7 @@ pub mod common;
 pub mod config;
 pub mod diagnose;
 pub mod fe;
+pub mod import;
 pub mod info;
 pub mod list;
 pub mod log;
@@ -33,6 +34,7 @@ pub fn run(command: Command) -> anyhow::Result<()> {
         Command::Simulate(a) => simulate::run(a),
         Command::Diagnose(a) => diagnose::run(a),
         Command::Prove(a) => prove::run(a),
+        Command::Import(a) => import::run(a),
     }
 }
 
