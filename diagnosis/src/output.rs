@@ -51,6 +51,28 @@ pub enum Verdict {
 pub struct Baseline {
     pub params: Numbers,
     pub rmse: Numbers,
+    /// Extra: every calibrated parameter with its unit, bounds and bound flag.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub parameters: Vec<ParamDetail>,
+}
+
+/// Extra: one fitted parameter in full. The contract's `params` and `param_stderr` carry the
+/// value and its standard error; this adds the unit, the bounds the fit was allowed and whether
+/// it ended on one, which a reader needs before taking the value as a finding.
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct ParamDetail {
+    pub name: String,
+    pub value: f64,
+    /// Standard error; `null` when the fit could not resolve it.
+    pub stderr: Option<f64>,
+    pub unit: String,
+    pub lower: f64,
+    pub upper: f64,
+    /// The value sits on `lower` or `upper`: the data did not resolve it inside the bounds.
+    pub at_bound: bool,
+    /// Why the value is a bound, or what else limits it, in words.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 #[derive(Debug, Clone, DeriveSerialize)]
@@ -62,6 +84,9 @@ pub struct EffectReport {
     pub evidence: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub catalogue: Option<bool>,
+    /// Extra: `params` with units, bounds and bound flags.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub parameters: Vec<ParamDetail>,
 }
 
 #[derive(Debug, Clone, DeriveSerialize)]
@@ -88,6 +113,9 @@ pub struct CandidateReport {
     /// Weighted sum of squares on the held-out stretch (noise units).
     pub heldout_chi2: f64,
     pub accepted: bool,
+    /// Why the candidate was kept or rejected, in words.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub reason: String,
 }
 
 #[derive(Debug, Clone, DeriveSerialize)]

@@ -177,6 +177,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         baseline: Baseline {
             params: baseline_params(&fits.base),
             rmse: full.baseline_rmse,
+            parameters: Vec::new(),
         },
         mismatches: local.mismatches,
         effects,
@@ -385,6 +386,7 @@ impl<'s, 'a> Candidates<'s, 'a> {
                 aicc: c.aicc,
                 heldout_chi2: c.heldout_chi2,
                 accepted: std::ptr::eq(c, chosen),
+                reason: String::new(),
             })
             .collect()
     }
@@ -769,6 +771,7 @@ fn effect_reports(chosen: &Candidate, fits: &Candidates, data: &Data) -> Vec<Eff
             params,
             param_stderr: errs,
             catalogue: None,
+            parameters: Vec::new(),
         });
     }
     out
@@ -820,5 +823,6 @@ fn mains_report(line: &Line, data: &Data) -> EffectReport {
         params,
         param_stderr: errs,
         catalogue: None,
+        parameters: Vec::new(),
     }
 }
