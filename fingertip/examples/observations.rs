@@ -57,31 +57,9 @@ fn plot(
     Ok(())
 }
 
-fn setup<'a>(
-    config: Config,
-    hw: &hardware::Fingertip,
-    label: &str,
-    f: Option<&'a observations::OutputFilter>,
-) -> Setup<'a> {
-    Setup {
-        config,
-        test: observations::StandardTest {
-            peak_load_n: hw.test.peak_load_n,
-            hold_s: hw.test.hold_s,
-            return_speed_mm_per_s: hw.test.return_speed_mm_per_min / 60.0,
-            recovery_s: hw.test.recovery_s,
-        },
-        sweep_deg: vec![0.0, 10.0, 20.0, 30.0],
-        label: label.into(),
-        output_filter: f,
-    }
-}
-
+/// A cause of the table applied to `base` (the names are the library's own).
 fn cause(base: &Config, name: &str) -> Config {
-    causes::fe_causes()
-        .into_iter()
-        .find(|c| c.name == name)
-        .map_or(base.clone(), |c| (c.apply)(base))
+    causes::apply_named(base, name).unwrap_or_else(|| base.clone())
 }
 
 /// Each output over its own peak magnitude, against `x`.
@@ -112,14 +90,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/figures");
     let base = Config::from_hardware(&hw, mesh_mm);
     let ac = |t: &[f64], y: &mut [f64]| HighpassCoupling { tau_s: 25.0 }.apply(t, y);
-    let default = observations::score(&setup(base.clone(), &hw, "default", None))?;
-    let along_z = observations::score(&setup(
+    let default = observations::score(&Setup::from_hardware(base.clone(), &hw, "default", None))?;
+    let along_z = observations::score(&Setup::from_hardware(
         cause(&base, "drive_along_z"),
         &hw,
         "drive along z",
         None,
     ))?;
-    let visco = observations::score(&setup(
+    let visco = observations::score(&Setup::from_hardware(
         cause(&base, "viscoelastic_gel"),
         &hw,
         "viscoelastic gel + AC coupling 25 s",

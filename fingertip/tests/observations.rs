@@ -4,7 +4,7 @@
 //! a few seconds of FE when idle); the causes that fix rows are `--ignored`:
 //! `cargo test -p fingertip --release --test observations -- --ignored`.
 
-use fingertip::observations::{self, causes, Scorecard, Setup, StandardTest};
+use fingertip::observations::{self, causes, Scorecard, Setup};
 use fingertip::Config;
 use sim::effects::HighpassCoupling;
 
@@ -19,21 +19,11 @@ fn setup<'a>(
     hw: &hardware::Fingertip,
     f: Option<&'a observations::OutputFilter>,
 ) -> Setup<'a> {
-    Setup {
-        config: Config {
-            load_steps: LOAD_STEPS,
-            ..config
-        },
-        test: StandardTest {
-            peak_load_n: hw.test.peak_load_n,
-            hold_s: hw.test.hold_s,
-            return_speed_mm_per_s: hw.test.return_speed_mm_per_min / 60.0,
-            recovery_s: hw.test.recovery_s,
-        },
-        sweep_deg: vec![0.0, 10.0, 20.0, 30.0],
-        label: "test".into(),
-        output_filter: f,
-    }
+    let config = Config {
+        load_steps: LOAD_STEPS,
+        ..config
+    };
+    Setup::from_hardware(config, hw, "test", f)
 }
 
 /// The status column of the table under `heading` in OBSERVATIONS.md: observation -> agree.
@@ -84,12 +74,7 @@ fn default_model_scores_as_observations_md_claims() {
 }
 
 fn cause(hw: &hardware::Fingertip, name: &str) -> Config {
-    let base = Config::from_hardware(hw, MESH_MM);
-    causes::fe_causes()
-        .into_iter()
-        .find(|c| c.name == name)
-        .map(|c| (c.apply)(&base))
-        .expect("known cause")
+    causes::apply_named(&Config::from_hardware(hw, MESH_MM), name).expect("known cause")
 }
 
 #[test]

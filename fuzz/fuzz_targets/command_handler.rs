@@ -21,7 +21,8 @@ use protocol::{
     MAX_BATCH,
 };
 
-const CLKIN_HZ: u32 = 8_192_000;
+/// The ADC clock of `hardware/adc.toml`, as the firmware is built with it.
+const CLKIN_HZ: u32 = firmware::params::ADC_CLKIN_HZ;
 const DRIFT_LIMIT: i32 = 500;
 const DAC_FULL_SCALE: u16 = 4095;
 

@@ -13,7 +13,9 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use host::decode::FastDecoder;
-use protocol::{Message, NullState, Outcome, Sample, SampleFrame, Status, CRC_LEN};
+use protocol::{
+    Message, NullState, Outcome, Sample, SampleFrame, Status, CODE_MAX, CODE_MIN, CRC_LEN,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -31,10 +33,10 @@ fn stream(frames: usize) -> Vec<u8> {
             seq,
             seq.wrapping_mul(16_000),
             status,
-            rng.random_range(-(1 << 23)..(1 << 23)),
+            rng.random_range(CODE_MIN..=CODE_MAX),
         );
         for _ in 0..16 {
-            let ch = [0; 3].map(|_: i32| rng.random_range(-(1 << 23)..(1 << 23)));
+            let ch = [0; 3].map(|_: i32| rng.random_range(CODE_MIN..=CODE_MAX));
             let _ = f.push(Sample { ch });
         }
         out.extend(protocol::encode_vec(&Message::Sample(f)).expect("encodable"));

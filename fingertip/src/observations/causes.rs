@@ -24,6 +24,14 @@ pub fn fe_causes() -> Vec<Cause> {
     causes
 }
 
+/// The FE cause called `name` applied to `base`, or None for an unknown name.
+pub fn apply_named(base: &Config, name: &str) -> Option<Config> {
+    fe_causes()
+        .into_iter()
+        .find(|c| c.name == name)
+        .map(|c| (c.apply)(base))
+}
+
 /// Causes at the rod: friction, the drive's axis, the end's shape.
 fn contact_causes() -> Vec<Cause> {
     vec![

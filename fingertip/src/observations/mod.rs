@@ -39,6 +39,34 @@ pub struct Setup<'a> {
     pub output_filter: Option<&'a OutputFilter>,
 }
 
+/// Inclinations of the scorecard's sweep, degrees: the reference, the chapter's steps up to its
+/// largest angle (observation 6).
+pub const SWEEP_DEG: [f64; 4] = [0.0, 10.0, 20.0, 30.0];
+
+impl<'a> Setup<'a> {
+    /// `config` through the standard test of `hardware/fingertip.toml` and the sweep
+    /// [`SWEEP_DEG`]: the one place the scorecard's test is read from the hardware files.
+    pub fn from_hardware(
+        config: Config,
+        hw: &hardware::Fingertip,
+        label: &str,
+        output_filter: Option<&'a OutputFilter>,
+    ) -> Self {
+        Setup {
+            config,
+            test: StandardTest {
+                peak_load_n: hw.test.peak_load_n,
+                hold_s: hw.test.hold_s,
+                return_speed_mm_per_s: hw.test.return_speed_mm_per_min / 60.0,
+                recovery_s: hw.test.recovery_s,
+            },
+            sweep_deg: SWEEP_DEG.to_vec(),
+            label: label.into(),
+            output_filter,
+        }
+    }
+}
+
 /// One quantity that tests an observation.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Check {

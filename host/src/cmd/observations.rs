@@ -7,7 +7,7 @@
 use std::io::Write;
 
 use anyhow::Context;
-use fingertip::observations::{self, causes, energy, Scorecard, Setup, StandardTest};
+use fingertip::observations::{self, causes, energy, Scorecard, Setup};
 use fingertip::Config;
 use sim::effects::HighpassCoupling;
 
@@ -37,26 +37,6 @@ pub struct Args {
 const AC_COUPLING_TAU_S: f64 = 25.0;
 /// Inclinations of the LMEE sweep, degrees.
 const LMEE_THETAS_DEG: [f64; 7] = [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0];
-
-fn setup<'a>(
-    config: Config,
-    hw: &hardware::Fingertip,
-    label: &str,
-    hp: Option<&'a observations::OutputFilter>,
-) -> Setup<'a> {
-    Setup {
-        config,
-        test: StandardTest {
-            peak_load_n: hw.test.peak_load_n,
-            hold_s: hw.test.hold_s,
-            return_speed_mm_per_s: hw.test.return_speed_mm_per_min / 60.0,
-            recovery_s: hw.test.recovery_s,
-        },
-        sweep_deg: vec![0.0, 10.0, 20.0, 30.0],
-        label: label.into(),
-        output_filter: hp,
-    }
-}
 
 /// The default fingertip of `hardware/fingertip.toml` at its standard test.
 pub fn default_config(hw: &hardware::Fingertip, mesh_size_mm: f64) -> Config {
@@ -99,18 +79,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let (config, label) = match &args.cause {
         None => (base.clone(), "default".to_string()),
         Some(name) => {
-            let cause = causes::fe_causes()
-                .into_iter()
-                .find(|c| c.name == name)
+            let config = causes::apply_named(&base, name)
                 .with_context(|| format!("--cause {name}: not a known cause (see --causes)"))?;
-            ((cause.apply)(&base), name.clone())
+            (config, name.clone())
         }
     };
     let label = match hp_tau {
         Some(t) => format!("{label} + AC coupling tau {t} s"),
         None => label,
     };
-    let card = observations::score(&setup(config, &hw, &label, Some(&highpass)))
+    let card = observations::score(&Setup::from_hardware(config, &hw, &label, Some(&highpass)))
         .context("running the fingertip model")?;
     let lmee = if args.lmee { Some(lmee(&base)?) } else { None };
     if args.json {
@@ -132,11 +110,7 @@ const LMEE_STEPS: usize = 10;
 
 /// Energy along the inclination for the default drive and for the rod driven along z.
 fn lmee(base: &Config) -> anyhow::Result<Vec<(String, Vec<energy::EnergyPoint>)>> {
-    let along_z = causes::fe_causes()
-        .into_iter()
-        .find(|c| c.name == "drive_along_z")
-        .map(|c| (c.apply)(base))
-        .context("cause drive_along_z")?;
+    let along_z = causes::apply_named(base, "drive_along_z").context("cause drive_along_z")?;
     [
         ("jig (drive along the rod)", base.clone()),
         ("upright (drive along z)", along_z),
@@ -206,7 +180,7 @@ fn run_causes(
     }
     for (name, config, with_ac) in models {
         let filter: Option<&observations::OutputFilter> = if with_ac { Some(&ac) } else { None };
-        match observations::score(&setup(config, hw, &name, filter)) {
+        match observations::score(&Setup::from_hardware(config, hw, &name, filter)) {
             Ok(card) => {
                 if !json {
                     writeln!(out, "{}", table_line(&card))?;
