@@ -1,5 +1,8 @@
 //! The proof: recordings with concealed catalogue effects, generated with the simulator and
-//! diagnosed blind (the truth only scores the result).
+//! diagnosed blind (the truth only scores the result). [`categories`] varies what a user
+//! varies: protocols, another model's baseline, three effects, nuisances.
+
+pub mod categories;
 
 use std::fmt::Write as _;
 
@@ -7,11 +10,12 @@ use rayon::prelude::*;
 use sim::compression::CompressionTest;
 use sim::effects::{Effect, EffectKind};
 
-use super::baseline::{BaselineParams, Drive};
+use super::baseline::{BaselineParams, Drive, FingertipResponse};
 use super::fe_response::{AngleBlend, FeResponseError};
 use super::output::Report;
 use super::pipeline::{diagnose, Options};
-use super::synth::{simulate, Gaussian, Noise, SimSpec};
+use super::synth::{simulate, simulate_path, Gaussian, Noise, SimSpec};
+use categories::{Nuisance, OtherFingertip, Protocol};
 use recording::Recording;
 
 /// One generated recording and what is hidden in it.
@@ -93,6 +97,12 @@ impl Plan {
     }
 
     fn case(&self, id: usize, kinds: &[EffectKind]) -> Result<Case, FeResponseError> {
+        self.build(id, &CaseSpec::new(kinds))
+    }
+
+    /// One case: the jig and the truth drawn from the case's seed (in the standard proof's
+    /// order, so its recordings do not change), then what the category varies.
+    fn build(&self, id: usize, cs: &CaseSpec) -> Result<Case, FeResponseError> {
         let mut g = Gaussian::new(
             self.seed
                 .wrapping_mul(0x2545_F491_4F6C_DD1D)
@@ -100,30 +110,47 @@ impl Plan {
         );
         let mut u = |a: f64, b: f64| a + (b - a) * g.uniform();
         let jig = Jig::draw(id, &mut u);
-        let fingertip =
+        let fe =
             self.options
                 .fe
                 .response(self.radius_mm, jig.contact_angle_deg, jig.azimuth_deg)?;
         let baseline = truth_baseline(jig.modulus_pa, &mut u);
         // A rail must clip in both cycles to be seen in the held-out one.
-        let second_peak_output =
-            peak_output_v(&fingertip, &self.front_end, &baseline, jig.second_peak_n);
-        let truth: Vec<Effect> = kinds
+        let second_peak_output = peak_output_v(&fe, &self.front_end, &baseline, jig.second_peak_n);
+        let truth: Vec<Effect> = cs
+            .kinds
             .iter()
             .map(|&k| k.with_params(&random_params(k, &mut u, second_peak_output)))
             .collect();
         // Every other drift follows an ambient that also swings: the regression on temp_C.
-        let ambient_swing = (kinds.contains(&EffectKind::ThermalDrift) && id % 2 == 0)
+        let mut ambient_swing = (cs.kinds.contains(&EffectKind::ThermalDrift) && id % 2 == 0)
             .then(|| (u(0.5, 1.0), u(30.0, 90.0)));
+        if cs.nuisance == Some(Nuisance::TemperatureIgnored) {
+            ambient_swing = Some((u(1.0, 2.0), u(40.0, 90.0)));
+        }
+        let other = cs.other_family.map(|linear_outputs| OtherFingertip {
+            fe: &fe,
+            exponent: u(1.5, 2.3),
+            d_ref_mm: sim::compression::rod_at_load(
+                |d| fe.unit_response(d).force_n * jig.modulus_pa,
+                jig.peak_n,
+                60.0,
+            ),
+            linear_outputs,
+        });
+        let fingertip: &dyn FingertipResponse = match &other {
+            Some(o) => o,
+            None => &fe,
+        };
         let spec = SimSpec {
-            fingertip: &fingertip,
+            fingertip,
             front_end: self.front_end,
             baseline,
             contact_angle_deg: jig.contact_angle_deg,
             azimuth_deg: jig.azimuth_deg,
             radius_mm: self.radius_mm,
             test: CompressionTest {
-                sample_rate_hz: self.sample_rate_hz,
+                sample_rate_hz: cs.protocol.sample_rate_hz().unwrap_or(self.sample_rate_hz),
                 recovery_s: 45.0,
                 ..Default::default()
             },
@@ -140,8 +167,49 @@ impl Plan {
             id,
             truth,
             low_snr: jig.low_snr,
-            recording: simulate(&spec),
+            recording: record(&spec, cs, &jig),
         })
+    }
+}
+
+/// Simulate `spec` along the case's protocol, then add its nuisance.
+fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> Recording {
+    let mut recording = match cs.protocol.waypoints(spec, [jig.peak_n, jig.second_peak_n]) {
+        Some(w) => simulate_path(
+            spec,
+            sim::compression::RodHistory::from_waypoints(spec.test.sample_rate_hz, &w),
+        ),
+        None => simulate(spec),
+    };
+    if let Some(n) = cs.nuisance {
+        // Their own streams, so the simulation's noise is the same with and without them.
+        let mut h = Gaussian::new(spec.seed ^ 0x05EE_D0FA);
+        let mut z = Gaussian::new(spec.seed ^ 0x0C01_00E5);
+        let mut u = |a: f64, b: f64| a + (b - a) * h.uniform();
+        n.apply(&mut recording, &mut u, &mut || z.normal(), &jig.noise);
+    }
+    recording
+}
+
+/// What one case hides, and what its category varies beyond the standard proof.
+#[derive(Debug, Clone)]
+pub struct CaseSpec {
+    pub kinds: Vec<EffectKind>,
+    pub protocol: Protocol,
+    /// Another model's fingertip: `Some(linear_outputs)`.
+    pub other_family: Option<bool>,
+    pub nuisance: Option<Nuisance>,
+}
+
+impl CaseSpec {
+    /// The standard proof's case hiding `kinds`.
+    pub fn new(kinds: &[EffectKind]) -> Self {
+        CaseSpec {
+            kinds: kinds.to_vec(),
+            protocol: Protocol::Standard,
+            other_family: None,
+            nuisance: None,
+        }
     }
 }
 

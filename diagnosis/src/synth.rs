@@ -47,7 +47,12 @@ const MAX_ROD_MM: f64 = 60.0;
 
 /// Run the baseline (plus effects and noise) through the standard test.
 pub fn simulate(spec: &SimSpec) -> Recording {
-    let history = rod_history(spec);
+    simulate_path(spec, rod_history(spec))
+}
+
+/// The same along any rod path (a protocol other than the standard test's cycles; `spec.test`
+/// then gives only the sample rate and the speed written into the metadata).
+pub fn simulate_path(spec: &SimSpec, history: RodHistory) -> Recording {
     let warm_up = spec.effects.iter().find_map(|e| match e {
         Effect::ThermalDrift(d) => Some(*d),
         _ => None,
@@ -108,14 +113,15 @@ pub fn simulate(spec: &SimSpec) -> Recording {
 
 /// The rod's travel: the standard test turning at each peak load of the truth's baseline.
 fn rod_history(spec: &SimSpec) -> RodHistory {
+    let turns: Vec<f64> = spec.peak_loads_n.iter().map(|&l| rod_at(spec, l)).collect();
+    spec.test.rod_history(&turns)
+}
+
+/// The rod travel at which the truth's baseline reaches `load_n`.
+pub fn rod_at(spec: &SimSpec, load_n: f64) -> f64 {
     let force_at =
         |d: f64| spec.fingertip.unit_response(d).force_n * spec.baseline.youngs_modulus_pa;
-    let turns: Vec<f64> = spec
-        .peak_loads_n
-        .iter()
-        .map(|&l| rod_at_load(force_at, l, MAX_ROD_MM))
-        .collect();
-    spec.test.rod_history(&turns)
+    rod_at_load(force_at, load_n, MAX_ROD_MM)
 }
 
 /// The temperature next to the chip at each time: the ambient, the warm-up `rise_c` when there

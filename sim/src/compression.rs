@@ -47,31 +47,45 @@ pub struct RodHistory {
     pub rod_mm: Vec<f64>,
 }
 
+impl RodHistory {
+    /// A straight-line rod path through `(t_s, rod_mm)` waypoints (times non-decreasing, the
+    /// first at 0), sampled at `sample_rate_hz` from 0 to the last waypoint: any protocol of
+    /// ramps, holds and returns (staircases, triangles, a start in contact) is a list of them.
+    pub fn from_waypoints(sample_rate_hz: f64, waypoints: &[(f64, f64)]) -> Self {
+        let end_s = waypoints.last().map_or(0.0, |w| w.0);
+        let n = (end_s * sample_rate_hz).floor() as usize + 1;
+        let t_s: Vec<f64> = (0..n).map(|k| k as f64 / sample_rate_hz).collect();
+        let mut i = 0;
+        let rod_mm = t_s
+            .iter()
+            .map(|&t| {
+                while i + 2 < waypoints.len() && t > waypoints[i + 1].0 {
+                    i += 1;
+                }
+                let Some(&(t1, r1)) = waypoints.get(i + 1) else {
+                    return waypoints.first().map_or(0.0, |w| w.1);
+                };
+                let (t0, r0) = waypoints[i];
+                let u = if t1 > t0 {
+                    ((t - t0) / (t1 - t0)).clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
+                r0 + u * (r1 - r0)
+            })
+            .collect();
+        RodHistory { t_s, rod_mm }
+    }
+}
+
 impl CompressionTest {
     /// The rod path for one cycle per entry of `turn_rod_mm` (the travel at which the load
     /// reaches each cycle's peak), sampled at `sample_rate_hz`.
     pub fn rod_history(&self, turn_rod_mm: &[f64]) -> RodHistory {
         let segments = self.segments(turn_rod_mm);
-        let end_s = segments.last().map_or(0.0, |s| s.t1_s);
-        let n = (end_s * self.sample_rate_hz).floor() as usize + 1;
-        let t_s: Vec<f64> = (0..n).map(|k| k as f64 / self.sample_rate_hz).collect();
-        let mut i = 0;
-        let rod_mm = t_s
-            .iter()
-            .map(|&t| {
-                while i + 1 < segments.len() && t > segments[i].t1_s {
-                    i += 1;
-                }
-                let s = segments[i];
-                let u = if s.t1_s > s.t0_s {
-                    ((t - s.t0_s) / (s.t1_s - s.t0_s)).clamp(0.0, 1.0)
-                } else {
-                    1.0
-                };
-                s.rod0_mm + u * (s.rod1_mm - s.rod0_mm)
-            })
-            .collect();
-        RodHistory { t_s, rod_mm }
+        let mut waypoints = vec![(0.0, self.start_rod_mm)];
+        waypoints.extend(segments.iter().map(|s| (s.t1_s, s.rod1_mm)));
+        RodHistory::from_waypoints(self.sample_rate_hz, &waypoints)
     }
 
     fn segments(&self, turn_rod_mm: &[f64]) -> Vec<Segment> {
