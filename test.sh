@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds everything (host workspace, both
-# firmware binaries), runs every test (host, firmware host tests, QEMU, HIL, ngspice).
+# firmware binaries), runs every test (host, firmware host tests, QEMU, HIL, ngspice, the Python
+# package).
 # Style is checked first: rustfmt, clippy (functions over 80 lines included, clippy.toml) and
 # rustdoc, with warnings as errors, for both workspaces.
 # Usage: ./test.sh            (CI runs exactly this through .ci/run)
@@ -24,5 +25,8 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 echo "== host workspace: build and test (protocol, hardware, chip, fingertip, sim, host, HIL)"
 cargo build --workspace --all-targets --locked
 cargo test --workspace --locked
+
+echo "== Python package: wheel (pip install ./python), pytest against the binary, the example"
+bash scripts/test-python.sh
 
 echo "== all tests passed in $(( $(date +%s) - start )) s"

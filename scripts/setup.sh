@@ -50,6 +50,12 @@ fi
 # libudev let serialport enumerate USB devices.
 apt_install qemu-system-arm ngspice pkg-config libudev-dev
 
+# The Python package's tests make a virtual environment (scripts/test-python.sh): Debian's
+# python3 leaves venv's pip bootstrap (ensurepip) to python3-venv.
+if command -v python3 >/dev/null && ! python3 -c "import ensurepip, venv" 2>/dev/null; then
+    apt_install python3-venv
+fi
+
 # Pieces that need more (each script is idempotent too).
 for extra in scripts/setup-*.sh; do
     [ -e "$extra" ] && bash "$extra"

@@ -10,6 +10,7 @@
 //! [`localise`], [`mains`] -> [`output`] (OUT.json) and [`report`] (HTML).
 
 pub mod baseline;
+pub mod chip_report;
 pub mod data;
 pub mod evidence;
 pub mod fe_cache;
@@ -22,6 +23,7 @@ pub mod mains;
 pub mod output;
 pub mod pipeline;
 pub mod regimes;
+pub mod standard_test;
 pub mod synth;
 pub mod temperature;
 

@@ -19,7 +19,7 @@ mod writer;
 
 pub use error::RecordingError;
 pub use meta::Meta;
-pub use reader::{read, read_from, read_from_with, read_with, Limits};
+pub use reader::{read, read_from, read_from_with, read_with, read_with_columns, Limits};
 pub use writer::RecordingWriter;
 
 pub mod import;

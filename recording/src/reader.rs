@@ -36,6 +36,18 @@ pub fn read(path: &Path) -> Result<Recording, RecordingError> {
 
 /// [`read`] with other limits. A regular file over `max_bytes` is refused before reading.
 pub fn read_with(path: &Path, limits: Limits) -> Result<Recording, RecordingError> {
+    read_path(path, limits).map(|(rec, _)| rec)
+}
+
+/// [`read`], and the header's column names in the file's order: [`Recording`] holds the
+/// columns in the contract's order, and a table shown to people (the Python package's
+/// DataFrame) keeps the file's.
+pub fn read_with_columns(path: &Path) -> Result<(Recording, Vec<String>), RecordingError> {
+    read_path(path, Limits::DEFAULT)
+}
+
+/// [`read_with`], with the header's column names.
+fn read_path(path: &Path, limits: Limits) -> Result<(Recording, Vec<String>), RecordingError> {
     let name = path.display().to_string();
     let io = |source| RecordingError::Io {
         path: name.clone(),
@@ -56,7 +68,7 @@ pub fn read_with(path: &Path, limits: Limits) -> Result<Recording, RecordingErro
             limit_bytes: limits.max_bytes,
         }));
     }
-    read_from_with(std::io::BufReader::with_capacity(1 << 16, file), limits).map_err(in_file)
+    read_source(std::io::BufReader::with_capacity(1 << 16, file), limits).map_err(in_file)
 }
 
 /// Where each header column goes.
@@ -162,6 +174,14 @@ fn encoding_hint(bytes: &[u8], line: usize) -> &'static str {
 
 /// [`read_from`] with other limits.
 pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording, RecordingError> {
+    read_source(input, limits).map(|(rec, _)| rec)
+}
+
+/// [`read_from_with`], and the header's column names in the file's order.
+fn read_source<R: BufRead>(
+    input: R,
+    limits: Limits,
+) -> Result<(Recording, Vec<String>), RecordingError> {
     let mut lines = Lines {
         input,
         buf: Vec::with_capacity(256),
@@ -187,7 +207,7 @@ pub fn read_from_with<R: BufRead>(input: R, limits: Limits) -> Result<Recording,
         .collect();
     read_rows(&mut lines, &names, &slots, &mut rec)?;
     refuse_empty_columns(&rec, head.line)?;
-    Ok(rec)
+    Ok((rec, names))
 }
 
 /// Refuse a recording with rows whose `t_s` is empty on every row, or whose `rod_mm` or

@@ -103,6 +103,23 @@ fn extra_columns_and_temperature_are_carried_in_any_order() {
 }
 
 #[test]
+fn read_with_columns_names_the_columns_in_the_files_order() {
+    let path = std::env::temp_dir().join(format!("recording-columns-{}.csv", std::process::id()));
+    let header = "my_V,seq,t_s,temp_C,rod_mm,load_N,fz_V,mx_V";
+    std::fs::write(&path, format!("{META}{header}\n5,7,0,25.5,1,2,3,4\n")).unwrap();
+    let read = recording::read_with_columns(&path);
+    std::fs::remove_file(&path).unwrap();
+    let (r, columns) = read.unwrap();
+    assert_eq!(columns.join(","), header);
+    for (name, value) in columns
+        .iter()
+        .zip([5.0, 7.0, 0.0, 25.5, 1.0, 2.0, 3.0, 4.0])
+    {
+        assert_eq!(r.column(name), Some(&[value][..]), "{name}");
+    }
+}
+
+#[test]
 fn writer_round_trips_everything() {
     let r = ok(&format!("{META}# source = unit test\n# custom = x\n{HEADER_T}0,-0.5,0,0.0012,-0.0003,1e-5,25,9\n0.001,,0,0,0,0,,10\n",
         HEADER_T = "t_s,rod_mm,load_N,fz_V,mx_V,my_V,temp_C,seq\n"));

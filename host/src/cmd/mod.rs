@@ -47,6 +47,13 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     if let Some(e) = cause.downcast_ref::<recording::machine::MachineExportError>() {
         return Some(e.io_kind().map_or(exit::DATA, exit::of_input));
     }
+    // The library's wrappers forward the message of the error they hold, so the chain skips it.
+    if let Some(diagnosis::chip_report::ChipReportError::Params(_)) = cause.downcast_ref() {
+        return Some(exit::DATA);
+    }
+    if let Some(diagnosis::standard_test::SimulateError::Hardware(_)) = cause.downcast_ref() {
+        return Some(exit::DATA);
+    }
     if cause.is::<diagnosis::data::DataError>()
         || cause.is::<::chip::from_hardware::FromHardwareError>()
         || cause.is::<hardware::LoadError>()

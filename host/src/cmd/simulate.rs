@@ -1,19 +1,14 @@
 //! `tactile simulate`: the baseline model's recording of the standard compression test
 //! (`docs/diagnosis-format.md`), optionally with catalogue effects and noise, through the same
-//! forward model as the emulated sensor (`diagnosis::synth`, `sim::forward`).
+//! forward model as the emulated sensor (`diagnosis::standard_test`, shared with the Python
+//! package; `sim::forward`). This module parses the flags and writes the files.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
-use diagnosis::baseline::{
-    smoother_tau_s, BaselineParams, FingertipResponse, FrontEnd, SMOOTHER_KEY,
-};
-use diagnosis::fe_response::FeSource;
-use diagnosis::synth::{simulate, Noise, SimSpec};
+use diagnosis::standard_test::{simulate_standard_test, SimulateOptions};
 use recording::machine::MachineExport;
 use recording::Recording;
-use sim::compression::CompressionTest;
-use sim::effects::Effect;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -78,131 +73,44 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let params = hardware::Params::load_default().context("loading hardware/")?;
-    let effects = args
-        .effects
-        .iter()
-        .map(|s| Effect::from_spec(s).map_err(anyhow::Error::msg))
-        .collect::<anyhow::Result<Vec<_>>>()
-        .context("--effect")?;
-    check(&args)?;
-    let test = compression_test(&params.fingertip, args.rate);
+    let options = options(&args);
     if args.adc_stimulus.is_some() {
+        let rate_hz = options.compression_test(&params.fingertip).sample_rate_hz;
         anyhow::ensure!(
             sim::ads131m04::stimulus_file::is_data_rate(
-                test.sample_rate_hz,
+                rate_hz,
                 sim::ads131m04::AdcParams::from_hardware(&params.adc).clkin_hz
             ),
             "--adc-stimulus: {} Hz is not a data rate of the ADS131M04 (CLKIN/2/OSR: 500, 1000, \
              2000, ... 32000 Hz)",
-            test.sample_rate_hz
+            rate_hz
         );
     }
-    let front_end = front_end(&args, &params, test.sample_rate_hz)?;
-    let fingertip = FeSource::from_hardware(&params)?.response(
-        params.fingertip.radius_mm,
-        args.contact_angle,
-        args.azimuth,
-    )?;
-    let spec = spec(&args, &params, &fingertip, front_end, test, effects);
-    let mut rec: Recording = simulate(&spec);
-    if let Some(alpha) = args.smoother_alpha {
-        rec.meta
-            .other
-            .push((SMOOTHER_KEY.to_string(), alpha.to_string()));
-    }
+    let rec = simulate_standard_test(&options, &params)?;
     write_outputs(&args, &params, &rec)
 }
 
-/// The values clap cannot check alone.
-fn check(args: &Args) -> anyhow::Result<()> {
-    anyhow::ensure!(args.peak_load > 0.0, "--peak-load must be positive");
-    if let Some([_, period_s]) = args.ambient_swing.as_deref() {
-        anyhow::ensure!(
-            *period_s > 0.0,
-            "--ambient-swing: the period must be positive"
-        );
-    }
-    if let Some(alpha) = args.smoother_alpha {
-        anyhow::ensure!(
-            alpha > 0.0 && alpha < 1.0,
-            "--smoother-alpha must lie in (0, 1)"
-        );
-    }
-    Ok(())
-}
-
-/// The standard test of `fingertip.toml`, at `rate_hz` if given.
-fn compression_test(tip: &hardware::Fingertip, rate_hz: Option<f64>) -> CompressionTest {
-    CompressionTest {
-        sample_rate_hz: rate_hz.unwrap_or(tip.test.sample_rate_hz),
-        speed_mm_per_min: tip.test.rod_speed_mm_per_min,
-        hold_s: tip.test.hold_s,
-        return_speed_mm_per_min: tip.test.return_speed_mm_per_min,
-        recovery_s: tip.test.recovery_s,
-        ..Default::default()
-    }
-}
-
-/// The emulated sensor's front end, with the gains, excitation and smoother given on the
-/// command line.
-fn front_end(
-    args: &Args,
-    params: &hardware::Params,
-    sample_rate_hz: f64,
-) -> anyhow::Result<FrontEnd> {
-    let nominal = FrontEnd::from_hardware(params)?;
-    let gain = match args.gain.as_deref() {
-        Some([a, b, c]) => [*a, *b, *c],
-        _ => nominal.signal.gain,
-    };
-    let excitation_v = args.excitation_v.unwrap_or(nominal.signal.excitation_v);
-    let mut front_end = FrontEnd::from_chip(params, gain, excitation_v)?;
-    front_end.smoother_tau_s = args
-        .smoother_alpha
-        .and_then(|alpha| smoother_tau_s(alpha, sample_rate_hz));
-    Ok(front_end)
-}
-
-/// The simulation: the nominal baseline at the given modulus, the lab's temperature of
-/// `sim.toml`, the command line's loads, effects and noise.
-fn spec<'a>(
-    args: &Args,
-    params: &hardware::Params,
-    fingertip: &'a dyn FingertipResponse,
-    front_end: FrontEnd,
-    test: CompressionTest,
-    effects: Vec<Effect>,
-) -> SimSpec<'a> {
-    let tip = &params.fingertip;
-    let names: Vec<&str> = effects.iter().map(|e| e.kind().name()).collect();
-    SimSpec {
-        fingertip,
-        front_end,
-        baseline: BaselineParams::nominal(args.modulus_pa.unwrap_or(tip.youngs_modulus_pa)),
-        contact_angle_deg: args.contact_angle,
-        azimuth_deg: args.azimuth,
-        radius_mm: tip.radius_mm,
-        test,
-        peak_loads_n: std::iter::once(args.peak_load)
-            .chain(args.then_peak_load.iter().copied())
-            .collect(),
-        source: format!(
-            "tactile simulate (FE baseline); effects: [{}]",
-            names.join(" ")
-        ),
-        effects,
-        noise: Noise {
-            load_n: args.noise_load_n,
-            volts: [args.noise_v; 3],
-            temp_c: 0.0,
-        },
+/// The command line's options of the recording.
+fn options(args: &Args) -> SimulateOptions {
+    SimulateOptions {
+        rate_hz: args.rate,
+        modulus_pa: args.modulus_pa,
+        then_peak_loads_n: args.then_peak_load.clone(),
+        noise_v: args.noise_v,
+        noise_load_n: args.noise_load_n,
         seed: args.seed,
-        ambient_c: params.sim.ambient_c,
-        warm_up_rise_c: params.sim.warmup_rise_c,
+        effects: args.effects.clone(),
+        gain: match args.gain.as_deref() {
+            Some([a, b, c]) => Some([*a, *b, *c]),
+            _ => None,
+        },
+        smoother_alpha: args.smoother_alpha,
         ambient_swing: match args.ambient_swing.as_deref() {
             Some([amplitude_c, period_s]) => Some((*amplitude_c, *period_s)),
             _ => None,
         },
+        excitation_v: args.excitation_v,
+        ..SimulateOptions::new(args.contact_angle, args.azimuth, args.peak_load)
     }
 }
 

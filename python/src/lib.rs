@@ -1,0 +1,140 @@
+//! `tactile._tactile`, the compiled half of the Python package `tactile` (`python/tactile/`
+//! wraps it in DataFrames and dicts). Conversions only: reading, writing, simulation,
+//! diagnosis and the chip's figures are the libraries' (`recording`, `diagnosis`), the same
+//! calls `tactile` makes, so both give the same files, JSON and error messages.
+
+mod convert;
+mod error;
+
+use std::path::PathBuf;
+
+use diagnosis::standard_test::{simulate_standard_test, SimulateOptions};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use convert::Columns;
+
+/// A recording's columns and metadata, as the package builds its DataFrame from.
+type Table<'py> = (Columns<'py>, Bound<'py, PyDict>);
+
+/// `hardware/`, loaded as the command line loads it.
+fn hardware() -> PyResult<hardware::Params> {
+    hardware::Params::load_default().map_err(|e| error::raise(Some("loading hardware/"), &e))
+}
+
+/// The recording at `path`, its columns in the file's order.
+#[pyfunction]
+fn read_recording(py: Python<'_>, path: PathBuf) -> PyResult<Table<'_>> {
+    let (rec, names) = recording::read_with_columns(&path).map_err(|e| error::raise(None, &e))?;
+    Ok((
+        convert::columns_out(py, &rec, &names)?,
+        convert::attrs_out(py, &rec.meta)?,
+    ))
+}
+
+/// Write the recording of `columns` and `attrs` to `path`, as the command line writes it.
+#[pyfunction]
+fn write_recording(columns: Columns<'_>, attrs: Bound<'_, PyDict>, path: PathBuf) -> PyResult<()> {
+    let (_, bytes) = convert::file_of(&columns, &attrs)?;
+    std::fs::write(&path, bytes).map_err(|e| error::file("writing", &path, &e))
+}
+
+/// `tactile simulate`'s recording for its options (the keywords are its flags).
+#[pyfunction]
+#[pyo3(signature = (
+    contact_angle, azimuth, peak_load, rate=None, modulus_pa=None, then_peak_load=None,
+    noise_v=None, noise_load_n=None, seed=None, effect=None, gain=None, smoother_alpha=None,
+    ambient_swing=None, excitation_v=None
+))]
+#[allow(clippy::too_many_arguments)] // One keyword per flag of the command.
+fn simulate(
+    py: Python<'_>,
+    contact_angle: f64,
+    azimuth: f64,
+    peak_load: f64,
+    rate: Option<f64>,
+    modulus_pa: Option<f64>,
+    then_peak_load: Option<Vec<f64>>,
+    noise_v: Option<f64>,
+    noise_load_n: Option<f64>,
+    seed: Option<u64>,
+    effect: Option<Vec<String>>,
+    gain: Option<[f64; 3]>,
+    smoother_alpha: Option<f64>,
+    ambient_swing: Option<(f64, f64)>,
+    excitation_v: Option<f64>,
+) -> PyResult<Table<'_>> {
+    let defaults = SimulateOptions::new(contact_angle, azimuth, peak_load);
+    let options = SimulateOptions {
+        rate_hz: rate,
+        modulus_pa,
+        then_peak_loads_n: then_peak_load.unwrap_or(defaults.then_peak_loads_n.clone()),
+        noise_v: noise_v.unwrap_or(defaults.noise_v),
+        noise_load_n: noise_load_n.unwrap_or(defaults.noise_load_n),
+        seed: seed.unwrap_or(defaults.seed),
+        effects: effect.unwrap_or(defaults.effects.clone()),
+        gain,
+        smoother_alpha,
+        ambient_swing,
+        excitation_v,
+        ..defaults
+    };
+    let params = hardware()?;
+    let rec = py
+        .detach(|| simulate_standard_test(&options, &params))
+        .map_err(|e| error::raise(None, &e))?;
+    let names = convert::writer_order(&rec);
+    Ok((
+        convert::columns_out(py, &rec, &names)?,
+        convert::attrs_out(py, &rec.meta)?,
+    ))
+}
+
+/// `tactile diagnose`'s JSON (pretty, as the command writes it) for `rec` named `name`.
+fn diagnose_json(py: Python<'_>, rec: &recording::Recording, name: &str) -> PyResult<String> {
+    let hw = hardware()?;
+    let options = diagnosis::Options::from_hardware(&hw).map_err(|e| error::raise(None, &e))?;
+    let diagnosed = py
+        .detach(|| diagnosis::diagnose(rec, name, &options))
+        .map_err(|e| error::raise(Some(name), &e))?;
+    serde_json::to_string_pretty(&diagnosed.report)
+        .map_err(|e| error::raise(Some("encoding the diagnosis"), &e))
+}
+
+/// The diagnosis of the recording at `path`, named as the command names it.
+#[pyfunction]
+fn diagnose_file(py: Python<'_>, path: PathBuf) -> PyResult<String> {
+    let rec = recording::read(&path).map_err(|e| error::raise(None, &e))?;
+    diagnose_json(py, &rec, &path.display().to_string())
+}
+
+/// The diagnosis of the recording of `columns` and `attrs`, named `name` in the report.
+#[pyfunction]
+fn diagnose_frame(
+    py: Python<'_>,
+    columns: Columns<'_>,
+    attrs: Bound<'_, PyDict>,
+    name: &str,
+) -> PyResult<String> {
+    let (rec, _) = convert::file_of(&columns, &attrs)?;
+    diagnose_json(py, &rec, name)
+}
+
+/// `tactile chip --json`'s figures.
+#[pyfunction]
+fn chip_json() -> PyResult<String> {
+    let report =
+        diagnosis::chip_report::from_hardware(&hardware()?).map_err(|e| error::raise(None, &e))?;
+    serde_json::to_string(&report).map_err(|e| error::raise(None, &e))
+}
+
+#[pymodule]
+fn _tactile(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(read_recording, m)?)?;
+    m.add_function(wrap_pyfunction!(write_recording, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose_file, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose_frame, m)?)?;
+    m.add_function(wrap_pyfunction!(chip_json, m)?)?;
+    Ok(())
+}

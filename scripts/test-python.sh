@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The Python package (python/): a virtual environment in target/py-venv (made once, reused),
+# the tools it needs from pip where missing, the wheel built and installed with
+# `pip install ./python` (maturin, release profile), then its pytest suite against the
+# `tactile` binary and the example. Usage: bash scripts/test-python.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+say() { printf '\033[1m[python]\033[0m %s\n' "$*"; }
+
+venv=target/py-venv
+if [ ! -x "$venv/bin/python" ]; then
+    say "python3 -m venv $venv"
+    python3 -m venv "$venv"
+fi
+py="$venv/bin/python"
+# maturin's build backend runs the `maturin` found on PATH: the venv's.
+export PATH="$PWD/$venv/bin:$PATH"
+
+# Each tool only when it cannot be imported yet: a warm run needs no network.
+missing=()
+for pkg in maturin pandas pytest matplotlib numpy; do
+    "$py" -c "import $pkg" 2>/dev/null || missing+=("$pkg")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    say "pip install ${missing[*]}"
+    "$py" -m pip install --quiet "${missing[@]}"
+fi
+
+say "pip install ./python"
+# --no-build-isolation: build with the venv's maturin rather than fetch one per build.
+"$py" -m pip install --quiet --no-build-isolation --force-reinstall --no-deps ./python
+
+say "pytest python/tests"
+"$py" -m pytest -q python/tests
+
+say "example: python/examples/diagnose.py"
+"$py" python/examples/diagnose.py --png target/py-example-diagnosis.png
