@@ -5,7 +5,7 @@ use sim::effects::EffectKind;
 
 use crate::baseline::{Drive, Outputs};
 use crate::fit::{Fitted, Model, Setup, N_BASE};
-use crate::lm::{Problem, Solution};
+use crate::lm::Solution;
 use crate::specs::{neutral, neutral_suffices};
 
 /// Minimum BIC decrease for an effect to count. A BIC difference approximates twice the log
@@ -145,25 +145,29 @@ impl<'s, 'a> Candidate<'s, 'a> {
             model.add_start(neutral_full.clone());
         }
         let fitted = model.fit(max_iterations);
-        let mut r = Vec::new();
-        let free = model.free_of(&neutral_full);
-        model.residuals(&free, &mut r);
-        let neutral_sse: f64 = r.iter().map(|v| v * v).sum();
-        if fitted.solution.sse <= neutral_sse {
+        if fitted.solution.sse <= nested.sse() {
             return Self::scored(model, fitted, false);
         }
+        // The nested solution with the effect at neutral, scored as the nested model (where the
+        // neutral vector is not its exact identity, e.g. crosstalk carrying the azimuth through
+        // a per-channel friction, the nested model's own scores are what it stands for). Such a
+        // candidate is never reported (`Selection::addition_test`).
+        let free = model.free_of(&neutral_full);
         let fallback = Fitted {
             full: model.expand(&free),
             free: model.free_indices(),
             solution: Solution {
                 p: free,
-                sse: neutral_sse,
-                n: r.len(),
+                sse: nested.sse(),
+                n: nested.fitted.solution.n,
                 jtj_inv: None,
                 iterations: 0,
             },
         };
-        Self::scored(model, fallback, true)
+        let mut c = Self::scored(model, fallback, true);
+        c.heldout_r = nested.heldout_r.clone();
+        c.heldout_chi2 = nested.heldout_chi2;
+        c
     }
 
     /// Compare with `smaller`, a model this one contains: the BIC difference and a paired test

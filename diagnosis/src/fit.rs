@@ -209,7 +209,13 @@ impl<'s, 'a> Model<'s, 'a> {
                     }
                 })
                 .collect();
-            effects.push(k.with_params(&phys));
+            // AC coupling at the upper end of its range is DC coupling (the bound's reason,
+            // `specs::MAX_COUPLING_TAU_S`): left out, so that end is the exact identity and a
+            // candidate started there fits exactly as well as the model it extends.
+            let dc = k == EffectKind::HighpassCoupling && full[i] >= self.specs[i].upper;
+            if !dc {
+                effects.push(k.with_params(&phys));
+            }
             i += n;
         }
         let mut chain = Chain::new(effects);
