@@ -6,7 +6,7 @@ use sim::effects::EffectKind;
 use crate::baseline::{Drive, Outputs};
 use crate::fit::{Fitted, Model, Setup, N_BASE};
 use crate::lm::Solution;
-use crate::specs::{neutral, neutral_suffices};
+use crate::specs::starts;
 
 /// Minimum BIC decrease for an effect to count. A BIC difference approximates twice the log
 /// Bayes factor (Schwarz 1978); above 10 the evidence is "very strong" on the Kass & Raftery
@@ -112,15 +112,15 @@ impl<'s, 'a> Candidate<'s, 'a> {
     }
 
     /// `nested` plus `kind`: the baseline and the nested effects start at their fitted values,
-    /// the new effect at its neutral values (where it is the identity) and at its own starts
-    /// (`seed`, else the catalogue defaults). LM only takes steps that lower the cost, so from
-    /// the neutral start it cannot end above the nested fit; should it (a solver failure), the
-    /// nested solution with the effect at neutral is kept and marked.
+    /// the new effect at its neutral values (where it is the identity) and at its other starts
+    /// ([`starts`], from `seeds`). LM only takes steps that lower the cost, so from the neutral
+    /// start it cannot end above the nested fit; should it (a solver failure), the nested
+    /// solution with the effect at neutral is kept, scored as the nested model and marked.
     pub fn extend(
         setup: &'s Setup<'a>,
         nested: &Candidate<'s, 'a>,
         kind: EffectKind,
-        seed: Option<&[f64]>,
+        seeds: &[Vec<f64>],
         max_iterations: usize,
     ) -> Self {
         let mut kinds = nested.kinds.clone();
@@ -132,17 +132,11 @@ impl<'s, 'a> Candidate<'s, 'a> {
             model.pin_starts(e, &nested.fitted.full[at..at + n]);
             at += n;
         }
-        let new = kinds.len() - 1;
-        let neutral_full = neutral_vector(&model, nested, kind);
-        let neutral_own = &neutral_full[nested.fitted.full.len()..];
-        // One-parameter effects whose cost is smooth through the identity need no other start
-        // than the neutral one; time constants and rails (flat at the identity) keep theirs.
-        let own = seed.or((seed.is_none() && neutral_suffices(kind)).then_some(neutral_own));
-        if let Some(values) = own {
-            model.pin_starts(new, values);
-        }
-        if own != Some(neutral_own) {
-            model.add_start(neutral_full.clone());
+        let own = starts(kind, &model.specs()[at..], nested.fitted.full[4], seeds);
+        model.pin_starts(kinds.len() - 1, &own[0]);
+        let neutral_full = [nested.fitted.full.as_slice(), &own[0]].concat();
+        for other in &own[1..] {
+            model.add_start([nested.fitted.full.as_slice(), other].concat());
         }
         let fitted = model.fit(max_iterations);
         if fitted.solution.sse <= nested.sse() {
@@ -238,12 +232,4 @@ pub fn label_of(kinds: &[EffectKind]) -> String {
         .map(|k| k.name())
         .collect::<Vec<_>>()
         .join(" + ")
-}
-
-/// The full vector of `model` (= `nested` + `kind`) at `nested`'s solution with `kind` neutral.
-fn neutral_vector(model: &Model, nested: &Candidate, kind: EffectKind) -> Vec<f64> {
-    let mut v = nested.fitted.full.clone();
-    let specs = &model.specs()[v.len()..];
-    v.extend(neutral(kind, specs, nested.fitted.full[4]));
-    v
 }

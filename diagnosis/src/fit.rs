@@ -303,7 +303,14 @@ impl<'s, 'a> Model<'s, 'a> {
                 }
             }
         }
-        points
+        // Starts that differ only in fixed parameters are one start.
+        let mut unique: Vec<Vec<f64>> = Vec::new();
+        for p in points {
+            if !unique.contains(&p) {
+                unique.push(p);
+            }
+        }
+        unique
     }
 }
 

@@ -65,6 +65,16 @@ pub struct Selection<'s, 'a> {
     protocol: Protocol,
 }
 
+/// Index in the full vector of the first parameter of the first `kind` among `kinds`.
+fn first_param(kinds: &[EffectKind], kind: EffectKind) -> usize {
+    N_BASE
+        + kinds
+            .iter()
+            .take_while(|&&k| k != kind)
+            .map(|k| k.param_names().len())
+            .sum::<usize>()
+}
+
 /// Calibrate the baseline and run the search.
 pub fn select<'s, 'a>(
     setup: &'s Setup<'a>,
@@ -205,20 +215,28 @@ impl<'s, 'a> Selection<'s, 'a> {
             })
             .collect();
         tick.expect(todo.len());
-        // Each effect starts where it ended alone (if it was fitted alone), else from its
-        // catalogue starts; always also from neutral.
-        let seeds: Vec<Option<Vec<f64>>> = todo
+        // Each effect starts where it ended alone (if it was fitted alone), a second Prony term
+        // a decade either side of the first; else from its catalogue starts.
+        let seeds: Vec<Vec<Vec<f64>>> = todo
             .iter()
             .map(|&k| {
-                let single = self.find(&[k]).filter(|_| !nested.kinds.contains(&k))?;
-                Some(self.all[single].fitted.full[N_BASE..].to_vec())
+                if nested.kinds.contains(&k) {
+                    let ln_tau = nested.fitted.full[first_param(&nested.kinds, k)];
+                    return [10f64.ln(), -(10f64.ln())]
+                        .iter()
+                        .map(|d| vec![ln_tau + d, 0.0])
+                        .collect();
+                }
+                self.find(&[k])
+                    .map(|single| vec![self.all[single].fitted.full[N_BASE..].to_vec()])
+                    .unwrap_or_default()
             })
             .collect();
         let fitted: Vec<Candidate<'s, 'a>> = todo
             .par_iter()
             .zip(&seeds)
-            .map(|(&k, seed)| {
-                let c = Candidate::extend(setup, nested, k, seed.as_deref(), EFFECT_ITERATIONS);
+            .map(|(&k, seeds)| {
+                let c = Candidate::extend(setup, nested, k, seeds, EFFECT_ITERATIONS);
                 tick.inc();
                 c
             })

@@ -103,36 +103,60 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
     }
 }
 
-/// The effect's parameters (internal units) at which it is the identity. `azimuth_shift_deg`
-/// is the nested model's azimuth correction: with crosstalk in the model the azimuth is held
-/// nominal and the same rotation is carried by the crosstalk angle.
-pub fn neutral(kind: EffectKind, specs: &[ParamSpec], azimuth_shift_deg: f64) -> Vec<f64> {
+/// The starts of an effect added to a fitted model (internal units, one list of its parameters
+/// per start), the neutral one first: the values at which the effect is the identity, so the
+/// fit starts exactly at the model it extends. `azimuth_shift_deg` is that model's azimuth
+/// correction (with crosstalk in the model the azimuth is held nominal and the crosstalk angle
+/// carries the same rotation). `seeds` are where the same effect ended in other fits (alone, or
+/// a first Prony term's neighbours): a time constant starts there, at zero strength, which is
+/// still neutral; without seeds the catalogue starts are added.
+pub fn starts(
+    kind: EffectKind,
+    specs: &[ParamSpec],
+    azimuth_shift_deg: f64,
+    seeds: &[Vec<f64>],
+) -> Vec<Vec<f64>> {
     use EffectKind::*;
+    let defaults = || -> Vec<Vec<f64>> {
+        specs.iter().fold(vec![Vec::new()], |acc, s| {
+            acc.into_iter()
+                .flat_map(|p| s.starts.iter().map(move |&v| [p.clone(), vec![v]].concat()))
+                .collect()
+        })
+    };
     match kind {
-        // Nothing relaxes; tau at its middle start so the fit can move it once fraction grows.
-        ViscoelasticRelaxation => vec![specs[0].starts[specs[0].starts.len() / 2], 0.0],
-        Hysteresis => vec![0.0],
-        HighpassCoupling => vec![specs[0].upper],
-        ThermalDrift => vec![0.0, specs[1].starts[0]],
-        Stiffening => vec![1.0],
-        Crosstalk => vec![azimuth_shift_deg],
-        AmplifierSaturation => vec![specs[0].upper],
-        TimeOffset => vec![0.0],
-        MainsInterference => vec![specs[0].starts[0], 0.0],
-        BridgeNonlinearity => vec![0.0],
-        ContactFriction => vec![0.0],
+        // Zero strength is the identity at any time constant: the seeds' time constants (or
+        // the middle catalogue start, then the catalogue starts too).
+        ViscoelasticRelaxation | ThermalDrift => {
+            let tau_at = usize::from(kind == ThermalDrift);
+            let zero = |tau: f64| {
+                let mut p = vec![0.0; 2];
+                p[tau_at] = tau;
+                p
+            };
+            if seeds.is_empty() {
+                let s = &specs[tau_at].starts;
+                [vec![zero(s[s.len() / 2])], defaults()].concat()
+            } else {
+                seeds.iter().map(|s| zero(s[tau_at])).collect()
+            }
+        }
+        // Identity at the upper end (DC coupling, a rail above the signal), flat there: the
+        // seeds or the catalogue starts as well.
+        HighpassCoupling | AmplifierSaturation => {
+            let others = if seeds.is_empty() {
+                defaults()
+            } else {
+                seeds.to_vec()
+            };
+            [vec![vec![specs[0].upper]], others].concat()
+        }
+        // One parameter, a cost smooth through the identity: the neutral start suffices.
+        Hysteresis | TimeOffset | BridgeNonlinearity | ContactFriction => vec![vec![0.0]],
+        Stiffening => vec![vec![1.0]],
+        Crosstalk => vec![vec![azimuth_shift_deg]],
+        MainsInterference => vec![vec![specs[0].starts[0], 0.0]],
     }
-}
-
-/// Whether the neutral start alone finds the effect: one parameter and a cost that changes
-/// smoothly through the identity. Time constants (flat at fraction or amplitude zero, with
-/// several local minima) and the rail (flat above the signal) need their catalogue starts too.
-pub fn neutral_suffices(kind: EffectKind) -> bool {
-    use EffectKind::*;
-    matches!(
-        kind,
-        Hysteresis | Stiffening | Crosstalk | TimeOffset | BridgeNonlinearity | ContactFriction
-    )
 }
 
 /// Unit of an effect parameter, from its catalogue name.
