@@ -369,9 +369,12 @@ impl<'s, 'a> Selection<'s, 'a> {
         let mut parts = vec![self.all[i].compare(self.base()).words("the baseline")];
         for drop in 0..self.all[i].kinds.len() {
             let w = self.without(setup, i, drop, tick);
+            let kind = self.all[i].kinds[drop];
+            let again = self.all[i].kinds[..drop].contains(&kind);
             parts.push(format!(
-                "{}: {}",
-                self.all[i].kinds[drop].name(),
+                "{}{}: {}",
+                kind.name(),
+                if again { " (second term)" } else { "" },
                 self.all[i]
                     .compare(&self.all[w])
                     .words("the model without it")
