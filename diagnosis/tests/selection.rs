@@ -1,9 +1,7 @@
 //! The selection cannot do worse than the baseline, names only what the recording can show, and
 //! reports unresolved parameters as bounds. Recordings from the project's simulator
 //! (`diagnosis::synth`) with the catalogue's own operators.
-//!
-//! The quick tests run in the debug suite; the multi-effect ones take minutes there and are
-//! `--release` only: `cargo test --release -p diagnosis --test selection -- --include-ignored`.
+//! About 20 s in the debug build (250 Hz recordings, FE tables cached).
 
 use diagnosis::baseline::{BaselineParams, FrontEnd};
 use diagnosis::output::{Report, Verdict};
@@ -165,7 +163,6 @@ fn truncate(rec: &mut Recording, n: usize) {
 /// Relaxation far slower than the record under a long hold: the decay is seen, its time
 /// constant is not; the effect is named with tau flagged as a bound, in the JSON and in words.
 #[test]
-#[ignore = "release only: cargo test --release -p diagnosis --test selection -- --include-ignored"]
 fn an_unresolved_time_constant_is_reported_as_a_bound() {
     let (rec, opt) = recording(
         &["viscoelastic_relaxation:tau_s=3000,fraction=0.8"],
@@ -189,7 +186,6 @@ fn an_unresolved_time_constant_is_reported_as_a_bound() {
 }
 
 #[test]
-#[ignore = "release only: cargo test --release -p diagnosis --test selection -- --include-ignored"]
 fn three_effects_at_once_are_all_found() {
     let (rec, opt) = recording(
         &[
@@ -215,7 +211,6 @@ fn three_effects_at_once_are_all_found() {
 }
 
 #[test]
-#[ignore = "release only: cargo test --release -p diagnosis --test selection -- --include-ignored"]
 fn friction_with_relaxation_is_not_a_time_offset() {
     let (rec, opt) = recording(
         &[
