@@ -358,6 +358,13 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
             false,
         )
     };
+    // Bounds: ln E within 8 (a factor 3000) of its start only keeps the fit finite, a modulus
+    // is whatever the load cell says; the exponent shift keeps the force law between a power
+    // of about 0.8 (flatter than a flat punch's 1) and 3 (a thin layer's stiffening) around
+    // the FE's; the scales may take any sign and size a metadata gain can be wrong by (1e3);
+    // the azimuth moves within the jig's accuracy; the exponent curvature (+-0.5 per unit of ln
+    // travel squared) bends the FE's shape, it does not replace it: beyond, the recording
+    // needs another contact law, and the parameter's `at_bound` says so.
     vec![
         spec(
             "youngs_modulus_Pa",

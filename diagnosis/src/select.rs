@@ -297,8 +297,13 @@ impl<'s, 'a> Selection<'s, 'a> {
         }
         let fitted = Candidate::fit(model, EFFECT_ITERATIONS);
         tick.inc();
+        let why = format!(
+            "{} without {}, fitted to test whether that effect earns its place",
+            self.all[from].label(),
+            self.all[from].kinds[drop].name()
+        );
         self.all.push(fitted);
-        self.reasons.push(String::new());
+        self.reasons.push(why);
         self.parents.push(None);
         self.all.len() - 1
     }
