@@ -1,9 +1,12 @@
-//! One plain sentence per effect: what physics the baseline left out and how it shows.
+//! What OUT.json says of each effect found: its parameters in full and one plain sentence of
+//! what physics the baseline left out, how it shows, and how strong the evidence is.
 
 use sim::effects::EffectKind;
 
 use super::data::Data;
-use super::output::Numbers;
+use super::mains::Line;
+use super::output::{EffectReport, Numbers, ParamDetail};
+use super::select::Selection;
 
 /// The sentence for `kind` with its fitted `params`; `bic_gain` and `heldout_gain` (held-out
 /// chi-square without the effect over with it) quantify the evidence where known.
@@ -62,5 +65,157 @@ pub fn sentence(
         )
     } else {
         what
+    }
+}
+
+/// The sentence's closing note on parameters the data did not resolve.
+fn bound_note(parameters: &[ParamDetail]) -> String {
+    let pinned: Vec<String> = parameters
+        .iter()
+        .filter(|p| p.at_bound)
+        .map(|p| {
+            format!(
+                "{} = {:.3e} {} ({})",
+                p.name,
+                p.value,
+                p.unit,
+                p.note.as_deref().unwrap_or("at its bound")
+            )
+        })
+        .collect();
+    if pinned.is_empty() {
+        String::new()
+    } else {
+        format!(" Not resolved, reported as bounds: {}.", pinned.join("; "))
+    }
+}
+
+/// Each effect of the chosen model: parameters with standard errors and bounds, and the
+/// evidence against the model without it. A second relaxation term joins the first as
+/// `tau2_s`, `fraction2` (one effect, two time scales).
+pub fn effect_reports(sel: &Selection, data: &Data) -> Vec<EffectReport> {
+    let chosen = sel.chosen();
+    let details = crate::params::effects(chosen, data);
+    let mut out: Vec<EffectReport> = Vec::new();
+    for (index, (kind, parameters)) in details.into_iter().enumerate() {
+        let without = &sel.all[sel.without_index(index)];
+        let cmp = chosen.compare(without);
+        if let Some(first) = out.iter_mut().find(|e| e.name == kind.name()) {
+            join_second_term(first, parameters);
+            let vs_base = chosen.compare(sel.base());
+            first.evidence = sentence(
+                kind,
+                &first.params,
+                vs_base.bic_gain,
+                vs_base.heldout_ratio,
+                data,
+            ) + &bound_note(&first.parameters);
+            continue;
+        }
+        let mut params = Numbers::default();
+        let mut errs = Numbers::default();
+        for p in &parameters {
+            params.push(&p.name, p.value);
+            if let Some(se) = p.stderr {
+                errs.push(&p.name, se);
+            }
+        }
+        out.push(EffectReport {
+            name: kind.name().to_string(),
+            channels: kind.channels().iter().map(|c| c.to_string()).collect(),
+            evidence: sentence(kind, &params, cmp.bic_gain, cmp.heldout_ratio, data)
+                + &bound_note(&parameters),
+            params,
+            param_stderr: errs,
+            catalogue: None,
+            parameters,
+        });
+    }
+    out
+}
+
+/// A second Prony term joins the first as `tau2_s`, `fraction2`; the larger share leads.
+fn join_second_term(first: &mut EffectReport, second: Vec<ParamDetail>) {
+    let mut a = first.parameters.clone();
+    let mut b = second;
+    let fraction = |ps: &[ParamDetail]| {
+        ps.iter()
+            .find(|p| p.name == "fraction")
+            .map_or(0.0, |p| p.value)
+    };
+    if fraction(&b) > fraction(&a) {
+        std::mem::swap(&mut a, &mut b);
+    }
+    for p in &mut b {
+        p.name = match p.name.strip_suffix("_s") {
+            Some(stem) => format!("{stem}2_s"),
+            None => format!("{}2", p.name),
+        };
+    }
+    a.extend(b);
+    first.params = Numbers(a.iter().map(|p| (p.name.clone(), p.value)).collect());
+    first.param_stderr = Numbers(
+        a.iter()
+            .filter_map(|p| Some((p.name.clone(), p.stderr?)))
+            .collect(),
+    );
+    first.parameters = a;
+}
+
+/// The mains line as an effect, with Cramér–Rao standard errors for a sinusoid in white noise
+/// over N samples spanning T.
+pub fn mains_report(line: &Line, data: &Data) -> EffectReport {
+    let n = data.full.len() as f64;
+    let sigma = (1..4).map(|c| data.noise_full[c]).sum::<f64>() / 3.0;
+    let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
+    let a = line.amplitude().max(1e-300);
+    let detail =
+        |name: &str, value: f64, se: f64, unit: &str, (lower, upper): (f64, f64)| ParamDetail {
+            name: name.into(),
+            value,
+            stderr: Some(se),
+            unit: unit.into(),
+            lower,
+            upper,
+            at_bound: false,
+            note: None,
+        };
+    let parameters = vec![
+        detail(
+            "freq_hz",
+            line.freq_hz,
+            (12.0f64).sqrt() * sigma / (std::f64::consts::TAU * a * span * (n / 3.0).sqrt()),
+            "Hz",
+            crate::mains::BAND_HZ,
+        ),
+        detail(
+            "amplitude_V",
+            line.amplitude(),
+            sigma * (2.0 / n).sqrt(),
+            "V",
+            (0.0, f64::INFINITY),
+        ),
+    ];
+    let params = Numbers(
+        parameters
+            .iter()
+            .map(|p| (p.name.clone(), p.value))
+            .collect(),
+    );
+    let errs = Numbers(
+        parameters
+            .iter()
+            .filter_map(|p| Some((p.name.clone(), p.stderr?)))
+            .collect(),
+    );
+    let kind = EffectKind::MainsInterference;
+    EffectReport {
+        name: kind.name().to_string(),
+        channels: kind.channels().iter().map(|c| c.to_string()).collect(),
+        evidence: sentence(kind, &params, f64::NAN, f64::NAN, data),
+        params,
+        param_stderr: errs,
+        catalogue: None,
+        parameters,
     }
 }

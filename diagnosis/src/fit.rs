@@ -11,6 +11,7 @@ use sim::effects::{Chain, EffectKind};
 use super::baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
 use super::data::{Data, Series};
 use super::lm::{self, Problem, Solution};
+use super::specs::effect_specs;
 
 /// Number of baseline parameters at the head of the vector.
 pub const N_BASE: usize = 10;
@@ -63,56 +64,6 @@ fn spec(
     }
 }
 
-/// Coding of each effect's parameters, in catalogue order. `chip_peak_v` is the largest
-/// recorded output magnitude (for the saturation start).
-pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
-    use EffectKind::*;
-    let ln = f64::ln;
-    match kind {
-        ViscoelasticRelaxation => vec![
-            spec(
-                "tau_s",
-                ln(0.1),
-                ln(200.0),
-                1e-4,
-                &[ln(1.0), ln(5.0), ln(30.0)],
-                true,
-            ),
-            spec("fraction", 0.0, 0.95, 1e-4, &[0.2], false),
-        ],
-        Hysteresis => vec![spec("width", 0.0, 0.5, 1e-4, &[0.03], false)],
-        HighpassCoupling => vec![spec(
-            "tau_s",
-            ln(0.5),
-            ln(5000.0),
-            1e-4,
-            &[ln(10.0), ln(100.0)],
-            true,
-        )],
-        ThermalDrift => vec![
-            spec("amplitude_V", -5.0, 5.0, 1e-5, &[1e-3], false),
-            spec(
-                "tau_s",
-                ln(1.0),
-                ln(2000.0),
-                1e-4,
-                &[ln(10.0), ln(60.0)],
-                true,
-            ),
-        ],
-        Stiffening => vec![spec("exponent", 0.3, 3.0, 1e-4, &[1.2], false)],
-        Crosstalk => vec![spec("angle_deg", -60.0, 60.0, 1e-3, &[5.0, -5.0], false)],
-        AmplifierSaturation => vec![spec("limit_V", 1e-3, 20.0, 1e-4, &[chip_peak_v], false)],
-        TimeOffset => vec![spec("lag_s", -2.0, 2.0, 1e-4, &[0.05, -0.05], false)],
-        MainsInterference => vec![
-            spec("freq_hz", 40.0, 70.0, 1e-4, &[50.0], false),
-            spec("amplitude_V", 0.0, 5.0, 1e-5, &[0.0], false),
-        ],
-        BridgeNonlinearity => vec![spec("quadratic", -0.9, 0.9, 1e-4, &[0.05, -0.05], false)],
-        ContactFriction => vec![spec("mu", 0.0, 2.0, 1e-4, &[0.1], false)],
-    }
-}
-
 /// A model to fit: the baseline plus `kinds` (mains excluded: it is fitted at full rate).
 pub struct Model<'s, 'a> {
     pub setup: &'s Setup<'a>,
@@ -120,6 +71,8 @@ pub struct Model<'s, 'a> {
     specs: Vec<ParamSpec>,
     /// Full vector with `None` where free.
     fixed: Vec<Option<f64>>,
+    /// Starting points (full vectors) tried besides the product of the specs' starts.
+    extra_starts: Vec<Vec<f64>>,
 }
 
 impl<'s, 'a> Model<'s, 'a> {
@@ -154,7 +107,35 @@ impl<'s, 'a> Model<'s, 'a> {
             kinds: kinds.to_vec(),
             specs,
             fixed,
+            extra_starts: Vec::new(),
         }
+    }
+
+    /// Also start the fit from the full vector `start` (internal units).
+    pub fn add_start(&mut self, start: Vec<f64>) {
+        assert_eq!(
+            start.len(),
+            self.specs.len(),
+            "a start names every parameter"
+        );
+        self.extra_starts.push(start);
+    }
+
+    /// Start effect number `effect` from exactly `values` (internal units), no other start.
+    pub fn pin_starts(&mut self, effect: usize, values: &[f64]) {
+        for (j, &v) in values.iter().enumerate() {
+            *self.starts_mut(effect, j) = vec![v];
+        }
+    }
+
+    /// Whether full-vector index `i` is held fixed in this model.
+    pub fn is_fixed(&self, i: usize) -> bool {
+        self.fixed[i].is_some()
+    }
+
+    /// The free parameters of a full vector, in the solver's order.
+    pub fn free_of(&self, full: &[f64]) -> Vec<f64> {
+        self.free_indices().iter().map(|&i| full[i]).collect()
     }
 
     /// Start effect number `effect` (in `kinds` order) from `values` (internal units), keeping
@@ -190,7 +171,7 @@ impl<'s, 'a> Model<'s, 'a> {
         &self.specs
     }
 
-    fn expand(&self, free: &[f64]) -> Vec<f64> {
+    pub fn expand(&self, free: &[f64]) -> Vec<f64> {
         let mut it = free.iter();
         self.fixed
             .iter()
@@ -198,7 +179,7 @@ impl<'s, 'a> Model<'s, 'a> {
             .collect()
     }
 
-    fn free_indices(&self) -> Vec<usize> {
+    pub fn free_indices(&self) -> Vec<usize> {
         (0..self.fixed.len())
             .filter(|&i| self.fixed[i].is_none())
             .collect()
@@ -228,7 +209,13 @@ impl<'s, 'a> Model<'s, 'a> {
                     }
                 })
                 .collect();
-            effects.push(k.with_params(&phys));
+            // AC coupling at the upper end of its range is DC coupling (the bound's reason,
+            // `specs::MAX_COUPLING_TAU_S`): left out, so that end is the exact identity and a
+            // candidate started there fits exactly as well as the model it extends.
+            let dc = k == EffectKind::HighpassCoupling && full[i] >= self.specs[i].upper;
+            if !dc {
+                effects.push(k.with_params(&phys));
+            }
             i += n;
         }
         let mut chain = Chain::new(effects);
@@ -308,6 +295,7 @@ impl<'s, 'a> Model<'s, 'a> {
                 })
                 .collect();
         }
+        points.extend(self.extra_starts.iter().cloned());
         for p in &mut points {
             for (i, f) in self.fixed.iter().enumerate() {
                 if let Some(v) = f {
@@ -315,7 +303,14 @@ impl<'s, 'a> Model<'s, 'a> {
                 }
             }
         }
-        points
+        // Starts that differ only in fixed parameters are one start.
+        let mut unique: Vec<Vec<f64>> = Vec::new();
+        for p in points {
+            if !unique.contains(&p) {
+                unique.push(p);
+            }
+        }
+        unique
     }
 }
 
@@ -327,7 +322,7 @@ impl Problem for Model<'_, '_> {
 }
 
 /// Index in the full vector of parameter `j` of effect `kind` among `kinds`, if it is there.
-fn param_index(kinds: &[EffectKind], kind: EffectKind, j: usize) -> Option<usize> {
+pub fn param_index(kinds: &[EffectKind], kind: EffectKind, j: usize) -> Option<usize> {
     let mut first = N_BASE;
     for &k in kinds {
         if k == kind {
@@ -363,6 +358,13 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
             false,
         )
     };
+    // Bounds: ln E within 8 (a factor 3000) of its start only keeps the fit finite, a modulus
+    // is whatever the load cell says; the exponent shift keeps the force law between a power
+    // of about 0.8 (flatter than a flat punch's 1) and 3 (a thin layer's stiffening) around
+    // the FE's; the scales may take any sign and size a metadata gain can be wrong by (1e3);
+    // the azimuth moves within the jig's accuracy; the exponent curvature (+-0.5 per unit of ln
+    // travel squared) bends the FE's shape, it does not replace it: beyond, the recording
+    // needs another contact law, and the parameter's `at_bound` says so.
     vec![
         spec(
             "youngs_modulus_Pa",

@@ -10,6 +10,7 @@
 //! [`localise`], [`mains`] -> [`output`] (OUT.json) and [`report`] (HTML).
 
 pub mod baseline;
+pub mod candidate;
 pub mod chip_report;
 pub mod data;
 pub mod evidence;
@@ -21,8 +22,12 @@ pub mod lm;
 pub mod localise;
 pub mod mains;
 pub mod output;
+pub mod params;
 pub mod pipeline;
+pub mod preconditions;
 pub mod regimes;
+pub mod select;
+pub mod specs;
 pub mod standard_test;
 pub mod synth;
 pub mod temperature;

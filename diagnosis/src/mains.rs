@@ -7,7 +7,7 @@ use std::f64::consts::TAU;
 use nalgebra::{DMatrix, DVector};
 
 /// Line search band.
-const BAND_HZ: (f64, f64) = (45.0, 65.0);
+pub const BAND_HZ: (f64, f64) = (45.0, 65.0);
 /// Scan resolution.
 const SCAN_STEP_HZ: f64 = 0.05;
 /// Samples used for the scan and for the refinement (the amplitude fit uses all).

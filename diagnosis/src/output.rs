@@ -112,6 +112,12 @@ pub struct CandidateReport {
     pub aicc: f64,
     /// Weighted sum of squares on the held-out stretch (noise units).
     pub heldout_chi2: f64,
+    /// Weighted sum of squares on the fitting stretch (noise units): the fit's cost.
+    pub fit_chi2: f64,
+    /// The model it was started from (its effects), when it adds one effect to a fitted model;
+    /// its `fit_chi2` is never above that model's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extends: Option<Vec<String>>,
     pub accepted: bool,
     /// Why the candidate was kept or rejected, in words.
     #[serde(skip_serializing_if = "String::is_empty")]

@@ -6,23 +6,25 @@
 //! localise the baseline's residual (`localise_residual`) -> verdict (`verdict`) -> the report's
 //! data ([`Report`], [`PlotData`]).
 
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use rayon::prelude::*;
 use recording::{Meta, Recording};
 use sim::effects::EffectKind;
 use sim::forward::SignalPath;
 
 use crate::baseline::{Drive, FrontEnd, Outputs};
+use crate::candidate::{heldout_needed, Candidate, MIN_BIC_GAIN};
 use crate::data::{Data, DataError, CHANNELS};
 use crate::fe_response::{AngleBlend, FeSource};
-use crate::fit::{initial_baseline, physical, stderr, Fitted, Model, Setup, N_BASE};
+use crate::fit::Setup;
 use crate::localise::{self, ChannelLocalisation, Mismatch};
 use crate::mains::{self, Line};
 use crate::output::*;
+use crate::preconditions::Protocol;
 use crate::regimes::{self, Segment};
+use crate::select::select;
+use crate::{evidence, params};
 
 /// Told after each candidate model is fitted: (candidates fitted so far, candidates in all).
 pub type Progress = dyn Fn(usize, usize) + Send + Sync;
@@ -62,69 +64,11 @@ impl Options {
     }
 }
 
-/// Minimum BIC decrease for an effect to count (strong evidence, Kass & Raftery 1995).
-const MIN_BIC_GAIN: f64 = 10.0;
-/// Minimum held-out chi-square decrease: absolute (noise units) and relative.
-const MIN_HELDOUT_GAIN: f64 = 25.0;
-const MIN_HELDOUT_SHARE: f64 = 0.005;
 /// Ljung–Box: lags and the p-value below which a residual is structured.
 const LB_LAGS: usize = 20;
 const LB_P: f64 = 1e-3;
 /// Mains line: prominence in the residual spectrum to count as a line.
 const MIN_LINE_PROMINENCE: f64 = 30.0;
-/// LM iteration caps.
-const BASE_ITERATIONS: usize = 80;
-const EFFECT_ITERATIONS: usize = 40;
-
-/// One fitted candidate.
-pub struct Candidate<'s, 'a> {
-    /// The catalogue effects it adds to the baseline.
-    pub kinds: Vec<EffectKind>,
-    /// The model that was fitted.
-    pub model: Model<'s, 'a>,
-    /// Its fit.
-    pub fitted: Fitted,
-    /// Bayesian information criterion on the fitting stretch.
-    pub bic: f64,
-    /// Small-sample Akaike information criterion on the fitting stretch.
-    pub aicc: f64,
-    /// Chi-square on the held-out stretch (noise units).
-    pub heldout_chi2: f64,
-}
-
-impl<'s, 'a> Candidate<'s, 'a> {
-    fn new(model: Model<'s, 'a>, max_iterations: usize) -> Self {
-        let fitted = model.fit(max_iterations);
-        let n = fitted.solution.n as f64;
-        let k = fitted.free.len() as f64;
-        let fit_term = n * (fitted.solution.sse / n).max(1e-300).ln();
-        let bic = fit_term + k * n.ln();
-        let aicc = fit_term + 2.0 * k + 2.0 * k * (k + 1.0) / (n - k - 1.0).max(1.0);
-        let mut r = Vec::new();
-        model.weighted(&fitted.full, &model.setup.heldout_mask, &mut r);
-        let heldout_chi2 = r.iter().map(|v| v * v).sum();
-        Self {
-            kinds: model.kinds.clone(),
-            model,
-            fitted,
-            bic,
-            aicc,
-            heldout_chi2,
-        }
-    }
-
-    /// Better than `other` (a sub-model) on both criteria.
-    fn beats(&self, other: &Candidate) -> bool {
-        let heldout_gain = other.heldout_chi2 - self.heldout_chi2;
-        self.bic < other.bic - MIN_BIC_GAIN
-            && heldout_gain > MIN_HELDOUT_GAIN.max(MIN_HELDOUT_SHARE * other.heldout_chi2)
-    }
-
-    /// Its outputs on `drive`.
-    fn outputs(&self, drive: &Drive) -> Outputs {
-        self.model.outputs(&self.fitted.full, drive)
-    }
-}
 
 /// Everything the HTML report plots.
 pub struct PlotData {
@@ -164,20 +108,38 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         meta.azimuth_deg,
     )?;
     let setup = calibration_setup(&data, meta, &fingertip, &stretches, opt);
-    let fits = fit_candidates(&setup, opt.progress.as_deref());
-    let chosen = fits.chosen();
-    let full = full_rate(&setup, &fingertip, &fits.base, chosen, stretches.heldout);
-    let local = localise_residual(&setup, &fits.base, chosen, &stretches.segments);
-    let mut effects = effect_reports(chosen, &fits, &data);
-    effects.extend(full.mains.as_ref().map(|line| mains_report(line, &data)));
+    let protocol = Protocol::of(
+        &data,
+        &stretches.segments,
+        setup.used,
+        setup.thermal.is_some(),
+    );
+    let mains_allowed = protocol.allows(EffectKind::MainsInterference).is_ok();
+    let sel = select(&setup, protocol, opt.progress.as_deref());
+    let (base, chosen) = (sel.base(), sel.chosen());
+    let full = full_rate(
+        &setup,
+        &fingertip,
+        base,
+        chosen,
+        stretches.heldout,
+        mains_allowed,
+    );
+    let local = localise_residual(&setup, base, chosen, &stretches.segments);
+    let mut effects = evidence::effect_reports(&sel, &data);
+    effects.extend(
+        full.mains
+            .as_ref()
+            .map(|line| evidence::mains_report(line, &data)),
+    );
     let report = Report {
         format: FORMAT,
         recording: name.to_string(),
         verdict: verdict(!effects.is_empty(), local.white_after),
         baseline: Baseline {
-            params: baseline_params(&fits.base),
+            params: baseline_params(base),
             rmse: full.baseline_rmse,
-            parameters: Vec::new(),
+            parameters: params::baseline(base, &data),
         },
         mismatches: local.mismatches,
         effects,
@@ -186,7 +148,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
             channels: local.channels,
             lines: prominent_lines(full.baseline_line.as_ref()),
         },
-        candidates: fits.reports(chosen),
+        candidates: sel.reports(),
         seconds: started.elapsed().as_secs_f64(),
     };
     let plots = PlotData {
@@ -270,128 +232,6 @@ fn front_end(meta: &Meta, opt: &Options) -> FrontEnd {
     }
 }
 
-/// Counts fitted candidates for the progress report.
-struct Tick<'p> {
-    done: AtomicUsize,
-    total: usize,
-    report: Option<&'p Progress>,
-}
-
-impl Tick<'_> {
-    fn inc(&self) {
-        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        if let Some(report) = self.report {
-            report(done, self.total);
-        }
-    }
-}
-
-/// Every fitted candidate model.
-struct Candidates<'s, 'a> {
-    /// The calibrated baseline, no effect.
-    base: Candidate<'s, 'a>,
-    /// The baseline plus each slow catalogue effect.
-    singles: Vec<Candidate<'s, 'a>>,
-    /// The baseline plus two effects.
-    pairs: Vec<Candidate<'s, 'a>>,
-}
-
-/// Calibrate the baseline, then fit each slow effect on it singly (in parallel), then pairs.
-fn fit_candidates<'s, 'a>(setup: &'s Setup<'a>, progress: Option<&Progress>) -> Candidates<'s, 'a> {
-    let slow_kinds: Vec<EffectKind> = EffectKind::ALL
-        .into_iter()
-        .filter(|k| *k != EffectKind::MainsInterference)
-        .collect();
-    let tick = Tick {
-        done: AtomicUsize::new(0),
-        total: 1 + slow_kinds.len() + 7,
-        report: progress,
-    };
-    let init = initial_baseline(setup);
-    let base = Candidate::new(Model::new(setup, &[], &init), BASE_ITERATIONS);
-    tick.inc();
-    let base_vec = base.fitted.full[..N_BASE].to_vec();
-    let singles: Vec<Candidate> = slow_kinds
-        .par_iter()
-        .map(|&k| {
-            let c = Candidate::new(Model::new(setup, &[k], &base_vec), EFFECT_ITERATIONS);
-            tick.inc();
-            c
-        })
-        .collect();
-    let pairs = fit_pairs(setup, &singles, &tick);
-    Candidates {
-        base,
-        singles,
-        pairs,
-    }
-}
-
-impl<'s, 'a> Candidates<'s, 'a> {
-    /// The single-effect candidate of `kind`.
-    fn single(&self, kind: EffectKind) -> Option<&Candidate<'s, 'a>> {
-        self.singles.iter().find(|c| c.kinds == [kind])
-    }
-
-    /// Every candidate: the baseline, the singles, the pairs.
-    fn all(&self) -> impl Iterator<Item = &Candidate<'s, 'a>> {
-        std::iter::once(&self.base)
-            .chain(&self.singles)
-            .chain(&self.pairs)
-    }
-
-    /// Whether each effect of `c` beats the model without it.
-    fn admissible(&self, c: &Candidate) -> bool {
-        match c.kinds.as_slice() {
-            [] => true,
-            [_] => c.beats(&self.base),
-            [a, b] => match (self.single(*a), self.single(*b)) {
-                (Some(sa), Some(sb)) => c.beats(sa) && c.beats(sb),
-                _ => false,
-            },
-            _ => false,
-        }
-    }
-
-    /// The selection: the lowest-BIC candidate each of whose effects beats the model without
-    /// it.
-    fn chosen(&self) -> &Candidate<'s, 'a> {
-        self.all()
-            .filter(|c| self.admissible(c))
-            .min_by(|a, b| a.bic.total_cmp(&b.bic))
-            .unwrap_or(&self.base)
-    }
-
-    /// The model without effect number `i` of `chosen`: the baseline or the other single.
-    fn without(&self, chosen: &Candidate, i: usize) -> &Candidate<'s, 'a> {
-        let rest: Vec<EffectKind> = chosen
-            .kinds
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| *j != i)
-            .map(|(_, k)| *k)
-            .collect();
-        self.singles
-            .iter()
-            .find(|c| c.kinds == rest)
-            .unwrap_or(&self.base)
-    }
-
-    /// Each candidate's scores for OUT.json.
-    fn reports(&self, chosen: &Candidate) -> Vec<CandidateReport> {
-        self.all()
-            .map(|c| CandidateReport {
-                effects: c.kinds.iter().map(|k| k.name().to_string()).collect(),
-                bic: c.bic,
-                aicc: c.aicc,
-                heldout_chi2: c.heldout_chi2,
-                accepted: std::ptr::eq(c, chosen),
-                reason: String::new(),
-            })
-            .collect()
-    }
-}
-
 /// The full-rate evaluation: the contract's RMSEs and the mains line.
 struct FullRate {
     /// The line in the baseline's residual (prominent or not).
@@ -412,6 +252,7 @@ fn full_rate(
     base: &Candidate,
     chosen: &Candidate,
     heldout: (f64, f64),
+    mains_allowed: bool,
 ) -> FullRate {
     let data = setup.data;
     let drive = Drive::new(fingertip, data.full.t_s.clone(), &data.full.rod_mm)
@@ -422,6 +263,7 @@ fn full_rate(
     let full_fit: Vec<bool> = full_heldout.iter().map(|h| !h).collect();
     let baseline_line = line_in_residual(data, &base_full, &full_fit);
     let mains = line_in_residual(data, &chosen_full, &full_fit)
+        .filter(|_| mains_allowed)
         .filter(|l| mains_helps(data, &chosen_full, l, &full_fit, &full_heldout));
     let final_full = add_line(data, &chosen_full, mains.as_ref());
     let all_rows = vec![true; data.full.len()];
@@ -517,61 +359,6 @@ fn prominent_lines(line: Option<&Line>) -> Vec<(f64, f64, f64)> {
         .collect()
 }
 
-/// Pairs among the four best singles by BIC, plus viscoelastic relaxation with AC coupling
-/// (together they mimic the original observations), seeded from the singles' optima.
-fn fit_pairs<'s, 'a>(
-    setup: &'s Setup<'a>,
-    singles: &[Candidate<'s, 'a>],
-    tick: &Tick,
-) -> Vec<Candidate<'s, 'a>> {
-    let mut order: Vec<&Candidate> = singles.iter().collect();
-    order.sort_by(|a, b| a.bic.total_cmp(&b.bic));
-    let top: Vec<EffectKind> = order.iter().take(4).map(|c| c.kinds[0]).collect();
-    let mut pairs: Vec<(EffectKind, EffectKind)> = Vec::new();
-    for i in 0..top.len() {
-        for j in i + 1..top.len() {
-            pairs.push((top[i].min(top[j]), top[i].max(top[j])));
-        }
-    }
-    // Viscoelastic relaxation with AC coupling mimics the original observations; two Prony
-    // terms cover a gel whose relaxation spans decades.
-    let ve = EffectKind::ViscoelasticRelaxation;
-    for pair in [(ve, EffectKind::HighpassCoupling), (ve, ve)] {
-        if !pairs.contains(&pair) {
-            pairs.push(pair);
-        }
-    }
-    let out = pairs
-        .par_iter()
-        .map(|&(a, b)| {
-            let sa = singles
-                .iter()
-                .find(|c| c.kinds == [a])
-                .expect("every single is fitted");
-            let sb = singles
-                .iter()
-                .find(|c| c.kinds == [b])
-                .expect("every single is fitted");
-            let better = if sa.bic < sb.bic { sa } else { sb };
-            let mut model = Model::new(setup, &[a, b], &better.fitted.full[..N_BASE]);
-            model.seed(0, &sa.fitted.full[N_BASE..]);
-            if a == b {
-                // Second Prony term: a decade apart on either side of the single term's tau.
-                let ln_tau = sa.fitted.full[N_BASE];
-                *model.starts_mut(0, 0) = vec![ln_tau];
-                *model.starts_mut(1, 0) = vec![ln_tau + 10f64.ln(), ln_tau - 10f64.ln()];
-                *model.starts_mut(1, 1) = vec![0.1];
-            } else {
-                model.seed(1, &sb.fitted.full[N_BASE..]);
-            }
-            let c = Candidate::new(model, EFFECT_ITERATIONS);
-            tick.inc();
-            c
-        })
-        .collect();
-    out
-}
-
 /// Residual in noise units, re-binned to the coarse block length (fine blocks summed in
 /// groups): whiteness is judged on the time scales the models describe, and noise coloured
 /// on the scale of a few samples (smoother, anti-alias filter) does not count as structure.
@@ -663,9 +450,20 @@ fn mains_helps(data: &Data, o: &Outputs, line: &Line, fit: &[bool], heldout: &[b
     };
     let (f0, f1) = (chi2(o, fit), chi2(&with, fit));
     let (h0, h1) = (chi2(o, heldout), chi2(&with, heldout));
+    // The two models differ by the line itself: its norm on the held-out stretch.
+    let diff = (1..4)
+        .map(|c| {
+            let w = 1.0 / data.noise_full[c];
+            (0..data.full.len())
+                .filter(|&k| heldout[k])
+                .map(|k| ((with.channel(c)[k] - o.channel(c)[k]) * w).powi(2))
+                .sum::<f64>()
+        })
+        .sum::<f64>()
+        .sqrt();
     let n = fit.iter().filter(|&&b| b).count() as f64;
     let bic_gain = n * (f0 / f1).ln() - 13.0 * n.ln();
-    bic_gain > MIN_BIC_GAIN && h0 - h1 > MIN_HELDOUT_GAIN.max(MIN_HELDOUT_SHARE * h0)
+    bic_gain > MIN_BIC_GAIN && h0 - h1 > heldout_needed(diff, h0)
 }
 
 fn channel_localisation(
@@ -728,101 +526,4 @@ fn baseline_params(base: &Candidate) -> Numbers {
         n.push(&format!("offset_{ch}"), f[5 + i]);
     }
     n
-}
-
-/// What OUT.json says of each effect of `chosen`: its parameters with their standard errors and
-/// the evidence against the model without it.
-fn effect_reports(chosen: &Candidate, fits: &Candidates, data: &Data) -> Vec<EffectReport> {
-    let model = &chosen.model;
-    let full = &chosen.fitted.full;
-    let mut r = Vec::new();
-    model.weighted(full, &model.setup.fit_mask, &mut r);
-    let rho = localise::lag1(&r);
-    let mut i = N_BASE;
-    let mut out: Vec<EffectReport> = Vec::new();
-    for (index, &kind) in chosen.kinds.iter().enumerate() {
-        let mut params = Numbers::default();
-        let mut errs = Numbers::default();
-        for name in kind.param_names() {
-            params.push(name, physical(model, full, i));
-            if let Some(se) = stderr(model, &chosen.fitted, i, rho) {
-                errs.push(name, se);
-            }
-            i += 1;
-        }
-        if let Some(first) = out.iter_mut().find(|e| e.name == kind.name()) {
-            join_second_term(first, params, errs);
-            first.evidence = crate::evidence::sentence(
-                kind,
-                &first.params,
-                fits.base.bic - chosen.bic,
-                fits.base.heldout_chi2 / chosen.heldout_chi2.max(1e-300),
-                data,
-            );
-            continue;
-        }
-        let sub = fits.without(chosen, index);
-        let bic_gain = sub.bic - chosen.bic;
-        let heldout_gain = sub.heldout_chi2 / chosen.heldout_chi2.max(1e-300);
-        out.push(EffectReport {
-            name: kind.name().to_string(),
-            channels: kind.channels().iter().map(|c| c.to_string()).collect(),
-            evidence: crate::evidence::sentence(kind, &params, bic_gain, heldout_gain, data),
-            params,
-            param_stderr: errs,
-            catalogue: None,
-            parameters: Vec::new(),
-        });
-    }
-    out
-}
-
-/// A second Prony term joins the first as `tau2_s`, `fraction2`; the larger share leads.
-fn join_second_term(first: &mut EffectReport, params: Numbers, errs: Numbers) {
-    let (mut a, mut b) = (
-        (first.params.clone(), first.param_stderr.clone()),
-        (params, errs),
-    );
-    if b.0.get("fraction") > a.0.get("fraction") {
-        std::mem::swap(&mut a, &mut b);
-    }
-    for (src, dst) in [(&b.0, &mut a.0), (&b.1, &mut a.1)] {
-        for (k, v) in src.0.clone() {
-            let name = format!(
-                "{}2{}",
-                k.trim_end_matches("_s"),
-                if k.ends_with("_s") { "_s" } else { "" }
-            );
-            dst.push(&name, v);
-        }
-    }
-    first.params = a.0;
-    first.param_stderr = a.1;
-}
-
-fn mains_report(line: &Line, data: &Data) -> EffectReport {
-    let mut params = Numbers::default();
-    params.push("freq_hz", line.freq_hz);
-    params.push("amplitude_V", line.amplitude());
-    // Cramér–Rao bounds for a sinusoid in white noise over N samples spanning T.
-    let n = data.full.len() as f64;
-    let sigma = (1..4).map(|c| data.noise_full[c]).sum::<f64>() / 3.0;
-    let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
-    let a = line.amplitude().max(1e-300);
-    let mut errs = Numbers::default();
-    errs.push(
-        "freq_hz",
-        (12.0f64).sqrt() * sigma / (std::f64::consts::TAU * a * span * (n / 3.0).sqrt()),
-    );
-    errs.push("amplitude_V", sigma * (2.0 / n).sqrt());
-    let kind = EffectKind::MainsInterference;
-    EffectReport {
-        name: kind.name().to_string(),
-        channels: kind.channels().iter().map(|c| c.to_string()).collect(),
-        evidence: super::evidence::sentence(kind, &params, f64::NAN, f64::NAN, data),
-        params,
-        param_stderr: errs,
-        catalogue: None,
-        parameters: Vec::new(),
-    }
 }

@@ -37,6 +37,17 @@ fn concealed_effects_are_found_blind() {
         100.0 * s.correct_share
     );
     assert_eq!(s.false_alarms, 0, "false alarms on no-effect recordings");
+    // No reported effect may make the held-out misfit worse than the calibrated baseline's.
+    for x in scores.iter().filter(|x| !x.found.is_empty()) {
+        assert!(
+            x.heldout_after <= x.heldout_before,
+            "case {}: {:?} held-out RMSE {} -> {}",
+            x.id,
+            x.found,
+            x.heldout_before,
+            x.heldout_after
+        );
+    }
     assert!(
         s.primary_within_20 >= 0.8,
         "primary parameter within 20 % in {:.0} %",

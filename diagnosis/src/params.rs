@@ -1,0 +1,169 @@
+//! Honest parameters: every fitted value with its standard error, unit, the bounds the fit was
+//! allowed and whether it ended on one ([`ParamDetail`]), and the rule that decides whether an
+//! effect whose primary parameter the data did not resolve may still be named ([`resolved`]).
+
+use sim::effects::EffectKind;
+
+use crate::candidate::Candidate;
+use crate::data::Data;
+use crate::fit::{physical, stderr, Model, N_BASE};
+use crate::localise;
+use crate::output::ParamDetail;
+use crate::preconditions::Protocol;
+use crate::specs::unit;
+
+/// A value within this share of its range from a bound sits on it (LM clamps at the bound, so
+/// a resolved optimum is never this close by chance).
+const AT_BOUND_SHARE: f64 = 1e-3;
+
+/// The baseline's names and units, in parameter-vector order.
+const BASELINE: [(&str, &str); N_BASE] = [
+    ("youngs_modulus_Pa", "Pa"),
+    ("force_exponent_shift", "1"),
+    ("scale_fz", "1"),
+    ("scale_moment", "1"),
+    ("azimuth_shift_deg", "deg"),
+    ("offset_load_N", "N"),
+    ("offset_fz_V", "V"),
+    ("offset_mx_V", "V"),
+    ("offset_my_V", "V"),
+    ("force_exponent_curvature", "1"),
+];
+
+/// Lag-1 correlation of the fit's weighted residual (inflates the standard errors).
+fn residual_rho(c: &Candidate) -> f64 {
+    let mut r = Vec::new();
+    c.model
+        .weighted(&c.fitted.full, &c.model.setup.fit_mask, &mut r);
+    localise::lag1(&r)
+}
+
+/// Duration of the recording, s.
+fn record_s(data: &Data) -> f64 {
+    let t = &data.full.t_s;
+    t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0)
+}
+
+/// Parameter `i` of `c` in full; `name` as reported.
+fn detail(c: &Candidate, i: usize, name: &str, unit: &str, rho: f64, data: &Data) -> ParamDetail {
+    let model: &Model = &c.model;
+    let spec = &model.specs()[i];
+    let v = c.fitted.full[i];
+    let tol = AT_BOUND_SHARE * (spec.upper - spec.lower);
+    let on_lower = v <= spec.lower + tol;
+    let on_upper = v >= spec.upper - tol;
+    let phys = |x: f64| if spec.log { x.exp() } else { x };
+    let value = physical(model, &c.fitted.full, i);
+    let fixed = model.is_fixed(i);
+    let beyond_record = i >= N_BASE && name.starts_with("tau") && value > record_s(data);
+    let note = if fixed {
+        Some("held fixed, not fitted (see the effect's evidence)".to_string())
+    } else if on_lower || on_upper {
+        Some(format!(
+            "at its {} bound {}: the data did not resolve it, so the value is a {} bound only",
+            if on_lower { "lower" } else { "upper" },
+            fmt(phys(if on_lower { spec.lower } else { spec.upper })),
+            if on_lower { "an upper" } else { "a lower" },
+        ))
+    } else if beyond_record {
+        Some(format!(
+            "longer than the record ({:.0} s): the recording shows only the start of the decay, so {} s is a lower bound",
+            record_s(data),
+            fmt(value)
+        ))
+    } else {
+        None
+    };
+    ParamDetail {
+        name: name.to_string(),
+        value,
+        stderr: if fixed {
+            None
+        } else {
+            stderr(model, &c.fitted, i, rho).filter(|s| s.is_finite())
+        },
+        unit: unit.to_string(),
+        lower: phys(spec.lower),
+        upper: phys(spec.upper),
+        at_bound: !fixed && (on_lower || on_upper || beyond_record),
+        note,
+    }
+}
+
+fn fmt(v: f64) -> String {
+    if v != 0.0 && (v.abs() >= 1e4 || v.abs() < 1e-2) {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+/// Every calibration parameter of the baseline in full (the compared channels' offsets only).
+pub fn baseline(base: &Candidate, data: &Data) -> Vec<ParamDetail> {
+    let rho = residual_rho(base);
+    BASELINE
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !(5..9).contains(i) || base.model.setup.used[i - 5])
+        .map(|(i, (name, u))| detail(base, i, name, u, rho, data))
+        .collect()
+}
+
+/// Each effect of `c` with its parameters in full, in `c.kinds` order.
+pub fn effects(c: &Candidate, data: &Data) -> Vec<(EffectKind, Vec<ParamDetail>)> {
+    let rho = residual_rho(c);
+    let mut at = N_BASE;
+    let mut out = Vec::new();
+    for &kind in &c.kinds {
+        let ps = kind
+            .param_names()
+            .iter()
+            .enumerate()
+            .map(|(j, name)| detail(c, at + j, name, unit(name), rho, data))
+            .collect();
+        at += kind.param_names().len();
+        out.push((kind, ps));
+    }
+    out
+}
+
+/// Whether every effect of `c` may be named with the parameters it has.
+///
+/// An effect's primary parameter is what the data must show to tell it from the others. When it
+/// ends on a bound the data did not resolve it, and the effect is named only if its signature is
+/// unambiguous without that value:
+/// - a relaxation whose time constant is at the upper bound, or longer than the record, still
+///   shows as decay under a held rod, which no other catalogue entry makes with the load cell:
+///   named (with a hold), tau reported as a lower bound;
+/// - AC coupling likewise still shows as sag or undershoot of the outputs alone (its
+///   precondition, a hold or unloading, is already checked);
+/// - any other primary parameter on a bound (a lag, a loop width, an exponent, a rail, an
+///   angle, a drift's amplitude, a time constant at its *lower* bound) means the operator was
+///   bent as far as allowed towards some other misfit: not named.
+pub fn resolved(c: &Candidate, protocol: &Protocol) -> Result<(), String> {
+    let data = c.model.setup.data;
+    let mut at = N_BASE;
+    for &kind in &c.kinds {
+        let p = detail(c, at, kind.param_names()[0], "", 0.0, data);
+        let spec = &c.model.specs()[at];
+        let upper = c.fitted.full[at] > 0.5 * (spec.lower + spec.upper);
+        at += kind.param_names().len();
+        if !p.at_bound {
+            continue;
+        }
+        let allowed = match kind {
+            EffectKind::ViscoelasticRelaxation => upper && protocol.hold,
+            EffectKind::HighpassCoupling => upper,
+            _ => false,
+        };
+        if !allowed {
+            return Err(format!(
+                "primary parameter {} of {} at its bound ({}): unresolved, and its signature is ambiguous without it",
+                p.name,
+                kind.name(),
+                fmt(p.value)
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,441 @@
+//! Model selection: a forward–backward stepwise search over the catalogue effects, starting at
+//! the calibrated baseline.
+//!
+//! Forward: every effect the protocol can show ([`Protocol::allows`]) is added to the current
+//! model in turn (fitted in parallel, each from the current model's solution, see
+//! [`Candidate::extend`]); of those that beat the current model *and* the baseline on both
+//! tests ([`Candidate::compare`]) and whose primary parameter is resolved
+//! ([`crate::params::resolved`]), the one with the lowest BIC is taken. Backward: each effect of
+//! the new model must still beat the same model without it; any that does not is pruned (the
+//! one whose removal costs least first). The search stops when no addition passes. There is no
+//! limit on the number of effects, and a kind may enter twice where the catalogue allows it
+//! (a second Prony term of the relaxation), so combinations are found, not listed.
+//!
+//! The reported model is the last one of the search's path that passes every test; the
+//! baseline when none does.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use rayon::prelude::*;
+use sim::effects::EffectKind;
+
+use crate::candidate::{key_of, label_of, Candidate};
+use crate::fit::{initial_baseline, Model, Setup, N_BASE};
+use crate::output::CandidateReport;
+use crate::params::resolved;
+use crate::pipeline::Progress;
+use crate::preconditions::Protocol;
+
+/// LM iteration caps: the baseline from the linear start, an effect from the nested solution.
+const BASE_ITERATIONS: usize = 80;
+const EFFECT_ITERATIONS: usize = 40;
+
+/// Counts fitted candidates for the progress report (the total grows as the search goes).
+struct Tick<'p> {
+    done: AtomicUsize,
+    total: AtomicUsize,
+    report: Option<&'p Progress>,
+}
+
+impl Tick<'_> {
+    fn expect(&self, more: usize) {
+        self.total.fetch_add(more, Ordering::Relaxed);
+    }
+
+    fn inc(&self) {
+        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        if let Some(report) = self.report {
+            report(done, self.total.load(Ordering::Relaxed));
+        }
+    }
+}
+
+/// Every candidate fitted, why each was kept or rejected, and the one chosen.
+pub struct Selection<'s, 'a> {
+    /// Every fitted candidate; the calibrated baseline first.
+    pub all: Vec<Candidate<'s, 'a>>,
+    /// Index in `all` of the reported model.
+    pub chosen: usize,
+    /// Per candidate of `all`, why it was kept or rejected.
+    reasons: Vec<String>,
+    /// Per candidate of `all`, the index of the model it extends by one effect.
+    parents: Vec<Option<usize>>,
+    /// Effects never fitted because the recording cannot show them, with the reason.
+    pub excluded: Vec<(EffectKind, String)>,
+    protocol: Protocol,
+}
+
+/// Index in the full vector of the first parameter of the first `kind` among `kinds`.
+fn first_param(kinds: &[EffectKind], kind: EffectKind) -> usize {
+    N_BASE
+        + kinds
+            .iter()
+            .take_while(|&&k| k != kind)
+            .map(|k| k.param_names().len())
+            .sum::<usize>()
+}
+
+/// Calibrate the baseline and run the search.
+pub fn select<'s, 'a>(
+    setup: &'s Setup<'a>,
+    protocol: Protocol,
+    progress: Option<&Progress>,
+) -> Selection<'s, 'a> {
+    let slow: Vec<EffectKind> = EffectKind::ALL
+        .into_iter()
+        .filter(|k| *k != EffectKind::MainsInterference)
+        .collect();
+    let excluded: Vec<(EffectKind, String)> = EffectKind::ALL
+        .into_iter()
+        .filter_map(|k| protocol.allows(k).err().map(|why| (k, why)))
+        .collect();
+    let eligible: Vec<EffectKind> = slow
+        .into_iter()
+        .filter(|k| protocol.allows(*k).is_ok())
+        .collect();
+    let tick = Tick {
+        done: AtomicUsize::new(0),
+        total: AtomicUsize::new(1 + eligible.len()),
+        report: progress,
+    };
+    let init = initial_baseline(setup);
+    let base = Candidate::fit(Model::new(setup, &[], &init), BASE_ITERATIONS);
+    tick.inc();
+    let mut s = Selection {
+        all: vec![base],
+        chosen: 0,
+        reasons: vec![String::new()],
+        parents: vec![None],
+        excluded,
+        protocol,
+    };
+    let mut path = vec![0];
+    let mut current = 0;
+    // Each round adds one effect; a model already on the path ends the search (a cycle).
+    for step in 1..=2 * eligible.len() + 2 {
+        let Some(next) = s.forward(setup, current, &eligible, step, &tick) else {
+            break;
+        };
+        current = s.backward(setup, next, &tick);
+        if path.iter().any(|&p| s.all[p].key() == s.all[current].key()) {
+            break;
+        }
+        path.push(current);
+    }
+    s.chosen = path
+        .iter()
+        .rev()
+        .copied()
+        .find(|&i| s.admissible(setup, i, &tick))
+        .unwrap_or(0);
+    s.describe_chosen(setup, &tick);
+    s
+}
+
+impl<'s, 'a> Selection<'s, 'a> {
+    /// The calibrated baseline.
+    pub fn base(&self) -> &Candidate<'s, 'a> {
+        &self.all[0]
+    }
+
+    /// The reported model.
+    pub fn chosen(&self) -> &Candidate<'s, 'a> {
+        &self.all[self.chosen]
+    }
+
+    fn find(&self, kinds: &[EffectKind]) -> Option<usize> {
+        let key = key_of(kinds);
+        self.all.iter().position(|c| c.key() == key)
+    }
+
+    /// Fit `current` plus each eligible effect (in parallel); the index of the passing one with
+    /// the lowest BIC, or `None` when none passes.
+    fn forward(
+        &mut self,
+        setup: &'s Setup<'a>,
+        current: usize,
+        eligible: &[EffectKind],
+        step: usize,
+        tick: &Tick,
+    ) -> Option<usize> {
+        let kinds = &self.all[current].kinds;
+        let ve = EffectKind::ViscoelasticRelaxation;
+        // A relaxation may take a second Prony term: a gel's spectrum spans decades.
+        let additions: Vec<EffectKind> = eligible
+            .iter()
+            .copied()
+            .filter(|k| {
+                !kinds.contains(k) || (*k == ve && kinds.iter().filter(|&&x| x == ve).count() == 1)
+            })
+            .collect();
+        let indices = self.fit_additions(setup, current, &additions, tick);
+        let mut best: Option<usize> = None;
+        for &i in &indices {
+            let verdict = self.addition_test(current, i);
+            if let Err(why) = verdict {
+                self.reasons[i] = format!("rejected at step {step}: {why}");
+                continue;
+            }
+            if best.is_none_or(|b| self.all[i].bic < self.all[b].bic) {
+                best = Some(i);
+            }
+        }
+        let b = best?;
+        for &i in &indices {
+            if i != b && self.reasons[i].is_empty() {
+                self.reasons[i] = format!(
+                    "passed at step {step}, but {} lowered BIC more",
+                    self.all[b].label()
+                );
+            }
+        }
+        let cmp = self.all[b].compare(&self.all[current]);
+        self.reasons[b] = format!(
+            "added at step {step}: {}",
+            cmp.words(&self.all[current].label())
+        );
+        Some(b)
+    }
+
+    /// Fit the additions not fitted before; the indices of all of them in `all`.
+    fn fit_additions(
+        &mut self,
+        setup: &'s Setup<'a>,
+        current: usize,
+        additions: &[EffectKind],
+        tick: &Tick,
+    ) -> Vec<usize> {
+        let nested = &self.all[current];
+        let todo: Vec<EffectKind> = additions
+            .iter()
+            .copied()
+            .filter(|&k| {
+                self.find(&[nested.kinds.as_slice(), &[k]].concat())
+                    .is_none()
+            })
+            .collect();
+        tick.expect(todo.len());
+        // Each effect starts where it ended alone (if it was fitted alone), a second Prony term
+        // a decade either side of the first; else from its catalogue starts.
+        let seeds: Vec<Vec<Vec<f64>>> = todo
+            .iter()
+            .map(|&k| {
+                if nested.kinds.contains(&k) {
+                    let ln_tau = nested.fitted.full[first_param(&nested.kinds, k)];
+                    return [10f64.ln(), -(10f64.ln())]
+                        .iter()
+                        .map(|d| vec![ln_tau + d, 0.0])
+                        .collect();
+                }
+                self.find(&[k])
+                    .map(|single| vec![self.all[single].fitted.full[N_BASE..].to_vec()])
+                    .unwrap_or_default()
+            })
+            .collect();
+        let fitted: Vec<Candidate<'s, 'a>> = todo
+            .par_iter()
+            .zip(&seeds)
+            .map(|(&k, seeds)| {
+                let c = Candidate::extend(setup, nested, k, seeds, EFFECT_ITERATIONS);
+                tick.inc();
+                c
+            })
+            .collect();
+        for c in fitted {
+            self.all.push(c);
+            self.reasons.push(String::new());
+            self.parents.push(Some(current));
+        }
+        additions
+            .iter()
+            .filter_map(|&k| self.find(&[self.all[current].kinds.as_slice(), &[k]].concat()))
+            .collect()
+    }
+
+    /// Whether candidate `i`, `current` plus one effect, may be taken: it beats `current` and
+    /// the baseline on both tests, and its primary parameters are resolved.
+    fn addition_test(&self, current: usize, i: usize) -> Result<(), String> {
+        let c = &self.all[i];
+        if c.at_neutral {
+            return Err("the fit could not improve on the model it extends; the effect stays at its neutral values".into());
+        }
+        let vs_current = c.compare(&self.all[current]);
+        if !vs_current.passes() {
+            return Err(vs_current.words(&self.all[current].label()));
+        }
+        let vs_base = c.compare(self.base());
+        if !vs_base.passes() {
+            return Err(vs_base.words("the baseline"));
+        }
+        resolved(c, &self.protocol)
+    }
+
+    /// The model `kinds` without effect number `drop`: fitted from `from`'s solution unless
+    /// fitted before. Its index.
+    fn without(&mut self, setup: &'s Setup<'a>, from: usize, drop: usize, tick: &Tick) -> usize {
+        let c = &self.all[from];
+        let kinds: Vec<EffectKind> = c
+            .kinds
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != drop)
+            .map(|(_, k)| *k)
+            .collect();
+        if let Some(i) = self.find(&kinds) {
+            return i;
+        }
+        tick.expect(1);
+        let mut model = Model::new(setup, &kinds, &c.fitted.full[..N_BASE]);
+        let (mut at, mut e) = (N_BASE, 0);
+        for (j, k) in c.kinds.iter().enumerate() {
+            let n = k.param_names().len();
+            if j != drop {
+                model.pin_starts(e, &c.fitted.full[at..at + n]);
+                e += 1;
+            }
+            at += n;
+        }
+        let fitted = Candidate::fit(model, EFFECT_ITERATIONS);
+        tick.inc();
+        let why = format!(
+            "{} without {}, fitted to test whether that effect earns its place",
+            self.all[from].label(),
+            self.all[from].kinds[drop].name()
+        );
+        self.all.push(fitted);
+        self.reasons.push(why);
+        self.parents.push(None);
+        self.all.len() - 1
+    }
+
+    /// Prune the effects of candidate `i` that no longer beat the model without them, the one
+    /// whose removal costs least first; the index of what is left.
+    fn backward(&mut self, setup: &'s Setup<'a>, mut i: usize, tick: &Tick) -> usize {
+        while self.all[i].kinds.len() > 1 {
+            let mut worst: Option<(usize, usize)> = None;
+            for drop in 0..self.all[i].kinds.len() {
+                let w = self.without(setup, i, drop, tick);
+                let passes = self.all[i].compare(&self.all[w]).passes();
+                if !passes && worst.is_none_or(|(_, b)| self.all[w].bic < self.all[b].bic) {
+                    worst = Some((drop, w));
+                }
+            }
+            let Some((drop, w)) = worst else {
+                return i;
+            };
+            let cmp = self.all[i].compare(&self.all[w]);
+            self.reasons[i] = format!(
+                "pruned: {} stopped earning its place ({})",
+                self.all[i].kinds[drop].name(),
+                cmp.words(&format!("the model without it, {}", self.all[w].label()))
+            );
+            i = w;
+        }
+        i
+    }
+
+    /// Whether candidate `i` passes every test: against the baseline, each effect against the
+    /// same model without it, primary parameters resolved.
+    fn admissible(&mut self, setup: &'s Setup<'a>, i: usize, tick: &Tick) -> bool {
+        if i == 0 {
+            return true;
+        }
+        let vs_base = self.all[i].compare(self.base());
+        if self.all[i].at_neutral || !vs_base.passes() {
+            self.reasons[i] = format!("not reported: {}", vs_base.words("the baseline"));
+            return false;
+        }
+        if let Err(why) = resolved(&self.all[i], &self.protocol) {
+            self.reasons[i] = format!("not reported: {why}");
+            return false;
+        }
+        for drop in 0..self.all[i].kinds.len() {
+            let w = self.without(setup, i, drop, tick);
+            let cmp = self.all[i].compare(&self.all[w]);
+            if !cmp.passes() {
+                self.reasons[i] = format!(
+                    "not reported: {} does not earn its place ({})",
+                    self.all[i].kinds[drop].name(),
+                    cmp.words(&self.all[w].label())
+                );
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The chosen candidate's reason: its evidence against the baseline and per effect.
+    fn describe_chosen(&mut self, setup: &'s Setup<'a>, tick: &Tick) {
+        let i = self.chosen;
+        if i == 0 {
+            self.reasons[0] = "accepted: no effect passed both tests against the baseline and the model without it".into();
+            return;
+        }
+        let mut parts = vec![self.all[i].compare(self.base()).words("the baseline")];
+        for drop in 0..self.all[i].kinds.len() {
+            let w = self.without(setup, i, drop, tick);
+            let kind = self.all[i].kinds[drop];
+            let again = self.all[i].kinds[..drop].contains(&kind);
+            parts.push(format!(
+                "{}{}: {}",
+                kind.name(),
+                if again { " (second term)" } else { "" },
+                self.all[i]
+                    .compare(&self.all[w])
+                    .words("the model without it")
+            ));
+        }
+        self.reasons[i] = format!("accepted: {}", parts.join("; "));
+        if self.reasons[0].is_empty() {
+            self.reasons[0] = "the calibrated baseline every candidate nests".into();
+        }
+    }
+
+    /// The index in `all` of the model `chosen` without effect number `i`.
+    pub fn without_index(&self, i: usize) -> usize {
+        let kinds: Vec<EffectKind> = self
+            .chosen()
+            .kinds
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != i)
+            .map(|(_, k)| *k)
+            .collect();
+        self.find(&kinds).unwrap_or(0)
+    }
+
+    /// Each candidate's scores and reason for OUT.json, the effects never fitted last.
+    pub fn reports(&self) -> Vec<CandidateReport> {
+        let fitted = self.all.iter().enumerate().map(|(i, c)| CandidateReport {
+            effects: c.kinds.iter().map(|k| k.name().to_string()).collect(),
+            bic: c.bic,
+            aicc: c.aicc,
+            heldout_chi2: c.heldout_chi2,
+            fit_chi2: c.sse(),
+            extends: self.parents[i].map(|p| {
+                self.all[p]
+                    .kinds
+                    .iter()
+                    .map(|k| k.name().to_string())
+                    .collect()
+            }),
+            accepted: i == self.chosen,
+            reason: if self.reasons[i].is_empty() {
+                format!("fitted while checking {}", label_of(&c.kinds))
+            } else {
+                self.reasons[i].clone()
+            },
+        });
+        let excluded = self.excluded.iter().map(|(k, why)| CandidateReport {
+            effects: vec![k.name().to_string()],
+            bic: f64::NAN,
+            aicc: f64::NAN,
+            heldout_chi2: f64::NAN,
+            fit_chi2: f64::NAN,
+            extends: None,
+            accepted: false,
+            reason: why.clone(),
+        });
+        fitted.chain(excluded).collect()
+    }
+}
