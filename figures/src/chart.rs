@@ -257,7 +257,10 @@ pub fn draw_panel<DB: DrawingBackend>(
     for line in &panel.lines {
         draw_line(&mut chart, line, (&sx, &sy), (xt.lo, xt.hi))?;
     }
-    legend(&top, panel)
+    // A band outside the shown range would be a legend entry for nothing.
+    let shown = |b: &&Band| b.to * sx.factor > xt.lo && b.from * sx.factor < xt.hi;
+    let bands: Vec<&Band> = panel.bands.iter().filter(shown).collect();
+    legend(&top, panel, &bands)
 }
 
 /// A linear axis whose grid lines and labels sit exactly on [`Ticks::values`] (plotters' own
@@ -331,7 +334,11 @@ fn draw_line<DB: DrawingBackend>(
 }
 
 /// The title, then one swatch and label per band and line, left to right in the strip.
-fn legend<DB: DrawingBackend>(top: &DrawingArea<DB, Shift>, panel: &Panel) -> Result<(), Error> {
+fn legend<DB: DrawingBackend>(
+    top: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+    bands: &[&Band],
+) -> Result<(), Error> {
     let font: TextStyle = FONT.into();
     let width = |s: &str| {
         top.estimate_text_size(s, &font)
@@ -355,7 +362,7 @@ fn legend<DB: DrawingBackend>(top: &DrawingArea<DB, Shift>, panel: &Panel) -> Re
         top.draw(&text(&panel.title, x)).map_err(draw_err)?;
         x += width(&panel.title) + 24;
     }
-    for b in &panel.bands {
+    for b in bands {
         let swatch = Rectangle::new(
             [(x, mid - 6), (x + 22, mid + 6)],
             b.colour.mix(0.3).filled(),

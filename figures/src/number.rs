@@ -64,16 +64,24 @@ pub fn decimals_for(step: f64) -> usize {
         .unwrap_or(9)
 }
 
-/// `v` with `decimals` places and a true minus sign (U+2212); never "−0".
+/// `v` with `decimals` places, a true minus sign (U+2212), never "−0", and thin spaces between
+/// groups of three digits from five integer digits on (`71 500 000`).
 pub fn fixed(v: f64, decimals: usize) -> String {
     let s = format!("{v:.decimals$}");
-    if s.trim_start_matches('-')
-        .chars()
-        .all(|c| c == '0' || c == '.')
-    {
-        return s.trim_start_matches('-').to_string();
+    let digits = s.trim_start_matches('-');
+    if digits.chars().all(|c| c == '0' || c == '.') {
+        return digits.to_string();
     }
-    s.replacen('-', "\u{2212}", 1)
+    let (int, frac) = digits.split_at(digits.find('.').unwrap_or(digits.len()));
+    let mut grouped = String::new();
+    for (i, c) in int.chars().enumerate() {
+        if int.len() >= 5 && i > 0 && (int.len() - i) % 3 == 0 {
+            grouped.push('\u{2009}');
+        }
+        grouped.push(c);
+    }
+    let sign = if s.starts_with('-') { "\u{2212}" } else { "" };
+    format!("{sign}{grouped}{frac}")
 }
 
 /// A tick label: `v` with the decimals that the tick spacing `step` needs.
@@ -139,7 +147,9 @@ mod tests {
         assert_eq!(tick_label(180.0, 20.0), "180");
         assert_eq!(significant(50.947, 3), "50.9");
         assert_eq!(significant(-0.015_93, 3), "\u{2212}0.0159");
-        assert_eq!(significant(77_967.4, 3), "78000");
+        assert_eq!(significant(77_967.4, 3), "78\u{2009}000");
+        assert_eq!(fixed(-71_527_058.0, 0), "\u{2212}71\u{2009}527\u{2009}058");
+        assert_eq!(fixed(2656.4, 0), "2656");
     }
 
     #[test]

@@ -24,7 +24,20 @@ impl Ticks {
                 step,
             }
         } else {
-            Ticks { lo, hi, step }
+            // An end within 2 % of the span inside a tick moves out onto it (never in, which
+            // would clip data): a time axis starting at 0.1 s starts at a labelled 0.
+            let near = |v: f64, t: f64| {
+                if (v - t).abs() <= 0.02 * (hi - lo) {
+                    t
+                } else {
+                    v
+                }
+            };
+            Ticks {
+                lo: near(lo, (lo / step).floor() * step),
+                hi: near(hi, (hi / step).ceil() * step),
+                step,
+            }
         }
     }
 
@@ -96,6 +109,8 @@ mod tests {
         assert_eq!((t.lo, t.hi, t.step), (0.0, 179.5, 25.0));
         assert_eq!(t.values().last(), Some(&175.0));
         assert_eq!(t.values().len(), 8);
+        let t = Ticks::new(0.1, 172.0, 8, false);
+        assert_eq!((t.lo, t.hi), (0.0, 175.0), "ends near a tick move onto it");
     }
 
     #[test]
