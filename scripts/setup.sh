@@ -49,6 +49,9 @@ fi
 # qemu-system-arm runs the firmware; ngspice simulates the analog front end; pkg-config and
 # libudev let serialport enumerate USB devices.
 apt_install qemu-system-arm ngspice pkg-config libudev-dev
+# Headless Chromium renders the diagnosis report in its browser test
+# (diagnosis/tests/report_browser.rs); DejaVu is the font figures measure their labels with.
+apt_install chromium fonts-dejavu-core
 
 # Pieces that need more (each script is idempotent too).
 for extra in scripts/setup-*.sh; do
