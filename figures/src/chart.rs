@@ -199,23 +199,7 @@ pub fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     panel: &Panel,
 ) -> Result<(), Error> {
-    let (w, h) = area.dim_in_pixel();
-    let (x0, x1) = panel.x_extent();
-    let (y0, y1) = panel.y_extent((x0, x1));
-    let sx = si_scale(x0.abs().max(x1.abs()), &panel.x.unit);
-    let sy = si_scale(y0.abs().max(y1.abs()), &panel.y.unit);
-    let xt = Ticks::new(
-        x0 * sx.factor,
-        x1 * sx.factor,
-        (w / 110).max(3) as usize,
-        false,
-    );
-    let yt = Ticks::new(
-        y0 * sy.factor,
-        y1 * sy.factor,
-        (h / 50).max(3) as usize,
-        true,
-    );
+    let (sx, sy, xt, yt) = axes(panel, area.dim_in_pixel());
     let (top, body) = area.split_vertically(LEGEND_H);
     let mut chart = ChartBuilder::on(&body)
         .margin_right(18)
@@ -236,17 +220,18 @@ pub fn draw_panel<DB: DrawingBackend>(
         .axis_desc_style(TITLE_FONT)
         .draw()
         .map_err(draw_err)?;
-    for b in &panel.bands {
+    // A band outside the shown range would be a legend entry for nothing.
+    let shown = |b: &&Band| b.to * sx.factor > xt.lo && b.from * sx.factor < xt.hi;
+    let bands: Vec<&Band> = panel.bands.iter().filter(shown).collect();
+    for b in &bands {
         let (a, z) = (
             (b.from * sx.factor).max(xt.lo),
             (b.to * sx.factor).min(xt.hi),
         );
-        if z > a {
-            let fill = b.colour.mix(0.18).filled();
-            chart
-                .draw_series([Rectangle::new([(a, yt.lo), (z, yt.hi)], fill)])
-                .map_err(draw_err)?;
-        }
+        let fill = b.colour.mix(0.18).filled();
+        chart
+            .draw_series([Rectangle::new([(a, yt.lo), (z, yt.hi)], fill)])
+            .map_err(draw_err)?;
     }
     if panel.zero_line && yt.lo < 0.0 && yt.hi > 0.0 {
         let axis = BLACK.mix(0.5).stroke_width(1);
@@ -257,10 +242,25 @@ pub fn draw_panel<DB: DrawingBackend>(
     for line in &panel.lines {
         draw_line(&mut chart, line, (&sx, &sy), (xt.lo, xt.hi))?;
     }
-    // A band outside the shown range would be a legend entry for nothing.
-    let shown = |b: &&Band| b.to * sx.factor > xt.lo && b.from * sx.factor < xt.hi;
-    let bands: Vec<&Band> = panel.bands.iter().filter(shown).collect();
     legend(&top, panel, &bands)
+}
+
+/// Units and ticks of both axes for a panel of `(w, h)` pixels: about one x tick per 110 px
+/// and one y tick per 50 px.
+fn axes(panel: &Panel, (w, h): (u32, u32)) -> (Scale, Scale, Ticks, Ticks) {
+    let (x0, x1) = panel.x_extent();
+    let (y0, y1) = panel.y_extent((x0, x1));
+    let sx = si_scale(x0.abs().max(x1.abs()), &panel.x.unit);
+    let sy = si_scale(y0.abs().max(y1.abs()), &panel.y.unit);
+    let x_ticks = (w / 110).max(3) as usize;
+    let xt = Ticks::new(x0 * sx.factor, x1 * sx.factor, x_ticks, false);
+    let yt = Ticks::new(
+        y0 * sy.factor,
+        y1 * sy.factor,
+        (h / 50).max(3) as usize,
+        true,
+    );
+    (sx, sy, xt, yt)
 }
 
 /// A linear axis whose grid lines and labels sit exactly on [`Ticks::values`] (plotters' own
