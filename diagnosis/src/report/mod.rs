@@ -5,7 +5,7 @@
 //! candidates weighed and the baseline's calibration. The figures use the `figures` crate, the
 //! same axes as `tactile plot`.
 //!
-//! [`html`] builds the page, [`write`] writes it to a file.
+//! [`html()`] builds the page, [`write()`] writes it to a file.
 
 mod figs;
 mod page;

@@ -89,8 +89,11 @@ pub fn trend(t: &[f64], r: &[f64]) -> Trend {
 pub fn spectral_peak(t: &[f64], r: &[f64], f_max: f64) -> Option<Peak> {
     let n = t.len().min(r.len());
     let duration = t.get(n.wrapping_sub(1))? - t.first()?;
+    if n < 8 || duration.is_nan() || duration <= 0.0 {
+        return None;
+    }
     let f_min = 2.0 / duration;
-    if n < 8 || !(f_max > f_min) {
+    if f_max <= f_min {
         return None;
     }
     let rm = mean(&r[..n]);
