@@ -73,28 +73,35 @@ pub fn verdict_sentence(r: &Report, remains: &[Remains]) -> String {
 
 /// "a slow drift on Fz", or a generic phrase when nothing single stands out.
 fn remainder_phrase(remains: &[Remains]) -> String {
-    for r in remains {
-        let ch = channel_name(CHANNELS[r.channel]);
-        if let Some(f) = r.findings().first() {
-            return match f {
-                Finding::Drift(_) => format!("a slow drift on {ch}"),
-                Finding::Periodic(p) => {
-                    format!(
-                        "a periodic component on {ch} (period {})",
-                        period(p.freq_hz)
-                    )
-                }
-                Finding::FollowsLoad(_) => format!("a load-dependent error on {ch}"),
-                Finding::FollowsRate(_) => format!("a rate-dependent error on {ch}"),
-            };
-        }
-    }
-    match remains.first() {
-        Some(r) => format!(
-            "structured misfit, largest on {}",
-            channel_name(CHANNELS[r.channel])
+    let first = remains.iter().find_map(|r| r.findings().first().cloned());
+    let Some(f) = first else {
+        return match remains.first() {
+            Some(r) => format!(
+                "structured misfit, largest on {}",
+                channel_name(CHANNELS[r.channel])
+            ),
+            None => "structured misfit".to_string(),
+        };
+    };
+    // Every channel showing the same kind of structure, worst first: "on My, Mx and Fz".
+    let same = |g: &Finding| std::mem::discriminant(g) == std::mem::discriminant(&f);
+    let names: Vec<&str> = remains
+        .iter()
+        .filter(|r| r.findings().iter().any(same))
+        .map(|r| channel_name(CHANNELS[r.channel]))
+        .collect();
+    let on = match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.concat(),
+    };
+    match f {
+        Finding::Drift(_) => format!("a slow drift on {on}"),
+        Finding::Periodic(p) => format!(
+            "a periodic component on {on} (period {})",
+            period(p.freq_hz)
         ),
-        None => "structured misfit".to_string(),
+        Finding::FollowsLoad(_) => format!("a load-dependent error on {on}"),
+        Finding::FollowsRate(_) => format!("a rate-dependent error on {on}"),
     }
 }
 
@@ -310,6 +317,38 @@ mod tests {
         assert_eq!(
             candidate_reason(&given, Some(&best)),
             "held-out misfit not lower"
+        );
+    }
+
+    fn drifting(channel: usize, change: f64) -> Remains {
+        Remains {
+            channel,
+            rms: 0.009,
+            relative: 0.02,
+            trend: super::super::remains::Trend {
+                slope: change / 180.0,
+                t_stat: 5.0,
+                change,
+            },
+            peak: None,
+            corr_load: 0.0,
+            corr_rate: 0.0,
+            worst: None,
+        }
+    }
+
+    #[test]
+    fn the_remainder_names_every_channel_with_the_same_structure() {
+        let r = [drifting(3, 0.026), drifting(1, 0.024), drifting(2, 0.001)];
+        assert_eq!(remainder_phrase(&r), "a slow drift on My and Fz");
+        assert_eq!(
+            remainder_phrase(&r[2..]),
+            "structured misfit, largest on Mx"
+        );
+        let s = remains_sentence(&r[0]).unwrap();
+        assert!(
+            s.starts_with("My (RMS 9.00 mV, 2.0 % of its range): a slow drift of 26.0 mV"),
+            "{s}"
         );
     }
 }
