@@ -202,6 +202,7 @@ pub fn draw_panel<DB: DrawingBackend>(
     let (sx, sy, xt, yt) = axes(panel, area.dim_in_pixel());
     let (top, body) = area.split_vertically(LEGEND_H);
     let mut chart = ChartBuilder::on(&body)
+        .margin_left(10)
         .margin_right(18)
         .margin_top(6)
         .x_label_area_size(44)
@@ -357,7 +358,7 @@ fn legend<DB: DrawingBackend>(
                 )),
         )
     };
-    let mut x = 8;
+    let mut x = 10;
     if !panel.title.is_empty() {
         top.draw(&text(&panel.title, x)).map_err(draw_err)?;
         x += width(&panel.title) + 24;
