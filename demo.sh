@@ -13,5 +13,5 @@ cd "$(dirname "$0")"
 bash scripts/setup.sh
 started=$SECONDS
 bash scripts/demo-chain.sh
-printf '\033[1m[demo]\033[0m chain done in %d s; results: out/compression.csv (recording), out/diagnosis.json, out/report/index.html\n' \
+printf '\033[1m[demo]\033[0m chain done in %d s; results: out/compression.csv (recording), out/diagnosis.json, out/report.html\n' \
     $((SECONDS - started))

@@ -10,7 +10,7 @@
 #      out/compression.csv (recording-v1); stopped when the test is over. The board starts the
 #      test when the host starts the stream, so the machine's time zero is the first sample
 #      (`--align start`); cross-correlation would be biased by the AC coupling's phase lead;
-#   4. diagnosis: `tactile diagnose` -> out/diagnosis.json and out/report/index.html.
+#   4. diagnosis: `tactile diagnose` -> out/diagnosis.json and out/report.html.
 # QEMU runs on a virtual clock (-icount shift=0,sleep=off: device time = executed instructions,
 # idle time skipped), so the test's minutes of device time take seconds; TACTILE_DEMO_CLOCK=realtime
 # paces it by SysTick against the host clock instead (as slow as the test itself, or slower).
@@ -106,8 +106,8 @@ qemu_stop
 say "    recorded ${test_s} s of test in $((SECONDS - started)) s wall"
 "$tactile" plot "$out/compression.csv" -o "$out/compression" >/dev/null || fail "tactile plot"
 
-say "4/4 tactile diagnose (blind) -> $out/diagnosis.json, $out/report/index.html"
-"$tactile" diagnose "$out/compression.csv" --json "$out/diagnosis.json" --report "$out/report" ||
+say "4/4 tactile diagnose (blind) -> $out/diagnosis.json, $out/report.html"
+"$tactile" diagnose "$out/compression.csv" --json "$out/diagnosis.json" --report "$out/report.html" ||
     fail "tactile diagnose"
 python3 - "$out" "$relax_tau_s" "$relax_fraction" "$highpass_tau_s" "${TACTILE_DEMO_CHECK:-0}" <<'PY' ||
 import csv, json, sys

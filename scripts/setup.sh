@@ -49,6 +49,9 @@ fi
 # qemu-system-arm runs the firmware; ngspice simulates the analog front end; pkg-config and
 # libudev let serialport enumerate USB devices.
 apt_install qemu-system-arm ngspice pkg-config libudev-dev
+# Headless Chromium renders the diagnosis report in its browser test
+# (diagnosis/tests/report_browser.rs); DejaVu is the font figures measure their labels with.
+apt_install chromium fonts-dejavu-core
 
 # The Python package's tests make a virtual environment (scripts/test-python.sh): Debian's
 # python3 leaves venv's pip bootstrap (ensurepip) to python3-venv.

@@ -1,10 +1,11 @@
-//! Plots of a recording (plotters): the bridge outputs against time, and against the reference
-//! load when the recording has one; PNG and SVG. Gaps (missing values) break the lines instead
-//! of being bridged.
+//! Plots of a recording: the bridge outputs against time, and against the reference load when
+//! the recording has one; PNG and SVG. The axes, number format and legend are the `figures`
+//! crate's, shared with the diagnosis report. Gaps (missing values) break the lines instead of
+//! being bridged.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use figures::{draw_panel, register_font, styles, Line, Panel, Quantity, Style};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -24,118 +25,41 @@ pub enum PlotError {
     /// The drawing backend failed (file not writable, font missing).
     #[error("{}: {why}", .path.display())]
     Draw { path: PathBuf, why: String },
-    /// PNG text needs a TrueType font and none was found.
-    #[error("no TrueType font found for PNG labels (set TACTILE_FONT to a .ttf file, or use --format svg)")]
+    /// Labels are laid out with a TrueType font and none was found.
+    #[error("no TrueType font found for the labels (set TACTILE_FONT to a .ttf file)")]
     NoFont,
 }
 
-const CHANNELS: [(&str, &str); 3] = [
-    ("fz_V", "Fz bridge [V]"),
-    ("mx_V", "Mx bridge [V]"),
-    ("my_V", "My bridge [V]"),
+/// Column, what the axis shows, its unit and the legend's name.
+const CHANNELS: [(&str, &str, &str, &str); 3] = [
+    ("fz_V", "Fz bridge", "V", "Fz"),
+    ("mx_V", "Mx bridge", "V", "Mx"),
+    ("my_V", "My bridge", "V", "My"),
 ];
 const SIZE: (u32, u32) = (1200, 900);
-/// Most points drawn per line; longer series are thinned by a stride.
-const MAX_POINTS: usize = 20_000;
 
-/// Make plotters' `sans-serif` resolve to a system TrueType font (PNG only; SVG leaves text to
-/// the viewer).
-fn register_font() -> Result<(), PlotError> {
-    static DONE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    let ok = *DONE.get_or_init(|| {
-        let mut candidates: Vec<PathBuf> = std::env::var_os("TACTILE_FONT")
-            .map(PathBuf::from)
-            .into_iter()
-            .collect();
-        candidates.extend(
-            [
-                "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-                "/usr/share/fonts/TTF/DejaVuSans.ttf",
-                "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
-                "/System/Library/Fonts/Supplemental/Arial.ttf",
-            ]
-            .map(PathBuf::from),
-        );
-        candidates
-            .iter()
-            .find_map(|p| std::fs::read(p).ok())
-            .is_some_and(|bytes| {
-                let leaked: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                plotters::style::register_font("sans-serif", FontStyle::Normal, leaked).is_ok()
-            })
-    });
-    if ok {
-        Ok(())
-    } else {
-        Err(PlotError::NoFont)
-    }
-}
-
-/// Split `(x, y)` into runs without missing values, thinned to at most [`MAX_POINTS`].
-fn segments(x: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
-    let stride = (x.len() / MAX_POINTS).max(1);
-    let mut out = vec![Vec::new()];
-    for i in (0..x.len().min(y.len())).step_by(stride) {
-        if x[i].is_finite() && y[i].is_finite() {
-            if let Some(last) = out.last_mut() {
-                last.push((x[i], y[i]));
-            }
-        } else if out.last().is_some_and(|s| !s.is_empty()) {
-            out.push(Vec::new());
-        }
-    }
-    out.retain(|s| !s.is_empty());
-    out
-}
-
-fn range(v: impl Iterator<Item = f64>) -> Range<f64> {
-    let (lo, hi) = v
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
-    if !lo.is_finite() {
-        return 0.0..1.0;
-    }
-    let pad = ((hi - lo) * 0.05).max(1e-9);
-    (lo - pad)..(hi + pad)
-}
-
+/// One panel per bridge output against `x` (the figures crate's axes, as in the diagnosis
+/// report); dots when `x` is not time, since a load sweep goes back and forth.
 fn panels<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     rec: &Recording,
     x_col: &str,
-    x_desc: &str,
+    x: &Quantity,
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let x = rec.column(x_col).unwrap_or_default();
+    let xs = rec.column(x_col).unwrap_or_default();
     let areas = root.split_evenly((3, 1));
-    let colors = [BLUE, RED, GREEN];
-    for ((col, desc), (area, color)) in CHANNELS.iter().zip(areas.iter().zip(colors)) {
-        let y = rec.column(col).unwrap_or_default();
-        let mut chart = ChartBuilder::on(area)
-            .margin(8)
-            .x_label_area_size(35)
-            .y_label_area_size(80)
-            .build_cartesian_2d(range(x.iter().copied()), range(y.iter().copied()))
-            .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .x_desc(x_desc)
-            .y_desc(*desc)
-            .draw()
-            .map_err(|e| e.to_string())?;
-        for seg in segments(x, y) {
-            if x_col == "t_s" {
-                chart
-                    .draw_series(LineSeries::new(seg, &color))
-                    .map_err(|e| e.to_string())?;
-            } else {
-                chart
-                    .draw_series(seg.into_iter().map(|p| Circle::new(p, 1, color.filled())))
-                    .map_err(|e| e.to_string())?;
-            }
-        }
+    for (i, ((col, name, unit, short), area)) in CHANNELS.iter().zip(areas.iter()).enumerate() {
+        let ys = rec.column(col).unwrap_or_default();
+        let style = Style {
+            colour: styles::CHANNELS[i],
+            width: 1,
+            dots: x_col != "t_s",
+        };
+        let mut panel = Panel::new(x.clone(), Quantity::new(name, unit));
+        let points = xs.iter().zip(ys).map(|(&a, &b)| (a, b)).collect();
+        panel.lines.push(Line::new(short, style, points));
+        draw_panel(area, &panel).map_err(|e| e.to_string())?;
     }
     root.present().map_err(|e| e.to_string())
 }
@@ -145,23 +69,21 @@ fn draw_one(
     format: Format,
     rec: &Recording,
     x_col: &str,
-    x_desc: &str,
+    x: &Quantity,
 ) -> Result<(), PlotError> {
+    register_font().map_err(|_| PlotError::NoFont)?;
     let res = match format {
-        Format::Png => {
-            register_font()?;
-            panels(
-                &BitMapBackend::new(path, SIZE).into_drawing_area(),
-                rec,
-                x_col,
-                x_desc,
-            )
-        }
+        Format::Png => panels(
+            &BitMapBackend::new(path, SIZE).into_drawing_area(),
+            rec,
+            x_col,
+            x,
+        ),
         Format::Svg => panels(
             &SVGBackend::new(path, SIZE).into_drawing_area(),
             rec,
             x_col,
-            x_desc,
+            x,
         ),
     };
     res.map_err(|why| PlotError::Draw {
@@ -182,11 +104,12 @@ pub fn plot(rec: &Recording, prefix: &Path, formats: &[Format]) -> Result<Vec<Pa
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
         let time = prefix.with_file_name(format!("{stem}-time.{ext}"));
-        draw_one(&time, format, rec, "t_s", "t [s]")?;
+        draw_one(&time, format, rec, "t_s", &Quantity::new("time", "s"))?;
         written.push(time);
         if has_load {
             let load = prefix.with_file_name(format!("{stem}-load.{ext}"));
-            draw_one(&load, format, rec, "load_N", "reference load [N]")?;
+            let load_axis = Quantity::new("reference load", "N");
+            draw_one(&load, format, rec, "load_N", &load_axis)?;
             written.push(load);
         }
     }
@@ -197,15 +120,53 @@ pub fn plot(rec: &Recording, prefix: &Path, formats: &[Format]) -> Result<Vec<Pa
 mod tests {
     use super::*;
 
+    fn recording() -> Recording {
+        let mut rec = Recording::new(recording::Meta {
+            sample_rate_hz: 100.0,
+            contact_angle_deg: 20.0,
+            azimuth_deg: 60.0,
+            fingertip_radius_mm: 20.0,
+            gain_fz: 100.0,
+            gain_mx: 100.0,
+            gain_my: 100.0,
+            excitation_v: 3.3,
+            rod_speed_mm_per_min: None,
+            source: None,
+            other: Vec::new(),
+        });
+        let c = &mut rec.channels;
+        for k in 0..500 {
+            let t = f64::from(k) * 0.01;
+            c.t_s.push(t);
+            c.rod_mm.push(t);
+            c.load_n.push(if k == 250 { f64::NAN } else { 10.0 * t });
+            c.fz_v.push(0.004 * t);
+            c.mx_v.push(-0.002 * t);
+            c.my_v.push(0.5 + 0.1 * t);
+        }
+        rec
+    }
+
     #[test]
-    fn gaps_split_the_line_and_thin_long_series() {
-        let x = [0.0, 1.0, f64::NAN, 3.0, 4.0];
-        let y = [1.0, 2.0, 3.0, f64::NAN, 5.0];
-        assert_eq!(
-            segments(&x, &y),
-            vec![vec![(0.0, 1.0), (1.0, 2.0)], vec![(4.0, 5.0)]]
-        );
-        let long: Vec<f64> = (0..100_000).map(f64::from).collect();
-        assert!(segments(&long, &long)[0].len() <= MAX_POINTS);
+    fn svg_plots_carry_the_shared_axes() {
+        let dir = std::env::temp_dir().join(format!("tactile-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let written = plot(&recording(), &dir.join("r"), &[Format::Svg]).unwrap();
+        assert_eq!(written.len(), 2, "time and load plots");
+        let time = std::fs::read_to_string(&written[0]).unwrap();
+        // Small voltages in mV, larger in V, a titled time axis, no exponent form, a legend per panel.
+        for needle in [
+            "time [s]",
+            "Fz bridge [mV]",
+            "Mx bridge [mV]",
+            "My bridge [V]",
+            ">\nFz\n<",
+        ] {
+            assert!(time.contains(needle), "{needle} missing");
+        }
+        let load = std::fs::read_to_string(&written[1]).unwrap();
+        assert!(load.contains("reference load [N]"));
+        assert!(load.contains("<circle"), "a load sweep is drawn as dots");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

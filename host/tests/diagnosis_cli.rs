@@ -115,8 +115,14 @@ fn simulate_then_diagnose_per_contract() {
     let h = &fit["heldout"];
     assert!(h["rmse_after"].as_f64().unwrap() < 0.5 * h["rmse_before"].as_f64().unwrap());
     assert!(h["t_end_s"].as_f64().unwrap() > h["t_start_s"].as_f64().unwrap());
-    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert!(html.contains("viscoelastic_relaxation") && report.join("fz_V.svg").exists());
+    // `--report DIR` (no .html) still means a folder; the report is one file in it.
+    let html = std::fs::read_to_string(report.join("report.html")).unwrap();
+    assert!(html.contains("Viscoelastic relaxation") && html.contains("<svg"));
+    assert_eq!(
+        std::fs::read_dir(&report).unwrap().count(),
+        1,
+        "one file, nothing loose"
+    );
 }
 
 #[test]

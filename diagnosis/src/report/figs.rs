@@ -1,0 +1,143 @@
+//! The report's figures, drawn with the `figures` crate (the axes `tactile plot` uses too):
+//! per channel the recording with both models and the residuals, and a zoom on the window
+//! where an effect shows.
+
+use figures::{draw_panel, styles, svg_string, Band, Error, Line, Panel, Quantity};
+
+use super::words::channel_unit;
+use crate::data::CHANNELS;
+use crate::pipeline::PlotData;
+
+/// Figure width in SVG pixels; the page scales it to its column.
+const WIDTH: u32 = 960;
+/// Height of one panel, legend strip included.
+const PANEL_H: u32 = 270;
+
+fn time() -> Quantity {
+    Quantity::new("time", "s")
+}
+
+/// What channel `c` measures, for the axis title.
+pub fn quantity_name(c: usize) -> &'static str {
+    ["load", "Fz bridge", "Mx bridge", "My bridge"][c]
+}
+
+fn series(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    t.iter().copied().zip(y.iter().copied()).collect()
+}
+
+fn minus(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(a, b)| a - b).collect()
+}
+
+fn heldout(p: &PlotData) -> Band {
+    Band {
+        from: p.heldout.0,
+        to: p.heldout.1,
+        colour: styles::HELDOUT,
+        label: "held out (never fitted)".into(),
+    }
+}
+
+/// The two panels of channel `c`: signals with both models, then the residuals before and
+/// after; `x_range` zooms, `extra` adds bands (the evidence window).
+fn channel_panels(
+    p: &PlotData,
+    c: usize,
+    x_range: Option<(f64, f64)>,
+    extra: &[Band],
+) -> [Panel; 2] {
+    let unit = channel_unit(CHANNELS[c]);
+    let mut bands = extra.to_vec();
+    bands.push(heldout(p));
+    let mut top = Panel::new(time(), Quantity::new(quantity_name(c), unit));
+    top.x_range = x_range;
+    top.bands = bands.clone();
+    top.lines = vec![
+        Line::new(
+            "recording",
+            styles::RECORDING,
+            series(&p.t_s, &p.recorded[c]),
+        ),
+        Line::new("baseline", styles::BASELINE, series(&p.t_s, &p.baseline[c])),
+        Line::new("improved", styles::IMPROVED, series(&p.t_s, &p.improved[c])),
+    ];
+    let thin = |s: figures::Style| figures::Style { width: 1, ..s };
+    let name = format!("{} residual", quantity_name(c));
+    let mut bottom = Panel::new(time(), Quantity::new(&name, unit));
+    bottom.x_range = x_range;
+    bottom.bands = bands;
+    bottom.zero_line = true;
+    let before = minus(&p.recorded[c], &p.baseline[c]);
+    let after = minus(&p.recorded[c], &p.improved[c]);
+    bottom.lines = vec![
+        Line::new(
+            "residual, baseline",
+            thin(styles::BASELINE),
+            series(&p.t_s, &before),
+        ),
+        Line::new(
+            "residual, improved",
+            thin(styles::IMPROVED),
+            series(&p.t_s, &after),
+        ),
+    ];
+    [top, bottom]
+}
+
+fn two_panels(panels: &[Panel; 2]) -> Result<String, Error> {
+    svg_string((WIDTH, 2 * PANEL_H), |root| {
+        let areas = root.split_evenly((2, 1));
+        draw_panel(&areas[0], &panels[0])?;
+        draw_panel(&areas[1], &panels[1])
+    })
+}
+
+/// Channel `c` over the whole recording.
+pub fn channel(p: &PlotData, c: usize) -> Result<String, Error> {
+    two_panels(&channel_panels(p, c, None, &[]))
+}
+
+/// Channel `c` around `window` (s), the window shaded and named `what`.
+pub fn zoom(p: &PlotData, c: usize, window: (f64, f64), what: &str) -> Result<String, Error> {
+    let (a, b) = window;
+    let len = b - a;
+    let (t0, t1) = (p.t_s[0], *p.t_s.last().unwrap_or(&b));
+    // Context before the window, and more after it: effects show in how the signal settles.
+    let range = (
+        (a - (0.25 * len).max(3.0)).max(t0),
+        (b + (0.25 * len).max(10.0)).min(t1),
+    );
+    let band = Band {
+        from: a,
+        to: b,
+        colour: styles::WINDOW,
+        label: what.to_string(),
+    };
+    two_panels(&channel_panels(p, c, Some(range), &[band]))
+}
+
+/// The final residual of channel `c` with its straight-line trend.
+pub fn remainder(p: &PlotData, c: usize, slope: f64) -> Result<String, Error> {
+    let unit = channel_unit(CHANNELS[c]);
+    let after = minus(&p.recorded[c], &p.improved[c]);
+    let n = after.len().max(1) as f64;
+    let (tm, rm) = (p.t_s.iter().sum::<f64>() / n, after.iter().sum::<f64>() / n);
+    let line: Vec<(f64, f64)> = p.t_s.iter().map(|&t| (t, rm + slope * (t - tm))).collect();
+    let name = format!("{} residual", quantity_name(c));
+    let mut panel = Panel::new(time(), Quantity::new(&name, unit));
+    panel.zero_line = true;
+    panel.bands = vec![heldout(p)];
+    panel.lines = vec![
+        Line::new(
+            "residual, improved",
+            figures::Style {
+                width: 1,
+                ..styles::IMPROVED
+            },
+            series(&p.t_s, &after),
+        ),
+        Line::new("trend", styles::BASELINE, line),
+    ];
+    svg_string((WIDTH, PANEL_H), |root| draw_panel(root, &panel))
+}
