@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The Python package (python/): a virtual environment in target/py-venv (made once, reused),
 # the tools it needs from pip where missing, the wheel built and installed with
-# `pip install ./python` (maturin, release profile), then its pytest suite against the
+# `pip install ./python` (maturin; the dev profile here), then its pytest suite against the
 # `tactile` binary and the example. Usage: bash scripts/test-python.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,9 +27,12 @@ if [ ${#missing[@]} -gt 0 ]; then
     "$py" -m pip install --quiet "${missing[@]}"
 fi
 
-say "pip install ./python"
-# --no-build-isolation: build with the venv's maturin rather than fetch one per build.
-"$py" -m pip install --quiet --no-build-isolation --force-reinstall --no-deps ./python
+say "pip install ./python (dev profile)"
+# --no-build-isolation: build with the venv's maturin rather than fetch one per build. The dev
+# profile reuses what `cargo build --workspace` just built (a release build of every dependency
+# would add minutes to CI); users' `pip install ./python` stays release.
+MATURIN_PEP517_ARGS="--profile dev" \
+    "$py" -m pip install --quiet --no-build-isolation --force-reinstall --no-deps ./python
 
 say "pytest python/tests"
 "$py" -m pytest -q python/tests
