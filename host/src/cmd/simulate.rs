@@ -32,6 +32,10 @@ pub struct Args {
     /// Sample rate, Hz [default: hardware/fingertip.toml test.sample_rate_hz].
     #[arg(long)]
     pub rate: Option<f64>,
+    /// Rest after each return, s [default: hardware/fingertip.toml test.recovery_s]. With
+    /// --then-peak-load it sets the length of a long recording (the benchmark's 300 s).
+    #[arg(long)]
+    pub recovery_s: Option<f64>,
     /// Gel Young's modulus, Pa [default: hardware/fingertip.toml].
     #[arg(long)]
     pub modulus_pa: Option<f64>,
@@ -85,7 +89,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .collect::<anyhow::Result<Vec<_>>>()
         .context("--effect")?;
     check(&args)?;
-    let test = compression_test(&params.fingertip, args.rate);
+    let test = compression_test(&params.fingertip, args.rate, args.recovery_s);
     if args.adc_stimulus.is_some() {
         anyhow::ensure!(
             sim::ads131m04::stimulus_file::is_data_rate(
@@ -116,6 +120,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// The values clap cannot check alone.
 fn check(args: &Args) -> anyhow::Result<()> {
     anyhow::ensure!(args.peak_load > 0.0, "--peak-load must be positive");
+    if let Some(recovery_s) = args.recovery_s {
+        anyhow::ensure!(
+            recovery_s.is_finite() && recovery_s >= 0.0,
+            "--recovery-s must be zero or positive"
+        );
+    }
     if let Some([_, period_s]) = args.ambient_swing.as_deref() {
         anyhow::ensure!(
             *period_s > 0.0,
@@ -131,14 +141,18 @@ fn check(args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The standard test of `fingertip.toml`, at `rate_hz` if given.
-fn compression_test(tip: &hardware::Fingertip, rate_hz: Option<f64>) -> CompressionTest {
+/// The standard test of `fingertip.toml`, at `rate_hz` and with `recovery_s` if given.
+fn compression_test(
+    tip: &hardware::Fingertip,
+    rate_hz: Option<f64>,
+    recovery_s: Option<f64>,
+) -> CompressionTest {
     CompressionTest {
         sample_rate_hz: rate_hz.unwrap_or(tip.test.sample_rate_hz),
         speed_mm_per_min: tip.test.rod_speed_mm_per_min,
         hold_s: tip.test.hold_s,
         return_speed_mm_per_min: tip.test.return_speed_mm_per_min,
-        recovery_s: tip.test.recovery_s,
+        recovery_s: recovery_s.unwrap_or(tip.test.recovery_s),
         ..Default::default()
     }
 }
