@@ -48,6 +48,9 @@ pub struct Data {
     /// Lag-1 correlation of that noise (0 for white; the firmware smoother or an anti-alias
     /// filter colour it), modelled as AR(1).
     pub noise_rho: [f64; 4],
+    /// [`Data::weight`] of every decimated sample, computed once: every residual of every fit
+    /// asks for it, and its `powf` was a sixth of a diagnosis's time.
+    weights: [Vec<f64>; 4],
 }
 
 /// Why a recording cannot be analysed although it parsed.
@@ -108,27 +111,39 @@ impl Data {
             let white = difference_noise(&full.y[k]) * (6.0 / (6.0 - 8.0 * r + 2.0 * r * r)).sqrt();
             white.max(1e-6 * range[k]).max(1e-12)
         });
+        let weights = std::array::from_fn(|c| {
+            fit.count
+                .iter()
+                .map(|&n| block_weight(n, noise_rho[c], noise_full[c]))
+                .collect()
+        });
         Ok(Self {
             full,
             fit,
             range,
             noise_full,
             noise_rho,
+            weights,
         })
     }
 
     /// Weight of decimated sample `k` of channel `c`: one over its noise level.
     pub fn weight(&self, c: usize, k: usize) -> f64 {
-        let n = self.fit.count[k] as f64;
-        let r = self.noise_rho[c];
-        // Variance of the mean of n AR(1) samples over sigma^2 / n.
-        let inflation = if r > 0.0 {
-            ((1.0 + r) / (1.0 - r) - 2.0 * r * (1.0 - r.powf(n)) / (n * (1.0 - r).powi(2))).max(1.0)
-        } else {
-            1.0
-        };
-        (n / inflation).sqrt() / self.noise_full[c]
+        self.weights[c][k]
     }
+}
+
+/// One over the noise level of the mean of `n` samples of AR(1) noise (lag-1 correlation `r`,
+/// standard deviation `sigma`).
+fn block_weight(n: usize, r: f64, sigma: f64) -> f64 {
+    let n = n as f64;
+    // Variance of the mean of n AR(1) samples over sigma^2 / n.
+    let inflation = if r > 0.0 {
+        ((1.0 + r) / (1.0 - r) - 2.0 * r * (1.0 - r.powf(n)) / (n * (1.0 - r).powi(2))).max(1.0)
+    } else {
+        1.0
+    };
+    (n / inflation).sqrt() / sigma
 }
 
 /// Samples near fast rod motion or a change of rod speed (need fine blocks).

@@ -34,5 +34,6 @@ pub mod temperature;
 
 pub mod prove;
 pub mod report;
+pub mod session;
 
 pub use pipeline::{diagnose, Diagnosis, Options, Progress};

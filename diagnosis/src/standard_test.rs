@@ -25,6 +25,9 @@ pub struct SimulateOptions {
     pub peak_load_n: f64,
     /// Sample rate, Hz [default: `fingertip.toml` test.sample_rate_hz].
     pub rate_hz: Option<f64>,
+    /// Rest after each return, s [default: `fingertip.toml` test.recovery_s]. With further
+    /// cycles it sets the length of a long recording (the batch benchmark's 300 s).
+    pub recovery_s: Option<f64>,
     /// Gel Young's modulus, Pa [default: `fingertip.toml`].
     pub modulus_pa: Option<f64>,
     /// Further compression cycles at these peak loads, N.
@@ -56,6 +59,7 @@ impl SimulateOptions {
             azimuth_deg,
             peak_load_n,
             rate_hz: None,
+            recovery_s: None,
             modulus_pa: None,
             then_peak_loads_n: Vec::new(),
             noise_v: 0.0,
@@ -76,7 +80,7 @@ impl SimulateOptions {
             speed_mm_per_min: tip.test.rod_speed_mm_per_min,
             hold_s: tip.test.hold_s,
             return_speed_mm_per_min: tip.test.return_speed_mm_per_min,
-            recovery_s: tip.test.recovery_s,
+            recovery_s: self.recovery_s.unwrap_or(tip.test.recovery_s),
             ..Default::default()
         }
     }
@@ -86,6 +90,11 @@ impl SimulateOptions {
     pub fn check(&self) -> Result<(), SimulateError> {
         if !positive(self.peak_load_n) {
             return Err(SimulateError::PeakLoad);
+        }
+        if let Some(recovery_s) = self.recovery_s {
+            if !(recovery_s.is_finite() && recovery_s >= 0.0) {
+                return Err(SimulateError::Recovery);
+            }
         }
         if let Some((_, period_s)) = self.ambient_swing {
             if !positive(period_s) {
@@ -115,6 +124,9 @@ pub enum SimulateError {
     /// A peak load that is not positive.
     #[error("--peak-load must be positive")]
     PeakLoad,
+    /// A rest after the return that is negative or not a number.
+    #[error("--recovery-s must be zero or positive")]
+    Recovery,
     /// An ambient swing whose period is not positive.
     #[error("--ambient-swing: the period must be positive")]
     SwingPeriod,

@@ -54,6 +54,9 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
     if is_broken_pipe(err) {
         return ExitCode::SUCCESS;
     }
+    if let Some(done) = err.downcast_ref::<exit::Reported>() {
+        return ExitCode::from(done.code);
+    }
     let line = err
         .chain()
         .map(|e| e.to_string())

@@ -36,3 +36,14 @@ pub fn of_input(kind: std::io::ErrorKind) -> u8 {
         _ => IO,
     }
 }
+
+/// An error the command has already told the user about, line by line (a session's bad
+/// recordings); [`crate::cli::report`] only ends the process with `code`.
+#[derive(Debug, thiserror::Error)]
+#[error("{what}")]
+pub struct Reported {
+    /// The sysexits code the process ends with.
+    pub code: u8,
+    /// What happened, in one line, for a caller that prints it anyway.
+    pub what: String,
+}

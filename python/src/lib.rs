@@ -42,7 +42,7 @@ fn write_recording(columns: Columns<'_>, attrs: Bound<'_, PyDict>, path: PathBuf
 /// `tactile simulate`'s recording for its options (the keywords are its flags).
 #[pyfunction]
 #[pyo3(signature = (
-    contact_angle, azimuth, peak_load, rate=None, modulus_pa=None, then_peak_load=None,
+    contact_angle, azimuth, peak_load, rate=None, recovery_s=None, modulus_pa=None, then_peak_load=None,
     noise_v=None, noise_load_n=None, seed=None, effect=None, gain=None, smoother_alpha=None,
     ambient_swing=None, excitation_v=None
 ))]
@@ -53,6 +53,7 @@ fn simulate(
     azimuth: f64,
     peak_load: f64,
     rate: Option<f64>,
+    recovery_s: Option<f64>,
     modulus_pa: Option<f64>,
     then_peak_load: Option<Vec<f64>>,
     noise_v: Option<f64>,
@@ -67,6 +68,7 @@ fn simulate(
     let defaults = SimulateOptions::new(contact_angle, azimuth, peak_load);
     let options = SimulateOptions {
         rate_hz: rate,
+        recovery_s,
         modulus_pa,
         then_peak_loads_n: then_peak_load.unwrap_or(defaults.then_peak_loads_n.clone()),
         noise_v: noise_v.unwrap_or(defaults.noise_v),

@@ -17,6 +17,7 @@ def simulate(
     azimuth: float,
     peak_load: float,
     rate: Optional[float] = None,
+    recovery_s: Optional[float] = None,
     modulus_pa: Optional[float] = None,
     then_peak_load: Union[None, float, Sequence[float]] = None,
     noise_v: float = 0.0,

@@ -11,6 +11,7 @@ def simulate(
     azimuth: float,
     peak_load: float,
     rate: Optional[float] = None,
+    recovery_s: Optional[float] = None,
     modulus_pa: Optional[float] = None,
     then_peak_load: Optional[List[float]] = None,
     noise_v: Optional[float] = None,

@@ -1,4 +1,6 @@
-//! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`).
+//! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`), and a
+//! whole session at once: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
+//! recordings) through `diagnosis::session`.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -6,42 +8,127 @@ use std::sync::Arc;
 
 use anyhow::Context;
 
-use diagnosis::{diagnose, report, Options};
+use diagnosis::{diagnose, report, session, Options};
+
+use crate::exit::{self, ExitStatus};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Recording in the recording format (`docs/recording-format.md`).
-    pub recording: PathBuf,
-    /// Where to write the diagnosis (tactile-diagnosis/1 JSON).
+    /// Recordings in the recording format (`docs/recording-format.md`), or folders of them (every
+    /// `*.csv` in it, sorted). More than one needs --out-dir.
+    #[arg(required = true, value_name = "RECORDING")]
+    pub recordings: Vec<PathBuf>,
+    /// Where to write the diagnosis of one recording (tactile-diagnosis/1 JSON).
     #[arg(long)]
-    pub json: PathBuf,
-    /// Also write the HTML report, one self-contained file: PATH itself when it ends in
-    /// `.html`, else PATH/report.html.
+    pub json: Option<PathBuf>,
+    /// Also write the HTML report of one recording, one self-contained file: PATH itself when it
+    /// ends in `.html`, else PATH/report.html.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Diagnose every recording in parallel into DIR: `<stem>.json`, its report, `summary.csv`
+    /// and `summary.html`.
+    #[arg(long, value_name = "DIR")]
+    pub out_dir: Option<PathBuf>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
 }
 
+/// What the arguments ask for, checked.
+#[derive(Debug, PartialEq)]
+enum Config {
+    /// One recording to `--json` (and `--report`), as before sessions existed.
+    Single {
+        recording: PathBuf,
+        json: PathBuf,
+        report: Option<PathBuf>,
+    },
+    /// Recordings and folders of them into one output folder.
+    Session {
+        inputs: Vec<PathBuf>,
+        out_dir: PathBuf,
+    },
+}
+
+/// Arguments that do not go together.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct UsageError(&'static str);
+
+impl ExitStatus for UsageError {
+    fn exit_code(&self) -> u8 {
+        exit::USAGE
+    }
+}
+
+impl Config {
+    fn of(args: Args) -> Result<Self, UsageError> {
+        if let Some(out_dir) = args.out_dir {
+            if args.json.is_some() || args.report.is_some() {
+                return Err(UsageError(
+                    "--json and --report are for one recording; with --out-dir each recording's \
+                     diagnosis and report go into DIR",
+                ));
+            }
+            return Ok(Self::Session {
+                inputs: args.recordings,
+                out_dir,
+            });
+        }
+        let [recording] = <[PathBuf; 1]>::try_from(args.recordings)
+            .map_err(|_| UsageError("several recordings need --out-dir DIR"))?;
+        if recording.is_dir() {
+            return Err(UsageError("a folder of recordings needs --out-dir DIR"));
+        }
+        let json = args.json.ok_or(UsageError(
+            "one recording needs --json OUT.json (or --out-dir DIR)",
+        ))?;
+        Ok(Self::Single {
+            recording,
+            json,
+            report: args.report,
+        })
+    }
+}
+
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rec = recording::read(&args.recording)?;
+    let show = !args.quiet && std::io::stderr().is_terminal();
+    match Config::of(args)? {
+        Config::Single {
+            recording,
+            json,
+            report,
+        } => single(&recording, &json, report.as_deref(), show),
+        Config::Session { inputs, out_dir } => whole_session(&inputs, &out_dir, show),
+    }
+}
+
+fn options() -> anyhow::Result<Options> {
     let hw = hardware::Params::load_default().context("loading hardware/")?;
-    let mut opt = Options::from_hardware(&hw)?;
-    let bar = progress_bar(!args.quiet && std::io::stderr().is_terminal());
+    Ok(Options::from_hardware(&hw)?)
+}
+
+fn single(
+    recording: &std::path::Path,
+    json: &std::path::Path,
+    report_path: Option<&std::path::Path>,
+    show: bool,
+) -> anyhow::Result<()> {
+    let rec = recording::read(recording)?;
+    let mut opt = options()?;
+    let bar = progress_bar(show, "fitting candidate models");
     let shown = bar.clone();
     opt.progress = Some(Arc::new(move |done, total| {
         shown.set_length(total as u64);
         shown.set_position(done as u64);
     }));
-    let name = args.recording.display().to_string();
+    let name = recording.display().to_string();
     let diagnosed = diagnose(&rec, &name, &opt);
     bar.finish_and_clear();
     let d = diagnosed.with_context(|| name.clone())?;
-    let json = serde_json::to_string_pretty(&d.report).context("encoding the diagnosis")?;
-    std::fs::write(&args.json, json + "\n")
-        .with_context(|| format!("writing {}", args.json.display()))?;
-    if let Some(path) = &args.report {
+    let text = session::json_text(&d).context("encoding the diagnosis")?;
+    std::fs::write(json, text).with_context(|| format!("writing {}", json.display()))?;
+    if let Some(path) = report_path {
         let file = report_file(path);
         report::write(&file, &d).with_context(|| format!("writing {}", file.display()))?;
     }
@@ -61,16 +148,49 @@ fn report_file(path: &Path) -> PathBuf {
     }
 }
 
-/// A bar on stderr while the candidate models are fitted, or a hidden one.
-fn progress_bar(show: bool) -> indicatif::ProgressBar {
+/// Every recording into `out_dir`; one stderr line per recording that could not be analysed,
+/// then [`exit::DATA`] if there was any.
+fn whole_session(inputs: &[PathBuf], out_dir: &std::path::Path, show: bool) -> anyhow::Result<()> {
+    let inputs = session::expand_inputs(inputs)?;
+    let opt = options()?;
+    let bar = progress_bar(show, "diagnosing recordings");
+    bar.set_length(inputs.len() as u64);
+    let rows = session::run(&inputs, out_dir, &opt, &|done, _| {
+        bar.set_position(done as u64)
+    });
+    bar.finish_and_clear();
+    let rows = rows?;
+    let bad: Vec<&str> = rows
+        .iter()
+        .filter_map(|r| r.outcome.as_ref().err().map(String::as_str))
+        .collect();
+    for line in &bad {
+        eprintln!("tactile: error: {line}");
+    }
+    if bad.is_empty() {
+        return Ok(());
+    }
+    Err(exit::Reported {
+        code: exit::DATA,
+        what: format!(
+            "{} of {} recordings could not be analysed",
+            bad.len(),
+            rows.len()
+        ),
+    }
+    .into())
+}
+
+/// A bar on stderr, or a hidden one.
+fn progress_bar(show: bool, what: &str) -> indicatif::ProgressBar {
     if !show {
         return indicatif::ProgressBar::hidden();
     }
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "fitting candidate models {bar:30} {pos}/{len} {elapsed}",
-        )
+        indicatif::ProgressStyle::with_template(&format!(
+            "{what} {{bar:30}} {{pos}}/{{len}} {{elapsed}}"
+        ))
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     bar
@@ -79,6 +199,19 @@ fn progress_bar(show: bool) -> indicatif::ProgressBar {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn config(argv: &[&str]) -> Result<Config, UsageError> {
+        #[derive(clap::Parser)]
+        struct Cli {
+            #[command(flatten)]
+            args: Args,
+        }
+        let cli = <Cli as clap::Parser>::try_parse_from(
+            std::iter::once("diagnose").chain(argv.iter().copied()),
+        )
+        .unwrap();
+        Config::of(cli.args)
+    }
 
     #[test]
     fn report_path_is_a_file_when_it_says_html_else_a_folder() {
@@ -89,5 +222,29 @@ mod tests {
         assert_eq!(report_file(Path::new("R.HTML")), Path::new("R.HTML"));
         assert_eq!(report_file(Path::new("rep/")), Path::new("rep/report.html"));
         assert_eq!(report_file(Path::new("rep")), Path::new("rep/report.html"));
+    }
+
+    #[test]
+    fn one_recording_keeps_its_json_and_several_need_an_out_dir() {
+        assert_eq!(
+            config(&["r.csv", "--json", "o.json"]).unwrap(),
+            Config::Single {
+                recording: "r.csv".into(),
+                json: "o.json".into(),
+                report: None
+            }
+        );
+        assert!(config(&["r.csv"]).is_err());
+        assert!(config(&["a.csv", "b.csv", "--json", "o.json"]).is_err());
+        assert!(config(&["a.csv", "b.csv", "--out-dir", "d", "--json", "o.json"]).is_err());
+        assert!(config(&["a.csv", "--out-dir", "d", "--report", "r"]).is_err());
+        assert!(config(&[".", "--json", "o.json"]).is_err());
+        assert_eq!(
+            config(&["a.csv", "b.csv", "--out-dir", "d"]).unwrap(),
+            Config::Session {
+                inputs: vec!["a.csv".into(), "b.csv".into()],
+                out_dir: "d".into()
+            }
+        );
     }
 }

@@ -67,6 +67,12 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
     if let Some(e) = cause.downcast_ref::<crate::logger::FileError>() {
         return Some(e.exit_code());
     }
+    if let Some(e) = cause.downcast_ref::<diagnose::UsageError>() {
+        return Some(e.exit_code());
+    }
+    if let Some(e) = cause.downcast_ref::<diagnosis::session::SessionError>() {
+        return Some(session_exit_code(e));
+    }
     if let Some(e) = cause.downcast_ref::<fe::FeError>() {
         return Some(e.exit_code());
     }
@@ -80,6 +86,17 @@ pub fn exit_code_of(cause: &(dyn std::error::Error + 'static)) -> Option<u8> {
         });
     }
     None
+}
+
+fn session_exit_code(e: &diagnosis::session::SessionError) -> u8 {
+    use diagnosis::session::SessionError as E;
+    match e {
+        E::ListDir { source, .. } => exit::of_input(source.kind()),
+        E::NoRecordings(_) => exit::NO_INPUT,
+        E::SameStem { .. } => exit::USAGE,
+        E::Write { .. } => exit::CANT_CREATE,
+        _ => exit::SOFTWARE,
+    }
 }
 
 #[cfg(test)]

@@ -27,6 +27,10 @@ pub struct Args {
     /// Sample rate, Hz [default: hardware/fingertip.toml test.sample_rate_hz].
     #[arg(long)]
     pub rate: Option<f64>,
+    /// Rest after each return, s [default: hardware/fingertip.toml test.recovery_s]. With
+    /// --then-peak-load it sets the length of a long recording (the benchmark's 300 s).
+    #[arg(long)]
+    pub recovery_s: Option<f64>,
     /// Gel Young's modulus, Pa [default: hardware/fingertip.toml].
     #[arg(long)]
     pub modulus_pa: Option<f64>,
@@ -94,6 +98,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 fn options(args: &Args) -> SimulateOptions {
     SimulateOptions {
         rate_hz: args.rate,
+        recovery_s: args.recovery_s,
         modulus_pa: args.modulus_pa,
         then_peak_loads_n: args.then_peak_load.clone(),
         noise_v: args.noise_v,
