@@ -301,6 +301,57 @@ mod tests {
         assert!(noise_correlation(&x) < 0.02);
     }
 
+    /// Blocks over the standard test at `rate_hz`: the bounds, the full-rate segments and the
+    /// segments carried onto the blocks.
+    fn blocked(rate_hz: f64) -> (Vec<(usize, usize)>, Vec<Segment>, Vec<Segment>) {
+        let h = sim::compression::CompressionTest {
+            sample_rate_hz: rate_hz,
+            ..Default::default()
+        }
+        .rod_history(&[1.5, 1.0]);
+        let (_, full) = regimes::detect(&h.t_s, &h.rod_mm);
+        let (block, cut) = blocks(&h.t_s, &full, rate_hz);
+        let bounds = block_bounds(&block, &cut);
+        let carried = on_blocks(&full, &bounds);
+        (bounds, full, carried)
+    }
+
+    #[test]
+    fn blocks_follow_the_segments_from_10_hz_to_5_khz() {
+        for rate in [10.0, 100.0, 1000.0, 5000.0] {
+            let (bounds, full, carried) = blocked(rate);
+            // Contiguous, never empty, covering everything.
+            assert_eq!(bounds[0].0, 0);
+            assert!(bounds.windows(2).all(|w| w[0].1 == w[1].0));
+            assert!(bounds.iter().all(|&(a, b)| b > a));
+            // Every segment survives, in order, on block edges.
+            let names = |s: &[Segment]| s.iter().map(|s| (s.regime, s.cycle)).collect::<Vec<_>>();
+            assert_eq!(names(&full), names(&carried), "{rate} Hz");
+            for (f, c) in full.iter().zip(&carried) {
+                assert_eq!(bounds[c.start].0, f.start, "{rate} Hz");
+            }
+            // Fine blocks (20 ms, at least a sample) in the moves, coarse (200 ms) deep in the
+            // recovery, 3 s after the release.
+            let len = |k: usize| bounds[k].1 - bounds[k].0;
+            let fine = ((rate * FINE_BLOCK_S).round() as usize).max(1);
+            let coarse = ((rate * COARSE_BLOCK_S).round() as usize).max(1);
+            let release = carried
+                .iter()
+                .find(|s| s.regime == Regime::Release)
+                .unwrap();
+            assert!(
+                (release.start..release.end).all(|k| len(k) <= fine),
+                "{rate} Hz"
+            );
+            let recovery = carried
+                .iter()
+                .find(|s| s.regime == Regime::Recovery)
+                .unwrap();
+            let deep = recovery.start + (recovery.end - recovery.start) / 2;
+            assert_eq!(len(deep), coarse, "{rate} Hz");
+        }
+    }
+
     #[test]
     fn ar1_correlation_is_recovered() {
         let mut g = super::super::synth::Gaussian::new(4);
