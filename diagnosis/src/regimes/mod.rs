@@ -121,7 +121,7 @@ fn mean(x: &[f64], a: usize, b: usize) -> f64 {
 }
 
 /// Whether `load` shows contact from the first sample of the `segments` found on `rod`: it
-/// starts clearly above zero (a preload: [`NOISE_SIGMAS`] noise levels and a twentieth of its
+/// starts clearly above zero (a preload: `NOISE_SIGMAS` noise levels and a twentieth of its
 /// later rise) and it answers the first move at once (within the first twentieth of its
 /// travel), which a load-cell offset with the rod still clear of the sample does not. False
 /// when the lengths differ or no load value is finite.

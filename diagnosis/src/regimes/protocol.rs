@@ -48,7 +48,7 @@ pub struct Protocol {
     pub releases: usize,
     pub has_hold: bool,
     pub has_unloading: bool,
-    /// Two moves whose speeds differ by more than a factor [`RATE_RATIO`].
+    /// Two moves whose speeds differ by more than a factor `RATE_RATIO` (2).
     pub has_rate_change: bool,
     /// Mean speed of each move (loading and release), in order, mm/s.
     pub rates_mm_per_s: Vec<f64>,
