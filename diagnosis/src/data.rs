@@ -1,18 +1,28 @@
 //! The recording as the diagnosis sees it: gaps dropped, the four compared channels, a noise
-//! estimate per channel, and a block-averaged copy for fitting: 20 ms blocks (50 Hz) where the
-//! rod moves fast or changes speed, 200 ms blocks (5 Hz) where everything is slow. Blocks of
-//! whole mains periods also cancel 50 Hz pickup and its harmonics.
+//! estimate per channel, and a block-averaged copy for fitting. The blocks follow the rod's
+//! moves and still stretches ([`crate::regimes::motion`]): 20 ms blocks (50 Hz) around the
+//! edges of every move, at least [`MOVE_BLOCKS`] blocks along each move (20 ms to 200 ms), and
+//! 200 ms blocks (5 Hz) in still stretches away from the edges. A block is never shorter than
+//! one sample (10 Hz data keeps every sample where it needs fine blocks) and never straddles the
+//! edge of a move. Blocks of whole mains periods also cancel 50 Hz pickup and its harmonics.
 
 use recording::Recording;
 
+use crate::regimes::{self, Regime, Segment};
+
 /// Compared channels, in contract order.
 pub const CHANNELS: [&str; 4] = ["load_N", "fz_V", "mx_V", "my_V"];
-/// Block length where the rod is fast or changes speed, and elsewhere.
+/// Block length around the edges of moves, and in still stretches.
 pub const FINE_BLOCK_S: f64 = 0.02;
 pub const COARSE_BLOCK_S: f64 = 0.2;
-/// Fine blocks this long before and after a change of rod speed, and after fast motion.
+/// Fine blocks this long before and after each edge of a move, and after its end: the load
+/// turns at an edge (contact, reversal, the fast start of a relaxation) within the response
+/// times the catalogue fits, fractions of a second to seconds.
 const MARGIN_BEFORE_S: f64 = 0.5;
 const MARGIN_AFTER_S: f64 = 3.0;
+/// Blocks along a move at least: a block mean differs from the curve at its centre by
+/// f'' T^2 / 24, a relative 1e-4 of a power-law load over a twentieth of its move.
+pub const MOVE_BLOCKS: f64 = 20.0;
 
 /// One rate's worth of the signals.
 #[derive(Debug, Clone, Default)]
@@ -48,6 +58,10 @@ pub struct Data {
     /// Lag-1 correlation of that noise (0 for white; the firmware smoother or an anti-alias
     /// filter colour it), modelled as AR(1).
     pub noise_rho: [f64; 4],
+    /// The regimes found at the full rate, with the load telling a start in contact, as index
+    /// runs on `fit` (its blocks never straddle a segment's edge). Finer than detecting them on
+    /// `fit` itself, where block means blur the encoder's quanta.
+    pub segments: Vec<Segment>,
     /// [`Data::weight`] of every decimated sample, computed once: every residual of every fit
     /// asks for it, and its `powf` was a sixth of a diagnosis's time.
     weights: [Vec<f64>; 4],
@@ -99,10 +113,12 @@ impl Data {
         } else {
             rec.meta.sample_rate_hz
         };
-        let fine = ((rate * FINE_BLOCK_S).round() as usize).max(1);
-        let coarse = ((rate * COARSE_BLOCK_S).round() as usize).max(1);
-        let fast = fast_samples(&full.t_s, &full.rod_mm);
-        let fit = decimate(&full, &fast, fine, coarse);
+        let (_, full_segments) =
+            regimes::detect_with_load(&full.t_s, &full.rod_mm, Some(&full.y[0]));
+        let (block, cut) = blocks(&full.t_s, &full_segments, rate);
+        let bounds = block_bounds(&block, &cut);
+        let fit = decimate(&full, &bounds);
+        let segments = on_blocks(&full_segments, &bounds);
         let range = std::array::from_fn(|k| peak_to_peak(&full.y[k]));
         let noise_rho: [f64; 4] = std::array::from_fn(|k| noise_correlation(&full.y[k]));
         let noise_full: [f64; 4] = std::array::from_fn(|k| {
@@ -123,6 +139,7 @@ impl Data {
             range,
             noise_full,
             noise_rho,
+            segments,
             weights,
         })
     }
@@ -146,72 +163,67 @@ fn block_weight(n: usize, r: f64, sigma: f64) -> f64 {
     (n / inflation).sqrt() / sigma
 }
 
-/// Samples near fast rod motion or a change of rod speed (need fine blocks).
-fn fast_samples(t_s: &[f64], rod_mm: &[f64]) -> Vec<bool> {
+/// The block length (samples) wanted at each sample, and where a block must end (the edges of
+/// the segments).
+fn blocks(t_s: &[f64], segments: &[Segment], rate_hz: f64) -> (Vec<usize>, Vec<bool>) {
     let n = t_s.len();
-    let window = 10.min(n - 1).max(1);
-    let v: Vec<f64> = (0..n)
-        .map(|k| {
-            let (a, b) = (k.saturating_sub(window), (k + window).min(n - 1));
-            if t_s[b] > t_s[a] {
-                (rod_mm[b] - rod_mm[a]) / (t_s[b] - t_s[a])
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let mut pos: Vec<f64> = v.iter().copied().filter(|&x| x > 0.0).collect();
-    let typical = if pos.is_empty() {
-        f64::INFINITY
-    } else {
-        let mid = pos.len() / 2;
-        *pos.select_nth_unstable_by(mid, f64::total_cmp).1
-    };
-    // Speed class: still, loading speed, fast.
-    let class = |x: f64| {
-        if x.abs() > 1.5 * typical {
-            2
-        } else if x.abs() > 0.5 * typical {
-            1
-        } else {
-            0
-        }
-    };
-    let mut fast = vec![false; n];
-    let mark = |from: f64, to: f64, fast: &mut Vec<bool>| {
+    let samples = |s: f64| ((rate_hz * s).round() as usize).max(1);
+    let mut block = vec![samples(COARSE_BLOCK_S); n];
+    let mut cut = vec![false; n];
+    let finer = |from: f64, to: f64, len: usize, block: &mut Vec<usize>| {
         let a = t_s.partition_point(|&t| t < from);
         let b = t_s.partition_point(|&t| t <= to);
-        fast[a..b].iter_mut().for_each(|f| *f = true);
+        block[a..b].iter_mut().for_each(|l| *l = (*l).min(len));
     };
-    for k in 1..n {
-        let (c0, c1) = (class(v[k - 1]), class(v[k]));
-        if c0 != c1 {
-            mark(
-                t_s[k] - MARGIN_BEFORE_S,
-                t_s[k] + MARGIN_BEFORE_S,
-                &mut fast,
-            );
+    for s in segments {
+        cut[s.start] = true;
+        if !matches!(s.regime, Regime::Loading | Regime::Release) {
+            continue;
         }
-        if c1 == 2 {
-            mark(t_s[k] - MARGIN_BEFORE_S, t_s[k] + MARGIN_AFTER_S, &mut fast);
-        }
+        let (t0, t1) = (t_s[s.start], t_s[s.end - 1]);
+        // Whole fine blocks (whole mains periods), at most a coarse one.
+        let along = ((t1 - t0) / MOVE_BLOCKS / FINE_BLOCK_S).floor().max(1.0) * FINE_BLOCK_S;
+        finer(t0, t1, samples(along.min(COARSE_BLOCK_S)), &mut block);
+        let fine = samples(FINE_BLOCK_S);
+        finer(t0 - MARGIN_BEFORE_S, t0 + MARGIN_BEFORE_S, fine, &mut block);
+        finer(t1 - MARGIN_BEFORE_S, t1 + MARGIN_AFTER_S, fine, &mut block);
     }
-    fast
+    (block, cut)
 }
 
-/// Block means, fine blocks where `fast`, coarse elsewhere; a block never straddles a change.
-pub fn decimate(s: &Series, fast: &[bool], fine: usize, coarse: usize) -> Series {
+/// Blocks `start..end`, each as long as `block` asks at its first sample, ending early where
+/// the wanted length changes or at a `cut`.
+pub fn block_bounds(block: &[usize], cut: &[bool]) -> Vec<(usize, usize)> {
     let mut bounds = Vec::new();
     let mut k = 0;
-    while k < s.len() {
-        let len = if fast[k] { fine } else { coarse };
-        let mut end = (k + len).min(s.len());
-        if let Some(j) = (k + 1..end).find(|&j| fast[j] != fast[k]) {
+    while k < block.len() {
+        let mut end = k.saturating_add(block[k].max(1)).min(block.len());
+        if let Some(j) = (k + 1..end).find(|&j| block[j] != block[k] || cut[j]) {
             end = j;
         }
         bounds.push((k, end));
         k = end;
     }
+    bounds
+}
+
+/// `segments` (on the full series) as runs of the blocks `bounds`; each segment starts at a
+/// block's start (a cut).
+fn on_blocks(segments: &[Segment], bounds: &[(usize, usize)]) -> Vec<Segment> {
+    let block_of = |k: usize| bounds.partition_point(|&(a, _)| a < k);
+    segments
+        .iter()
+        .map(|s| Segment {
+            start: block_of(s.start),
+            end: block_of(s.end),
+            ..*s
+        })
+        .filter(|s| s.end > s.start)
+        .collect()
+}
+
+/// Block means over `bounds`.
+pub fn decimate(s: &Series, bounds: &[(usize, usize)]) -> Series {
     let mean = |x: &[f64]| {
         bounds
             .iter()
@@ -302,6 +314,57 @@ mod tests {
         let s = difference_noise(&x);
         assert!((s / 0.01 - 1.0).abs() < 0.03, "{s}");
         assert!(noise_correlation(&x) < 0.02);
+    }
+
+    /// Blocks over the standard test at `rate_hz`: the bounds, the full-rate segments and the
+    /// segments carried onto the blocks.
+    fn blocked(rate_hz: f64) -> (Vec<(usize, usize)>, Vec<Segment>, Vec<Segment>) {
+        let h = sim::compression::CompressionTest {
+            sample_rate_hz: rate_hz,
+            ..Default::default()
+        }
+        .rod_history(&[1.5, 1.0]);
+        let (_, full) = regimes::detect(&h.t_s, &h.rod_mm);
+        let (block, cut) = blocks(&h.t_s, &full, rate_hz);
+        let bounds = block_bounds(&block, &cut);
+        let carried = on_blocks(&full, &bounds);
+        (bounds, full, carried)
+    }
+
+    #[test]
+    fn blocks_follow_the_segments_from_10_hz_to_5_khz() {
+        for rate in [10.0, 100.0, 1000.0, 5000.0] {
+            let (bounds, full, carried) = blocked(rate);
+            // Contiguous, never empty, covering everything.
+            assert_eq!(bounds[0].0, 0);
+            assert!(bounds.windows(2).all(|w| w[0].1 == w[1].0));
+            assert!(bounds.iter().all(|&(a, b)| b > a));
+            // Every segment survives, in order, on block edges.
+            let names = |s: &[Segment]| s.iter().map(|s| (s.regime, s.cycle)).collect::<Vec<_>>();
+            assert_eq!(names(&full), names(&carried), "{rate} Hz");
+            for (f, c) in full.iter().zip(&carried) {
+                assert_eq!(bounds[c.start].0, f.start, "{rate} Hz");
+            }
+            // Fine blocks (20 ms, at least a sample) in the moves, coarse (200 ms) deep in the
+            // recovery, 3 s after the release.
+            let len = |k: usize| bounds[k].1 - bounds[k].0;
+            let fine = ((rate * FINE_BLOCK_S).round() as usize).max(1);
+            let coarse = ((rate * COARSE_BLOCK_S).round() as usize).max(1);
+            let release = carried
+                .iter()
+                .find(|s| s.regime == Regime::Release)
+                .unwrap();
+            assert!(
+                (release.start..release.end).all(|k| len(k) <= fine),
+                "{rate} Hz"
+            );
+            let recovery = carried
+                .iter()
+                .find(|s| s.regime == Regime::Recovery)
+                .unwrap();
+            let deep = recovery.start + (recovery.end - recovery.start) / 2;
+            assert_eq!(len(deep), coarse, "{rate} Hz");
+        }
     }
 
     #[test]
