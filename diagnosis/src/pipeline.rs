@@ -165,7 +165,8 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     Ok(Diagnosis { report, plots })
 }
 
-/// The regimes of the test on the decimated series and the stretch held out of the fits.
+/// The regimes of the test (found at the full rate with the load, carried onto the decimated
+/// series) and the stretch held out of the fits.
 struct Stretches {
     segments: Vec<Segment>,
     /// Start and end of the held-out stretch, s.
@@ -174,9 +175,8 @@ struct Stretches {
 
 impl Stretches {
     fn detect(data: &Data) -> Self {
-        let t_s = &data.fit.t_s;
-        let (_, segments) = regimes::detect(t_s, &data.fit.rod_mm);
-        let heldout = regimes::heldout_window(t_s, &segments);
+        let segments = data.segments.clone();
+        let heldout = regimes::heldout_window(&data.fit.t_s, &segments);
         Self { segments, heldout }
     }
 }

@@ -2,7 +2,7 @@
 //! beside the checkout, read from their zip and never copied in), imported as `tactile import`
 //! does and diagnosed blind. What a physicist expects (the data's README): stress relaxation in
 //! Hayes' and the Static holds, a rate-dependent loss in the Dynamic sinusoids.
-//! `cargo test --release -p diagnosis --test mach1 -- --ignored --nocapture`
+//! `cargo test -p diagnosis --test mach1 -- --nocapture` (about a second each, in the test run)
 
 use std::io::Read;
 
@@ -78,21 +78,18 @@ fn relaxation_found(r: &Report, label: &str) {
 }
 
 #[test]
-#[ignore = "real data, minutes in release: see the module's command"]
 fn hayes_first_site_relaxes() {
     let r = import("Hayes_data.txt", |b| b.kind == "Stress Relaxation");
     relaxation_found(&diagnose(&r, "Hayes site 1"), "Hayes site 1");
 }
 
 #[test]
-#[ignore = "real data, minutes in release: see the module's command"]
 fn static_steps_relax() {
     let r = import("Static_data.txt", |_| true);
     relaxation_found(&diagnose(&r, "Static"), "Static");
 }
 
 #[test]
-#[ignore = "real data, minutes in release: see the module's command"]
 fn dynamic_sinusoids_lose_energy_with_rate() {
     let r = import("Dynamic_data.txt", |b| b.index == 1);
     let report = diagnose(&r, "Dynamic block 1");
