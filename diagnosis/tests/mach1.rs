@@ -4,43 +4,12 @@
 //! Hayes' and the Static holds, a rate-dependent loss in the Dynamic sinusoids.
 //! `cargo test -p diagnosis --test mach1 -- --nocapture` (about a second each, in the test run)
 
-use std::io::Read;
+#[path = "support/mach1_zip.rs"]
+mod mach1_zip;
 
 use diagnosis::output::Report;
-use recording::import::{self, mach1, ImportMeta};
+use mach1_zip::import;
 use recording::Recording;
-
-const ZIP: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/real-data/mach1/examples.zip"
-);
-
-/// Block `pick` of `name` in the examples zip, as `tactile import FILE --block N` writes it.
-fn import(name: &str, pick: impl Fn(&mach1::Block) -> bool) -> Recording {
-    let file = std::fs::File::open(ZIP).unwrap_or_else(|e| {
-        panic!("{ZIP}: {e}: the Mach-1 examples must sit in shared/real-data/mach1/ beside the checkout")
-    });
-    let mut zip = zip::ZipArchive::new(file).expect("examples.zip is a zip archive");
-    let mut raw = Vec::new();
-    zip.by_name(name)
-        .unwrap_or_else(|e| panic!("{name} in {ZIP}: {e}"))
-        .read_to_end(&mut raw)
-        .expect("read");
-    let text: String = raw.iter().map(|&b| char::from(b)).collect();
-    let blocks = mach1::parse(&text, name).unwrap_or_else(|e| panic!("{e}"));
-    let block = blocks.iter().find(|b| pick(b)).expect("the block");
-    let meta = ImportMeta {
-        // As `tactile import` writes it when the indenter is unknown: the fingertip's radius.
-        fingertip_radius_mm: hardware::Params::load_default()
-            .expect("hardware")
-            .fingertip
-            .radius_mm,
-        gain: [1100.0, 110.0, 110.0],
-        excitation_v: 3.3,
-        source: format!("Mach-1 export {name}, block {}", block.index),
-    };
-    import::to_recording(&block.to_export(), &meta, name).unwrap_or_else(|e| panic!("{e}"))
-}
 
 fn diagnose(rec: &Recording, label: &str) -> Report {
     let hw = hardware::Params::load_default().expect("hardware");

@@ -3,41 +3,13 @@
 //! holds, Dynamic's sinusoids over a large preload. Both at the full rate with the load and on
 //! the decimated series the diagnosis fits. Run with `--nocapture` to see the segments.
 
-use std::io::Read;
+#[path = "support/mach1_zip.rs"]
+mod mach1_zip;
 
 use diagnosis::data::Data;
 use diagnosis::regimes::{self, HeldoutKind, Protocol, Regime, Segment};
-use recording::import::{self, mach1, ImportMeta};
+use mach1_zip::{blocks, recording};
 use recording::Recording;
-
-const ZIP: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/real-data/mach1/examples.zip"
-);
-
-/// The blocks of `name` in the examples zip; fails loudly if the data is absent.
-fn blocks(name: &str) -> Vec<mach1::Block> {
-    let file = std::fs::File::open(ZIP).unwrap_or_else(|e| {
-        panic!("{ZIP}: {e}: the Mach-1 examples must sit in shared/real-data/mach1/ beside the checkout")
-    });
-    let mut zip = zip::ZipArchive::new(file).expect("examples.zip is a zip archive");
-    let mut entry = zip.by_name(name).expect("the file in the zip");
-    let mut raw = Vec::new();
-    entry.read_to_end(&mut raw).unwrap();
-    let text: String = raw.iter().map(|&b| char::from(b)).collect();
-    mach1::parse(&text, name).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The block imported as a recording.
-fn recording(block: &mach1::Block, name: &str) -> Recording {
-    let meta = ImportMeta {
-        fingertip_radius_mm: 1.0,
-        gain: [1100.0, 110.0, 110.0],
-        excitation_v: 3.3,
-        source: format!("Mach-1 export {name}, block {}", block.index),
-    };
-    import::to_recording(&block.to_export(), &meta, name).unwrap()
-}
 
 /// Regimes at the full rate with the load, as `Data` carries them onto the decimated series,
 /// and detected on the decimated series from the rod alone (as the pipeline calls it today);
