@@ -39,3 +39,13 @@ say "pytest python/tests"
 
 say "example: python/examples/diagnose.py"
 "$py" python/examples/diagnose.py --png target/py-example-diagnosis.png
+
+# Outside the test venv, a user's `pip install ./python && python python/examples/diagnose.py`
+# uses the default interpreter: pip brings the package's own dependencies (numpy, pandas), and
+# the example's plotting library is installed here, once. An interpreter that refuses pip
+# installs (PEP 668) only gets a note: the user's venv is then theirs to set up.
+if ! python3 -c "import matplotlib" 2>/dev/null; then
+    say "python3 -m pip install matplotlib (for the example outside the venv)"
+    python3 -m pip install --quiet matplotlib ||
+        say "could not install matplotlib for python3: install it to run the example outside target/py-venv"
+fi
