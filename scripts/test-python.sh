@@ -14,6 +14,8 @@ if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
 py="$venv/bin/python"
+# The interpreter a user's plain `pip install ./python` goes to (before the venv shadows it).
+user_python="$(command -v python3)"
 # maturin's build backend runs the `maturin` found on PATH: the venv's.
 export PATH="$PWD/$venv/bin:$PATH"
 
@@ -44,8 +46,8 @@ say "example: python/examples/diagnose.py"
 # uses the default interpreter: pip brings the package's own dependencies (numpy, pandas), and
 # the example's plotting library is installed here, once. An interpreter that refuses pip
 # installs (PEP 668) only gets a note: the user's venv is then theirs to set up.
-if ! python3 -c "import matplotlib" 2>/dev/null; then
-    say "python3 -m pip install matplotlib (for the example outside the venv)"
-    python3 -m pip install --quiet matplotlib ||
+if ! "$user_python" -c "import matplotlib" 2>/dev/null; then
+    say "$user_python -m pip install matplotlib (for the example outside the venv)"
+    "$user_python" -m pip install --quiet matplotlib ||
         say "could not install matplotlib for python3: install it to run the example outside target/py-venv"
 fi
