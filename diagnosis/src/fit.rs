@@ -46,7 +46,8 @@ pub struct ParamSpec {
     pub log: bool,
 }
 
-fn spec(
+/// A parameter's coding; shared with the effects' codings in [`super::specs`].
+pub(crate) fn spec(
     name: &'static str,
     lower: f64,
     upper: f64,

@@ -9,7 +9,7 @@
 
 use sim::effects::EffectKind;
 
-use crate::fit::ParamSpec;
+use crate::fit::{spec, ParamSpec};
 
 /// Longest relaxation time a fit may report: real elastomers relax over 1e2 to 1e5 s.
 pub const MAX_RELAXATION_TAU_S: f64 = 1e5;
@@ -19,24 +19,6 @@ pub const MIN_TAU_S: f64 = 0.05;
 /// AC coupling slower than 1e7 s (four months) is DC coupling over any recording this tool
 /// reads (under 0.01 % sag per 1000 s); that end of the range is the effect's identity.
 pub const MAX_COUPLING_TAU_S: f64 = 1e7;
-
-fn spec(
-    name: &'static str,
-    lower: f64,
-    upper: f64,
-    step: f64,
-    starts: &[f64],
-    log: bool,
-) -> ParamSpec {
-    ParamSpec {
-        name,
-        lower,
-        upper,
-        step,
-        starts: starts.to_vec(),
-        log,
-    }
-}
 
 /// Coding of each effect's parameters, in catalogue order. `chip_peak_v` is the largest
 /// recorded output magnitude (the saturation start and upper bound).

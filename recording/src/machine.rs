@@ -111,8 +111,9 @@ impl MachineExportError {
     }
 }
 
-/// Read the export at `path` (at most [`Limits::DEFAULT`]`.max_bytes`, read whole).
-pub fn read(path: &Path) -> Result<MachineExport, MachineExportError> {
+/// The path as named in errors and the bytes of the file at `path`, refused when larger than
+/// [`Limits::DEFAULT`]`.max_bytes` (checked before reading).
+pub(crate) fn read_bounded(path: &Path) -> Result<(String, Vec<u8>), MachineExportError> {
     let name = path.display().to_string();
     let io = |source| MachineExportError::Io {
         path: name.clone(),
@@ -128,6 +129,12 @@ pub fn read(path: &Path) -> Result<MachineExport, MachineExportError> {
         });
     }
     let raw = std::fs::read(path).map_err(io)?;
+    Ok((name, raw))
+}
+
+/// Read the export at `path` (at most [`Limits::DEFAULT`]`.max_bytes`, read whole).
+pub fn read(path: &Path) -> Result<MachineExport, MachineExportError> {
+    let (name, raw) = read_bounded(path)?;
     match std::str::from_utf8(&raw) {
         Ok(text) => parse_named(text, &name),
         Err(e) => Err(MachineExportError::Malformed {

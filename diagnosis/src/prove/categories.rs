@@ -173,14 +173,7 @@ pub fn table(labelled: &[Labelled], scores: &[Score]) -> String {
     let mut out = String::from(
         "| category | recordings | effect set right | false alarms | held-out after/before (with an effect) | passes |\n|---|---|---|---|---|---|\n",
     );
-    for category in Category::ALL {
-        let of: Vec<Score> = labelled
-            .iter()
-            .zip(scores)
-            .filter(|(l, _)| l.category == category)
-            .map(|(_, s)| s.clone())
-            .collect();
-        let s = Summary::of(&of);
+    for (category, s) in summaries(labelled, scores) {
         let _ = writeln!(
             out,
             "| {} | {} | {:.0} % | {} of {} | {:.3} | {} |",
@@ -198,15 +191,25 @@ pub fn table(labelled: &[Labelled], scores: &[Score]) -> String {
 
 /// Every category passes [`category_passes`].
 pub fn all_pass(labelled: &[Labelled], scores: &[Score]) -> bool {
-    Category::ALL.iter().all(|&category| {
-        let of: Vec<Score> = labelled
-            .iter()
-            .zip(scores)
-            .filter(|(l, _)| l.category == category)
-            .map(|(_, s)| s.clone())
-            .collect();
-        category_passes(&Summary::of(&of))
-    })
+    summaries(labelled, scores)
+        .iter()
+        .all(|(_, s)| category_passes(s))
+}
+
+/// The acceptance figures of each category's recordings.
+fn summaries(labelled: &[Labelled], scores: &[Score]) -> Vec<(Category, Summary)> {
+    Category::ALL
+        .iter()
+        .map(|&category| {
+            let of: Vec<Score> = labelled
+                .iter()
+                .zip(scores)
+                .filter(|(l, _)| l.category == category)
+                .map(|(_, s)| s.clone())
+                .collect();
+            (category, Summary::of(&of))
+        })
+        .collect()
 }
 
 /// The bar for a category: 90 % of effect sets right, no false alarm, held-out misfit

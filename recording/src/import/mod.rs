@@ -11,7 +11,7 @@ pub mod machine_csv;
 use std::path::Path;
 
 use crate::machine::{MachineExport, MachineExportError};
-use crate::{Channels, Limits, Meta, Recording};
+use crate::{Channels, Meta, Recording};
 
 /// What the imported file cannot say: the indenter and the front end written into the metadata.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,24 +80,11 @@ pub fn median_step_s(t_s: &[f64]) -> Option<f64> {
     Some(steps[steps.len() / 2])
 }
 
-/// The text of the file at `path`, read whole (at most [`Limits::DEFAULT`]`.max_bytes`): UTF-8
-/// if it is valid UTF-8, otherwise Latin-1 (the instruments' exports are Latin-1).
+/// The text of the file at `path`, read whole (at most
+/// [`crate::Limits::DEFAULT`]`.max_bytes`): UTF-8 if it is valid UTF-8, otherwise Latin-1 (the
+/// instruments' exports are Latin-1).
 pub fn read_text(path: &Path) -> Result<String, MachineExportError> {
-    let name = path.display().to_string();
-    let io = |source| MachineExportError::Io {
-        path: name.clone(),
-        source,
-    };
-    let bytes = std::fs::metadata(path).map_err(io)?.len();
-    let limit_bytes = Limits::DEFAULT.max_bytes;
-    if bytes > limit_bytes {
-        return Err(MachineExportError::TooLarge {
-            path: name,
-            bytes,
-            limit_bytes,
-        });
-    }
-    let raw = std::fs::read(path).map_err(io)?;
+    let (_, raw) = crate::machine::read_bounded(path)?;
     Ok(match String::from_utf8(raw) {
         Ok(text) => text,
         Err(e) => e.into_bytes().iter().map(|&b| char::from(b)).collect(),
