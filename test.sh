@@ -8,6 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 start=$(date +%s)
+# A one-off build gains nothing from incremental state; it only costs disk (gigabytes here).
+export CARGO_INCREMENTAL=0
 
 bash scripts/setup.sh
 
