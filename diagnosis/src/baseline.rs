@@ -179,7 +179,8 @@ impl FrontEnd {
     }
 }
 
-/// The baseline's free parameters, calibrated by the diagnosis.
+/// The baseline's free parameters, calibrated by the diagnosis within the bounds of
+/// `hardware/calibration.toml`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BaselineParams {
     pub youngs_modulus_pa: f64,
@@ -188,11 +189,18 @@ pub struct BaselineParams {
     /// Curvature of ln F against ln(rod travel): a force law whose local exponent itself changes
     /// with indentation (finite thickness, contact growth), F ~ (d/d_max)^(shift + k ln(d/d_max)).
     pub exponent_curvature: f64,
-    /// Sensitivity scale of the Fz channel against the nominal front end.
-    pub scale_fz: f64,
-    /// Sensitivity scale of both moment channels (identical bridges).
-    pub scale_moment: f64,
-    /// Azimuth correction: rotation of the moment vector, deg.
+    /// Sensitivity scales of the Fz, Mx and My channels against the nominal front end (each
+    /// output's own gain: a recording's metadata gains may each be wrong).
+    pub scale: [f64; 3],
+    /// Each output's map from the load against the FE's own: chip output x (F / F_max)^s, the
+    /// package's share of the load and the moment arm changing with the load [Fz, Mx, My].
+    pub share_exponent: [f64; 3],
+    /// Each output's map between the FE's (0) and one linear in the load (1): the FE's own
+    /// departure from proportional, r(F) = (chip / F) / (chip / F)_max, raised to 1 - b.
+    pub map_blend: [f64; 3],
+    /// Rotation of the moment vector, deg: the jig's mounting error. Data only (the proof's
+    /// truth); the fit leaves it at 0, since in a one-direction test the two moment scales
+    /// carry the same rotation.
     pub azimuth_shift_deg: f64,
     /// Offsets of load_N, fz_V, mx_V, my_V.
     pub offset: [f64; 4],
@@ -201,7 +209,7 @@ pub struct BaselineParams {
 impl BaselineParams {
     /// The sensitivity scales of the three output channels [Fz, Mx, My].
     pub fn scales(&self) -> [f64; 3] {
-        [self.scale_fz, self.scale_moment, self.scale_moment]
+        self.scale
     }
 
     /// The nominal model at modulus `youngs_modulus_pa`: no deviation, no offset.
@@ -210,15 +218,16 @@ impl BaselineParams {
             youngs_modulus_pa,
             exponent_shift: 0.0,
             exponent_curvature: 0.0,
-            scale_fz: 1.0,
-            scale_moment: 1.0,
+            scale: [1.0; 3],
+            share_exponent: [0.0; 3],
+            map_blend: [0.0; 3],
             azimuth_shift_deg: 0.0,
             offset: [0.0; 4],
         }
     }
 }
 
-/// ln of the smallest relative rod travel the force-law warp distinguishes.
+/// ln of the smallest relative rod travel (and load) the force-law and share warps distinguish.
 const MIN_LN_REL_ROD: f64 = -4.605_170_185_988_091; // ln(0.01)
 
 /// The drive of one evaluation: a time base and the unit response at each time.
@@ -228,6 +237,12 @@ pub struct Drive {
     pub unit: Vec<UnitResponse>,
     /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
     ln_rel_rod: Vec<f64>,
+    /// ln(F / F_max) of the unit response where in contact (for the outputs' share exponents),
+    /// 0 elsewhere.
+    ln_rel_force: Vec<f64>,
+    /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
+    /// full load (for the outputs' map blend), 0 out of contact.
+    ln_map_departure: Vec<[f64; 3]>,
     /// Measured temperature at each time, for a drift regressed on it.
     pub temp_c: Option<Vec<f64>>,
 }
@@ -235,7 +250,7 @@ pub struct Drive {
 impl Drive {
     pub fn new(model: &dyn FingertipResponse, t_s: Vec<f64>, rod_mm: &[f64]) -> Self {
         let rod_max = rod_mm.iter().cloned().fold(0.0, f64::max);
-        let unit = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
+        let unit: Vec<UnitResponse> = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
         let ln_rel_rod = rod_mm
             .iter()
             // Frozen below 1 % of the largest travel: the warp must stay bounded as d -> 0 (a
@@ -248,11 +263,35 @@ impl Drive {
                 }
             })
             .collect();
+        let force_max = unit.iter().map(|u| u.force_n).fold(0.0, f64::max);
+        let ln_rel_force = unit
+            .iter()
+            .map(|u| {
+                if u.force_n > 0.0 && force_max > 0.0 {
+                    (u.force_n / force_max).ln().max(MIN_LN_REL_ROD)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let ln_map_departure = map_departure(&unit);
         Self {
             t_s,
             unit,
             ln_rel_rod,
+            ln_rel_force,
+            ln_map_departure,
             temp_c: None,
+        }
+    }
+
+    /// The map blend's factor of output `k` at sample `i` for blend `b`.
+    fn blend(&self, i: usize, k: usize, b: f64) -> f64 {
+        let e = -b * self.ln_map_departure[i][k];
+        if e != 0.0 {
+            e.exp()
+        } else {
+            1.0
         }
     }
 
@@ -268,6 +307,31 @@ impl Drive {
     pub fn is_empty(&self) -> bool {
         self.t_s.is_empty()
     }
+}
+
+/// Largest |ln r| of an output's departure from linear: beyond a decade the ratio is of two
+/// numbers near zero (a moment at no inclination), not a map.
+const MAX_LN_DEPARTURE: f64 = std::f64::consts::LN_10;
+
+/// ln r(F) = ln[(chip / F) / (chip / F) at the largest load] of each output at each sample; 0
+/// below 1 % of the largest load, where the ratio is of numbers near zero.
+fn map_departure(unit: &[UnitResponse]) -> Vec<[f64; 3]> {
+    let Some(top) = unit.iter().max_by(|a, b| a.force_n.total_cmp(&b.force_n)) else {
+        return Vec::new();
+    };
+    unit.iter()
+        .map(|u| {
+            std::array::from_fn(|k| {
+                let (r, r_top) = (u.chip[k] / u.force_n, top.chip[k] / top.force_n);
+                let ratio = r / r_top;
+                if u.force_n > 0.01 * top.force_n && ratio > 0.0 && ratio.is_finite() {
+                    ratio.ln().clamp(-MAX_LN_DEPARTURE, MAX_LN_DEPARTURE)
+                } else {
+                    0.0
+                }
+            })
+        })
+        .collect()
 }
 
 /// Model output: load and the three output voltages on the drive's time base.
@@ -305,12 +369,19 @@ pub fn evaluate(
     let mut load = Vec::with_capacity(n);
     let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
-    for (u, &l) in drive.unit.iter().zip(&drive.ln_rel_rod) {
+    let warped = drive.unit.iter().zip(&drive.ln_rel_rod);
+    for (i, ((u, &l), &lf)) in warped.zip(&drive.ln_rel_force).enumerate() {
         let warp = p.exponent_shift * l + p.exponent_curvature * l * l;
         let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
-        let (mx, my) = (u.chip[1] * w, u.chip[2] * w);
-        chip[0].push(u.chip[0] * w);
+        // ln(F / F_max) of the warped load: the share exponents act on the load itself.
+        let share = |k: usize| {
+            let e = p.share_exponent[k] * (lf + warp);
+            let power = if e != 0.0 { e.exp() } else { 1.0 };
+            power * drive.blend(i, k, p.map_blend[k])
+        };
+        let (mx, my) = (u.chip[1] * w * share(1), u.chip[2] * w * share(2));
+        chip[0].push(u.chip[0] * w * share(0));
         chip[1].push(mx * c - my * s);
         chip[2].push(mx * s + my * c);
     }

@@ -132,7 +132,7 @@ impl<'s, 'a> Candidate<'s, 'a> {
             model.pin_starts(e, &nested.fitted.full[at..at + n]);
             at += n;
         }
-        let own = starts(kind, &model.specs()[at..], nested.fitted.full[4], seeds);
+        let own = starts(kind, &model.specs()[at..], seeds);
         model.pin_starts(kinds.len() - 1, &own[0]);
         let neutral_full = [nested.fitted.full.as_slice(), &own[0]].concat();
         for other in &own[1..] {

@@ -1,8 +1,10 @@
 //! The calibration problem: the baseline's free parameters plus the parameters of a set of
 //! catalogue effects, fitted by least squares to the decimated recording on the fitting stretch.
 //!
-//! Parameter vector (internal coordinates): ln E, exponent shift, Fz scale, moment scale,
-//! azimuth shift (deg), four offsets, exponent curvature, then each effect's parameters (time constants as ln tau).
+//! Parameter vector (internal coordinates): ln E, exponent shift, the Fz, Mx and My scales, four
+//! offsets, exponent curvature, the three outputs' share exponents and map blends, then each
+//! effect's
+//! parameters (time constants as ln tau). The baseline's bounds are `hardware/calibration.toml`.
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
 //! chi-square in noise units and channels of any unit mix.
 
@@ -14,9 +16,15 @@ use super::lm::{self, Problem, Solution};
 use super::specs::effect_specs;
 
 /// Number of baseline parameters at the head of the vector.
-pub const N_BASE: usize = 10;
-/// How far the azimuth may be corrected: the jig's mounting accuracy.
-pub const AZIMUTH_TOLERANCE_DEG: f64 = 3.0;
+pub const N_BASE: usize = 16;
+/// Index of the first output scale [Fz, Mx, My] in the parameter vector.
+pub const SCALE_AT: usize = 2;
+/// Index of the first offset [load, Fz, Mx, My].
+pub const OFFSET_AT: usize = 5;
+/// Index of the first share exponent [Fz, Mx, My].
+pub const SHARE_AT: usize = 10;
+/// Index of the first map blend [Fz, Mx, My].
+pub const BLEND_AT: usize = 13;
 
 /// What stays fixed for all fits of one recording.
 pub struct Setup<'a> {
@@ -32,6 +40,8 @@ pub struct Setup<'a> {
     /// A usable measured temperature: `thermal_drift` is then regressed on it, with the
     /// warm-up time constant the temperature shows (see [`super::temperature`]).
     pub thermal: Option<super::temperature::ThermalFit>,
+    /// How far the baseline may be calibrated (`hardware/calibration.toml`).
+    pub calibration: hardware::Calibration,
 }
 
 /// One parameter's coding: bounds, finite-difference step and starting values (internal units).
@@ -85,12 +95,12 @@ impl<'s, 'a> Model<'s, 'a> {
         for &k in kinds {
             specs.extend(effect_specs(k, chip_peak));
         }
-        let mut fixed = vec![None; specs.len()];
-        // A chip rotation and an azimuth error are the same rotation of the moment vector:
-        // with crosstalk in the model the azimuth stays nominal.
-        if kinds.contains(&EffectKind::Crosstalk) {
-            fixed[4] = Some(0.0);
-        }
+        // A parameter whose bounds coincide (a calibration switched off in
+        // `hardware/calibration.toml`) is held there, not fitted.
+        let mut fixed: Vec<Option<f64>> = specs
+            .iter()
+            .map(|s| (s.lower == s.upper).then_some(s.lower))
+            .collect();
         // Regressed on the measured temperature, the drift's time constant is the temperature's.
         if let (Some(th), Some(at)) = (
             setup.thermal,
@@ -100,7 +110,13 @@ impl<'s, 'a> Model<'s, 'a> {
         }
         for (c, used) in setup.used.iter().enumerate() {
             if !used {
-                fixed[5 + c] = Some(0.0);
+                fixed[OFFSET_AT + c] = Some(0.0);
+                // An output not compared has no scale or shape to calibrate.
+                if c > 0 {
+                    fixed[SCALE_AT + c - 1] = Some(base[SCALE_AT + c - 1]);
+                    fixed[SHARE_AT + c - 1] = Some(0.0);
+                    fixed[BLEND_AT + c - 1] = Some(0.0);
+                }
             }
         }
         Self {
@@ -188,13 +204,15 @@ impl<'s, 'a> Model<'s, 'a> {
 
     /// Baseline parameters and effect chain of a full parameter vector.
     pub fn decode(&self, full: &[f64]) -> (BaselineParams, Chain) {
+        let at = |i: usize| -> [f64; 3] { [full[i], full[i + 1], full[i + 2]] };
         let base = BaselineParams {
             youngs_modulus_pa: full[0].exp(),
             exponent_shift: full[1],
-            scale_fz: full[2],
-            scale_moment: full[3],
-            azimuth_shift_deg: full[4],
-            offset: [full[5], full[6], full[7], full[8]],
+            scale: at(SCALE_AT),
+            share_exponent: at(SHARE_AT),
+            map_blend: at(BLEND_AT),
+            azimuth_shift_deg: 0.0,
+            offset: std::array::from_fn(|c| full[OFFSET_AT + c]),
             exponent_curvature: full[9],
         };
         let mut effects = Vec::new();
@@ -343,68 +361,66 @@ pub struct Fitted {
 }
 
 /// Baseline coding; `base` gives the starting values (from [`initial_baseline`] or a previous
-/// fit).
+/// fit). The bounds and their reasons are `hardware/calibration.toml`.
 fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
-    let r = setup.data.range;
-    let scale_step = |v: f64| 1e-6 * v.abs().max(1e-3);
-    // An offset may reach ten times the channel's recorded range.
-    let offset = |name, c: usize| {
-        let range = r[c].max(1e-9);
-        spec(
-            name,
-            -10.0 * range,
-            10.0 * range,
-            1e-6 * range,
-            &[base[5 + c]],
-            false,
-        )
+    let (r, cal) = (setup.data.range, &setup.calibration);
+    let scale = |name, c: usize| {
+        let v = base[SCALE_AT + c];
+        let step = 1e-6 * v.abs().max(1e-3);
+        spec(name, -cal.scale_max, cal.scale_max, step, &[v], false)
     };
-    // Bounds: ln E within 8 (a factor 3000) of its start only keeps the fit finite, a modulus
-    // is whatever the load cell says; the exponent shift keeps the force law between a power
-    // of about 0.8 (flatter than a flat punch's 1) and 3 (a thin layer's stiffening) around
-    // the FE's; the scales may take any sign and size a metadata gain can be wrong by (1e3);
-    // the azimuth moves within the jig's accuracy; the exponent curvature (+-0.5 per unit of ln
-    // travel squared) bends the FE's shape, it does not replace it: beyond, the recording
-    // needs another contact law, and the parameter's `at_bound` says so.
+    let offset = |name, c: usize| {
+        let bound = cal.offset_range_factor * r[c].max(1e-9);
+        let (start, step) = (base[OFFSET_AT + c], 1e-6 * r[c].max(1e-9));
+        spec(name, -bound, bound, step, &[start], false)
+    };
+    let share = |name, c: usize| {
+        let bound = cal.share_exponent_max()[c];
+        spec(name, -bound, bound, 1e-5, &[base[SHARE_AT + c]], false)
+    };
+    let blend = |name, c: usize| {
+        let (lo, hi) = (cal.map_blend_min, cal.map_blend_max);
+        spec(name, lo, hi, 1e-5, &[base[BLEND_AT + c]], false)
+    };
+    let (ln_e, curvature) = (base[0], cal.exponent_curvature_max);
     vec![
         spec(
             "youngs_modulus_Pa",
-            base[0] - 8.0,
-            base[0] + 8.0,
+            ln_e - cal.modulus_ln_range,
+            ln_e + cal.modulus_ln_range,
             1e-5,
-            &[base[0]],
+            &[ln_e],
             true,
         ),
-        spec("exponent_shift", -0.7, 1.5, 1e-5, &[base[1]], false),
         spec(
-            "scale_fz",
-            -1e3,
-            1e3,
-            scale_step(base[2]),
-            &[base[2]],
+            "exponent_shift",
+            cal.exponent_shift_min,
+            cal.exponent_shift_max,
+            1e-5,
+            &[base[1]],
             false,
         ),
-        spec(
-            "scale_moment",
-            -1e3,
-            1e3,
-            scale_step(base[3]),
-            &[base[3]],
-            false,
-        ),
-        spec(
-            "azimuth_shift_deg",
-            -AZIMUTH_TOLERANCE_DEG,
-            AZIMUTH_TOLERANCE_DEG,
-            1e-3,
-            &[base[4]],
-            false,
-        ),
+        scale("scale_fz", 0),
+        scale("scale_mx", 1),
+        scale("scale_my", 2),
         offset("offset_load_N", 0),
         offset("offset_fz_V", 1),
         offset("offset_mx_V", 2),
         offset("offset_my_V", 3),
-        spec("exponent_curvature", -0.5, 0.5, 1e-5, &[base[9]], false),
+        spec(
+            "exponent_curvature",
+            -curvature,
+            curvature,
+            1e-5,
+            &[base[9]],
+            false,
+        ),
+        share("share_exponent_fz", 0),
+        share("share_exponent_mx", 1),
+        share("share_exponent_my", 2),
+        blend("map_blend_fz", 0),
+        blend("map_blend_mx", 1),
+        blend("map_blend_my", 2),
     ]
 }
 
@@ -436,30 +452,20 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
         setup.contact_angle_deg,
         None,
     );
-    let s_fz = ls(&|k| nominal.volts[0][k], &d.y[1]);
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for c in 1..3 {
-        for k in 0..d.len() {
-            if setup.fit_mask[k] {
-                sxy += nominal.volts[c][k] * d.y[c + 1][k];
-                sxx += nominal.volts[c][k].powi(2);
-            }
+    let scales: [f64; 3] = std::array::from_fn(|c| {
+        let s = ls(&|k| nominal.volts[c][k], &d.y[c + 1]);
+        if s != 0.0 && s.is_finite() {
+            s
+        } else {
+            1.0
         }
-    }
-    let s_m = if sxx > 0.0 { sxy / sxx } else { 1.0 };
+    });
     let rest = rest_offsets(d);
-    vec![
-        e.ln(),
-        0.0,
-        if s_fz != 0.0 { s_fz } else { 1.0 },
-        if s_m != 0.0 { s_m } else { 1.0 },
-        0.0,
-        rest[0],
-        rest[1],
-        rest[2],
-        rest[3],
-        0.0,
-    ]
+    let mut v = vec![e.ln(), 0.0];
+    v.extend(scales);
+    v.extend(rest);
+    v.extend([0.0; 7]);
+    v
 }
 
 /// Mean of each channel over the samples before the rod first touches.

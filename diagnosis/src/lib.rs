@@ -31,6 +31,7 @@ pub mod specs;
 pub mod standard_test;
 pub mod synth;
 pub mod temperature;
+pub mod undecided;
 
 pub mod prove;
 pub mod report;

@@ -131,6 +131,20 @@ pub struct Localisation {
     pub lines: Vec<(f64, f64, f64)>,
 }
 
+/// Effects the recording cannot tell from a calibration: the data show the deviation, but the
+/// same misfit is a baseline parameter's (extra field; see [`crate::undecided`]).
+#[derive(Debug, Clone, DeriveSerialize)]
+pub struct Undecided {
+    /// The catalogue effects it could be.
+    pub effects: Vec<String>,
+    /// The calibration parameters that produce the same output.
+    pub calibration: Vec<String>,
+    /// The deviation, in the effect's and the calibration's terms.
+    pub params: Numbers,
+    /// Why the recording cannot decide, and what would, in words.
+    pub reason: String,
+}
+
 #[derive(Debug, Clone, DeriveSerialize)]
 pub struct Report {
     pub format: &'static str,
@@ -139,6 +153,9 @@ pub struct Report {
     pub baseline: Baseline,
     pub mismatches: Vec<Mismatch>,
     pub effects: Vec<EffectReport>,
+    /// What the recording shows but cannot attribute (extra field).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub undecided: Vec<Undecided>,
     pub fit: Fit,
     pub localisation: Localisation,
     pub candidates: Vec<CandidateReport>,

@@ -21,13 +21,19 @@ const BASELINE: [(&str, &str); N_BASE] = [
     ("youngs_modulus_Pa", "Pa"),
     ("force_exponent_shift", "1"),
     ("scale_fz", "1"),
-    ("scale_moment", "1"),
-    ("azimuth_shift_deg", "deg"),
+    ("scale_mx", "1"),
+    ("scale_my", "1"),
     ("offset_load_N", "N"),
     ("offset_fz_V", "V"),
     ("offset_mx_V", "V"),
     ("offset_my_V", "V"),
     ("force_exponent_curvature", "1"),
+    ("share_exponent_fz", "1"),
+    ("share_exponent_mx", "1"),
+    ("share_exponent_my", "1"),
+    ("map_blend_fz", "1"),
+    ("map_blend_mx", "1"),
+    ("map_blend_my", "1"),
 ];
 
 /// Lag-1 correlation of the fit's weighted residual (inflates the standard errors).
@@ -98,13 +104,24 @@ fn fmt(v: f64) -> String {
     }
 }
 
+/// The one recording channel a baseline parameter calibrates (none for the contact law).
+fn channel_of(i: usize) -> Option<usize> {
+    match i {
+        2..=4 => Some(i - 1),
+        5..=8 => Some(i - 5),
+        10..=12 => Some(i - 9),
+        13..=15 => Some(i - 12),
+        _ => None,
+    }
+}
+
 /// Every calibration parameter of the baseline in full (the compared channels' offsets only).
 pub fn baseline(base: &Candidate, data: &Data) -> Vec<ParamDetail> {
     let rho = residual_rho(base);
     BASELINE
         .iter()
         .enumerate()
-        .filter(|(i, _)| !(5..9).contains(i) || base.model.setup.used[i - 5])
+        .filter(|(i, _)| channel_of(*i).is_none_or(|c| base.model.setup.used[c]))
         .map(|(i, (name, u))| detail(base, i, name, u, rho, data))
         .collect()
 }

@@ -17,14 +17,14 @@ use crate::baseline::{Drive, FrontEnd, Outputs};
 use crate::candidate::{heldout_needed, Candidate, MIN_BIC_GAIN};
 use crate::data::{Data, DataError, CHANNELS};
 use crate::fe_response::{AngleBlend, FeSource};
-use crate::fit::Setup;
+use crate::fit::{Setup, BLEND_AT, OFFSET_AT, SCALE_AT, SHARE_AT};
 use crate::localise::{self, ChannelLocalisation, Mismatch};
 use crate::mains::{self, Line};
 use crate::output::*;
 use crate::preconditions::Protocol;
 use crate::regimes::{self, Segment};
 use crate::select::select;
-use crate::{evidence, params};
+use crate::{evidence, params, undecided};
 
 /// Told after each candidate model is fitted: (candidates fitted so far, candidates in all).
 pub type Progress = dyn Fn(usize, usize) + Send + Sync;
@@ -36,6 +36,8 @@ pub struct Options {
     pub fe: FeSource,
     /// The chip's bridge output per volt of excitation per unit load (the `chip` crate).
     pub sensitivity_per_v: [[f64; 3]; 3],
+    /// How far the baseline may be calibrated (`hardware/calibration.toml`).
+    pub calibration: hardware::Calibration,
     /// Called as the candidate models are fitted (a progress bar, say).
     pub progress: Option<Arc<Progress>>,
 }
@@ -59,6 +61,7 @@ impl Options {
         Ok(Self {
             fe: FeSource::from_hardware(hw)?,
             sensitivity_per_v: fe.signal.sensitivity_per_v,
+            calibration: hw.calibration.clone(),
             progress: None,
         })
     }
@@ -113,6 +116,10 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         &stretches.segments,
         setup.used,
         setup.thermal.is_some(),
+    )
+    .with_moment_direction(
+        moment_direction(&setup.drive),
+        setup.calibration.jig_azimuth_tolerance_deg,
     );
     let mains_allowed = protocol.allows(EffectKind::MainsInterference).is_ok();
     let sel = select(&setup, protocol, opt.progress.as_deref());
@@ -132,6 +139,12 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
             .as_ref()
             .map(|line| evidence::mains_report(line, &data)),
     );
+    let ambiguous = moment_direction(&setup.drive)
+        .filter(|_| setup.used[2] && setup.used[3] && !named(&effects, EffectKind::Crosstalk))
+        .and_then(|phi| {
+            let details = params::baseline(chosen, &data);
+            undecided::crosstalk_or_gains(&details, phi, &setup.calibration)
+        });
     let report = Report {
         format: FORMAT,
         recording: name.to_string(),
@@ -143,6 +156,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         },
         mismatches: local.mismatches,
         effects,
+        undecided: ambiguous.into_iter().collect(),
         fit: full.fit,
         localisation: Localisation {
             channels: local.channels,
@@ -163,6 +177,21 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         used: setup.used,
     };
     Ok(Diagnosis { report, plots })
+}
+
+/// Whether `effects` names `kind`.
+fn named(effects: &[EffectReport], kind: EffectKind) -> bool {
+    effects.iter().any(|e| e.name == kind.name())
+}
+
+/// The direction atan2(My, Mx) of the baseline's chip moment at the drive's largest moment.
+fn moment_direction(drive: &Drive) -> Option<f64> {
+    let m = drive.unit.iter().max_by(|a, b| {
+        a.chip[1]
+            .hypot(a.chip[2])
+            .total_cmp(&b.chip[1].hypot(b.chip[2]))
+    })?;
+    (m.chip[1] != 0.0 || m.chip[2] != 0.0).then(|| m.chip[2].atan2(m.chip[1]))
 }
 
 /// The regimes of the test (found at the full rate with the load, carried onto the decimated
@@ -211,6 +240,7 @@ fn calibration_setup<'a>(
         heldout_mask,
         used: std::array::from_fn(|c| data.range[c] > 10.0 * data.noise_full[c]),
         thermal,
+        calibration: opt.calibration.clone(),
     }
 }
 
@@ -519,11 +549,15 @@ fn baseline_params(base: &Candidate) -> Numbers {
     n.push("youngs_modulus_Pa", f[0].exp());
     n.push("force_exponent_shift", f[1]);
     n.push("force_exponent_curvature", f[9]);
-    n.push("scale_fz", f[2]);
-    n.push("scale_moment", f[3]);
-    n.push("azimuth_shift_deg", f[4]);
+    for (i, ch) in ["fz", "mx", "my"].iter().enumerate() {
+        n.push(&format!("scale_{ch}"), f[SCALE_AT + i]);
+    }
+    for (i, ch) in ["fz", "mx", "my"].iter().enumerate() {
+        n.push(&format!("share_exponent_{ch}"), f[SHARE_AT + i]);
+        n.push(&format!("map_blend_{ch}"), f[BLEND_AT + i]);
+    }
     for (i, ch) in CHANNELS.iter().enumerate() {
-        n.push(&format!("offset_{ch}"), f[5 + i]);
+        n.push(&format!("offset_{ch}"), f[OFFSET_AT + i]);
     }
     n
 }

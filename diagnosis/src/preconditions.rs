@@ -29,6 +29,9 @@ pub struct Protocol {
     pub used: [bool; 4],
     /// Full sample rate, Hz.
     pub sample_rate_hz: f64,
+    /// The baseline's moment vector lies off both moment axes (beyond the jig's mounting
+    /// accuracy), so the two calibrated moment scales can turn it as a rotated chip would.
+    pub moment_scales_turn: bool,
 }
 
 impl Protocol {
@@ -71,6 +74,21 @@ impl Protocol {
             temperature,
             used,
             sample_rate_hz,
+            moment_scales_turn: false,
+        }
+    }
+
+    /// The same protocol with the baseline's moment direction `phi_rad` (atan2(My, Mx)); a
+    /// direction within `tolerance_deg` of an axis leaves one moment channel near zero, which no
+    /// scale turns.
+    pub fn with_moment_direction(self, phi_rad: Option<f64>, tolerance_deg: f64) -> Self {
+        let off_axis = phi_rad.is_some_and(|phi| {
+            let (s, c) = phi.sin_cos();
+            s.abs().min(c.abs()) > tolerance_deg.to_radians().sin()
+        });
+        Self {
+            moment_scales_turn: off_axis,
+            ..self
         }
     }
 
@@ -93,6 +111,7 @@ impl Protocol {
             TimeOffset if !self.rate_change => Err("precondition: the rod speed never changes (a lag on a constant-speed ramp is a shift of the contact point, which calibration absorbs)".into()),
             ThermalDrift if !(self.rest || self.temperature) => Err("precondition: no stretch out of contact and no measured temperature (drift shows at rest, unrelated to load)".into()),
             Crosstalk | ContactFriction if !moments => Err("precondition: the two moment channels are not both measured".into()),
+            Crosstalk if self.moment_scales_turn => Err("precondition: one direction of load with the moment off both axes: a rotated chip is the two moment scales' ratio, which calibration absorbs (see `undecided`)".into()),
             MainsInterference if self.sample_rate_hz <= 2.0 * LOWEST_MAINS_HZ => Err(format!(
                 "precondition: sample rate {:.0} Hz cannot show a 45-65 Hz line (Nyquist {:.0} Hz)",
                 self.sample_rate_hz,

@@ -87,17 +87,10 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
 
 /// The starts of an effect added to a fitted model (internal units, one list of its parameters
 /// per start), the neutral one first: the values at which the effect is the identity, so the
-/// fit starts exactly at the model it extends. `azimuth_shift_deg` is that model's azimuth
-/// correction (with crosstalk in the model the azimuth is held nominal and the crosstalk angle
-/// carries the same rotation). `seeds` are where the same effect ended in other fits (alone, or
+/// fit starts exactly at the model it extends. `seeds` are where the same effect ended in other fits (alone, or
 /// a first Prony term's neighbours): a time constant starts there, at zero strength, which is
 /// still neutral; without seeds the catalogue starts are added.
-pub fn starts(
-    kind: EffectKind,
-    specs: &[ParamSpec],
-    azimuth_shift_deg: f64,
-    seeds: &[Vec<f64>],
-) -> Vec<Vec<f64>> {
+pub fn starts(kind: EffectKind, specs: &[ParamSpec], seeds: &[Vec<f64>]) -> Vec<Vec<f64>> {
     use EffectKind::*;
     let defaults = || -> Vec<Vec<f64>> {
         specs.iter().fold(vec![Vec::new()], |acc, s| {
@@ -134,9 +127,10 @@ pub fn starts(
             [vec![vec![specs[0].upper]], others].concat()
         }
         // One parameter, a cost smooth through the identity: the neutral start suffices.
-        Hysteresis | TimeOffset | BridgeNonlinearity | ContactFriction => vec![vec![0.0]],
+        Hysteresis | TimeOffset | BridgeNonlinearity | ContactFriction | Crosstalk => {
+            vec![vec![0.0]]
+        }
         Stiffening => vec![vec![1.0]],
-        Crosstalk => vec![vec![azimuth_shift_deg]],
         MainsInterference => vec![vec![specs[0].starts[0], 0.0]],
     }
 }

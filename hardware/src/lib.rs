@@ -1,5 +1,6 @@
 //! The one loader for every parameter of the sensor: `hardware/*.toml` (fingertip and gel, chip,
-//! front end, ADC, board), read and validated here and nowhere else.
+//! front end, ADC, board, the diagnosis's calibration bounds), read and validated here and
+//! nowhere else.
 //!
 //! Each file is read strictly: a missing key, a key nobody reads (usually a typo), a value of the
 //! wrong type or outside its physical range is an error that names the file, the key and the
@@ -12,6 +13,7 @@
 
 mod adc;
 mod board;
+mod calibration;
 mod chip;
 mod fingertip;
 mod frontend;
@@ -23,6 +25,7 @@ use std::path::{Path, PathBuf};
 
 pub use adc::{Adc, Crc, NOISE_TABLE_GAINS, NOISE_TABLE_OSR};
 pub use board::{Board, ClockSource};
+pub use calibration::Calibration;
 pub use chip::{Bridge as ChipBridge, Chip, Resistor as ChipResistor, ARM_NAMES, BRIDGE_NAMES};
 pub use fingertip::{CompressionTest, Fingertip};
 pub use frontend::{AntiAlias, Bridge, Frontend, GainStage, InAmp, TempSensor, Trim, BRIDGES};
@@ -45,6 +48,8 @@ pub struct Params {
     pub board: Board,
     /// The emulated sensor's own parameters (pillar, temperature warm-up).
     pub sim: Sim,
+    /// How far the diagnosis may calibrate the baseline model to a recording.
+    pub calibration: Calibration,
 }
 
 impl Params {
@@ -70,19 +75,28 @@ impl Params {
         let adc = collect(Adc::load(&dir.join("adc.toml")), &mut errors);
         let board = collect(Board::load(&dir.join("board.toml")), &mut errors);
         let sim = collect(Sim::load(&dir.join("sim.toml")), &mut errors);
-        match (fingertip, chip, frontend, adc, board, sim) {
-            (Some(fingertip), Some(chip), Some(frontend), Some(adc), Some(board), Some(sim))
-                if errors.is_empty() =>
-            {
-                Ok(Self {
-                    fingertip,
-                    chip,
-                    frontend,
-                    adc,
-                    board,
-                    sim,
-                })
-            }
+        let calibration = collect(
+            Calibration::load(&dir.join("calibration.toml")),
+            &mut errors,
+        );
+        match (fingertip, chip, frontend, adc, board, sim, calibration) {
+            (
+                Some(fingertip),
+                Some(chip),
+                Some(frontend),
+                Some(adc),
+                Some(board),
+                Some(sim),
+                Some(calibration),
+            ) if errors.is_empty() => Ok(Self {
+                fingertip,
+                chip,
+                frontend,
+                adc,
+                board,
+                sim,
+                calibration,
+            }),
             _ => Err(LoadError(errors)),
         }
     }

@@ -218,18 +218,21 @@ pub fn category_passes(s: &Summary) -> bool {
     s.correct_share >= 0.9 && s.false_alarms == 0 && s.heldout_ratio_mean <= 0.5
 }
 
-/// Every recording with its category, label, truth and what was found.
+/// Every recording with its case number (`prove-NN.csv` with `--write-recordings`), category,
+/// label, truth and what was found ("?": undecided against a calibration).
 pub fn details(labelled: &[Labelled], scores: &[Score]) -> String {
-    let mut out =
-        String::from("| category | varied | hidden | found | right |\n|---|---|---|---|---|\n");
+    let mut out = String::from(
+        "| case | category | varied | hidden | found | right |\n|---|---|---|---|---|---|\n",
+    );
     for (l, s) in labelled.iter().zip(scores) {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} |",
+            "| {:02} | {} | {} | {} | {} | {} |",
+            s.id,
             l.category.name(),
             l.label,
             s.truth.join(" + "),
-            s.found.join(" + "),
+            s.answer(" + "),
             if s.correct { "yes" } else { "**no**" },
         );
     }

@@ -56,14 +56,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     if args.write_recordings {
-        for c in &cases {
-            let path = args.out.join(format!("prove-{:02}.csv", c.id));
-            let file = std::fs::File::create(&path)
-                .with_context(|| format!("creating {}", path.display()))?;
-            c.recording
-                .write_to(file)
-                .with_context(|| format!("writing {}", path.display()))?;
-        }
+        write_recordings(&cases, &args.out)?;
     }
     let scores = score(&cases, &plan.options);
     let summary = Summary::of(&scores);
@@ -84,12 +77,28 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Each generated recording as `prove-NN.csv` in `out`.
+fn write_recordings(cases: &[diagnosis::prove::Case], out: &std::path::Path) -> anyhow::Result<()> {
+    for c in cases {
+        let path = out.join(format!("prove-{:02}.csv", c.id));
+        let file =
+            std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
+        c.recording
+            .write_to(file)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
 /// `--categories`: every category's recordings diagnosed blind, a row per category.
 fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
     let started = Instant::now();
     let (labelled, cases) = plan.generate_categories()?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
+    if args.write_recordings {
+        write_recordings(&cases, &args.out)?;
+    }
     let scores = score(&cases, &plan.options);
     let table = categories::table(&labelled, &scores);
     let details = categories::details(&labelled, &scores);
