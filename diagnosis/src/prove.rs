@@ -3,6 +3,7 @@
 //! varies: protocols, another model's baseline, three effects, nuisances.
 
 pub mod categories;
+pub mod real;
 
 use std::fmt::Write as _;
 

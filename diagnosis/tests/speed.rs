@@ -1,5 +1,6 @@
 //! Speed targets of the diagnosis, as ratios against their limits measured in this run (not timed
-//! asserts): reading a 300 s, 1 kHz recording (limit 1 s) and diagnosing it (limit 10 s).
+//! asserts): reading a 300 s, 1 kHz recording (limit 1 s) and diagnosing it (issue #16's goal:
+//! 5 s on 2 cores with the FE tables cached; the cold figure includes computing them).
 //! Run: `cargo test --release -p diagnosis --test speed -- --ignored --nocapture`.
 
 use std::time::Instant;
@@ -8,6 +9,9 @@ use diagnosis::baseline::{BaselineParams, FrontEnd};
 use diagnosis::fe_cache;
 use diagnosis::synth::{simulate, Noise, SimSpec};
 use sim::effects::Effect;
+
+/// Issue #16: 300 s at 1 kHz diagnosed in at most this, FE tables cached.
+const GOAL_S: f64 = 5.0;
 
 #[test]
 #[ignore = "speed study: run with --release --ignored --nocapture"]
@@ -27,7 +31,8 @@ fn read_and_diagnose_300_s_at_1_khz() {
         azimuth_deg: 60.0,
         radius_mm: 20.0,
         test: sim::compression::CompressionTest {
-            recovery_s: 45.0,
+            // Three cycles to 60, 45 and 30 N with this recovery make ~300 s.
+            recovery_s: 69.0,
             ..Default::default()
         },
         peak_loads_n: vec![60.0, 45.0, 30.0],
@@ -68,13 +73,13 @@ fn read_and_diagnose_300_s_at_1_khz() {
     println!("recording: {seconds:.0} s, {} rows", back.channels.len());
     println!("read:     {read_s:.3} s = {:.2} of the 1 s limit", read_s);
     println!(
-        "diagnose, warm FE cache: {diag_s:.2} s = {:.2} of the 10 s limit ({} threads)",
-        diag_s / 10.0,
+        "diagnose, warm FE cache: {diag_s:.2} s = {:.2} of the 5 s goal ({} threads)",
+        diag_s / GOAL_S,
         rayon::current_num_threads()
     );
     println!(
-        "diagnose, cold FE cache: {cold_s:.2} s = {:.2} of the 10 s limit",
-        cold_s / 10.0
+        "diagnose, cold FE cache: {cold_s:.2} s = {:.2} of the 5 s goal",
+        cold_s / GOAL_S
     );
     println!(
         "found: {:?}",

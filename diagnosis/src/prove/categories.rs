@@ -10,7 +10,8 @@
 //! - **three effects** at once;
 //! - **nuisances** that are not missing physics and must not be named: wrong gains in the
 //!   metadata, a load-cell offset, coarse quantisation, isolated spikes, missing rows, coloured
-//!   noise, a temperature column the outputs ignore ([`nuisances::Nuisance`]).
+//!   noise, a temperature column the outputs ignore ([`nuisances::Nuisance`]);
+//! - the **real Mach-1 tests**, with the physics each must show: [`super::real`].
 
 mod family;
 mod nuisances;

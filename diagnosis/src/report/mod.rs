@@ -89,6 +89,15 @@ fn effects(d: &Diagnosis) -> String {
             &caption,
         ));
     }
+    for u in &r.undecided {
+        let names: Vec<String> = u.effects.iter().map(|e| words::effect_name(e)).collect();
+        h.push_str(&format!(
+            "<h3>Undecided: {} or the calibration ({})</h3><p>{}.</p>",
+            esc(&names.join(" or ")),
+            esc(&u.calibration.join(", ")),
+            esc(&capital(&u.reason))
+        ));
+    }
     h
 }
 

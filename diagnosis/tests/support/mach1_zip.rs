@@ -4,7 +4,7 @@
 
 use std::io::Read;
 
-use recording::import::{self, mach1, ImportMeta};
+use recording::import::mach1;
 use recording::Recording;
 
 const ZIP: &str = concat!(
@@ -27,19 +27,12 @@ pub fn blocks(name: &str) -> Vec<mach1::Block> {
     mach1::parse(&text, name).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// `block` of `name` as a recording, with the fingertip's radius of `hardware/` as the
-/// indenter's (what `tactile import` writes when the indenter is unknown).
+/// `block` of `name` as a recording, as `tactile import` and `tactile prove --mach1` write it.
 pub fn recording(block: &mach1::Block, name: &str) -> Recording {
-    let meta = ImportMeta {
-        fingertip_radius_mm: hardware::Params::load_default()
-            .expect("hardware")
-            .fingertip
-            .radius_mm,
-        gain: [1100.0, 110.0, 110.0],
-        excitation_v: 3.3,
-        source: format!("Mach-1 export {name}, block {}", block.index),
-    };
-    import::to_recording(&block.to_export(), &meta, name).unwrap_or_else(|e| panic!("{e}"))
+    let hw = hardware::Params::load_default().expect("hardware");
+    let front_end = diagnosis::baseline::FrontEnd::from_hardware(&hw).expect("front end");
+    diagnosis::prove::real::mach1_recording(block, name, &front_end, hw.fingertip.radius_mm)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The first block of `name` that `pick` chooses, as a recording.

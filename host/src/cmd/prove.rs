@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::Context;
 
 use diagnosis::baseline::FrontEnd;
-use diagnosis::prove::{categories, csv, markdown, run as score, summary_svg, Plan, Summary};
+use diagnosis::prove::{categories, csv, markdown, real, run as score, summary_svg, Plan, Summary};
 use diagnosis::Options;
 
 #[derive(Debug, clap::Args)]
@@ -34,6 +34,10 @@ pub struct Args {
     /// nuisances): categories.md in the output folder, one table row per category.
     #[arg(long)]
     pub categories: bool,
+    /// With --categories, also score the real Mach-1 tests: the examples' zip or a folder holding
+    /// Hayes_data.txt, Static_data.txt and Dynamic_data.txt (shared/real-data/mach1/).
+    #[arg(long, requires = "categories")]
+    pub mach1: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -108,12 +112,45 @@ fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
         labelled.len(),
         started.elapsed().as_secs_f64()
     );
+    let mut real_pass = true;
+    let mut text = format!("{table}\n{details}");
+    if let Some(source) = &args.mach1 {
+        let read = |name: &str| read_mach1(source, name).map_err(|e| format!("{e:#}"));
+        let real = real::run_mach1(&read, plan).map_err(anyhow::Error::msg)?;
+        let real_table = real::table(&real);
+        println!("{real_table}");
+        real_pass = real.iter().all(|s| s.correct);
+        text.push_str(&format!("\n{real_table}"));
+    }
     let path = args.out.join("categories.md");
-    std::fs::write(&path, format!("{table}\n{details}"))
-        .with_context(|| format!("writing {}", path.display()))?;
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     anyhow::ensure!(
-        categories::all_pass(&labelled, &scores),
+        categories::all_pass(&labelled, &scores) && real_pass,
         "some categories miss the acceptance bar (see the table)"
     );
     Ok(())
+}
+
+/// The text of `name` from the Mach-1 examples at `source` (their zip, or a folder), each byte
+/// one character (the exports are Latin-1).
+fn read_mach1(source: &std::path::Path, name: &str) -> anyhow::Result<String> {
+    use std::io::Read;
+    let raw = if source.is_dir() {
+        let path = source.join(name);
+        std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?
+    } else {
+        let file =
+            std::fs::File::open(source).with_context(|| format!("opening {}", source.display()))?;
+        let mut zip = zip::ZipArchive::new(file)
+            .with_context(|| format!("{}: not a zip archive", source.display()))?;
+        let mut entry = zip
+            .by_name(name)
+            .with_context(|| format!("{}: no {name} inside", source.display()))?;
+        let mut raw = Vec::new();
+        entry
+            .read_to_end(&mut raw)
+            .with_context(|| format!("{}: reading {name}", source.display()))?;
+        raw
+    };
+    Ok(raw.iter().map(|&b| char::from(b)).collect())
 }
