@@ -60,6 +60,14 @@ impl Comparison {
         self.bic_gain > MIN_BIC_GAIN && self.heldout_gain > self.heldout_needed
     }
 
+    /// The criterion passed and the held-out misfit is not worse beyond its noise: enough to
+    /// enter the search's model. An effect whose held-out gain is masked by another effect not
+    /// yet in the model (an AC coupling's undershoot under a drift) may enter; the search's
+    /// end confirms every effect on both tests ([`Self::passes`]).
+    pub fn admits(&self) -> bool {
+        self.bic_gain > MIN_BIC_GAIN && self.heldout_gain > -self.heldout_needed
+    }
+
     /// The comparison in words, against `what` ("the baseline", "without hysteresis").
     pub fn words(&self, what: &str) -> String {
         let bic = format!("BIC {:+.0} vs {what}", -self.bic_gain);
