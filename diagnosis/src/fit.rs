@@ -95,7 +95,12 @@ impl<'s, 'a> Model<'s, 'a> {
         for &k in kinds {
             specs.extend(effect_specs(k, chip_peak));
         }
-        let mut fixed = vec![None; specs.len()];
+        // A parameter whose bounds coincide (a calibration switched off in
+        // `hardware/calibration.toml`) is held there, not fitted.
+        let mut fixed: Vec<Option<f64>> = specs
+            .iter()
+            .map(|s| (s.lower == s.upper).then_some(s.lower))
+            .collect();
         // Regressed on the measured temperature, the drift's time constant is the temperature's.
         if let (Some(th), Some(at)) = (
             setup.thermal,
