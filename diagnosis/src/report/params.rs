@@ -41,7 +41,9 @@ pub fn unit_from_name(name: &str) -> &'static str {
 /// A row from a full parameter description: a value on a bound reads as the bound it may lie
 /// beyond ("≥ 200 s (at bound)"), since the data did not resolve it inside.
 pub fn detail_row(p: &ParamDetail) -> Row {
-    let bound = |v: f64| measurement(v, None, &p.unit);
+    // A dimensionless number ("1") takes no unit and no SI prefix: 0.30, not 300 m1.
+    let unit = if p.unit == "1" { "" } else { p.unit.as_str() };
+    let bound = |v: f64| measurement(v, None, unit);
     let value = if p.at_bound {
         let upper = (p.value - p.upper).abs() <= (p.value - p.lower).abs();
         let (sign, b) = if upper {
@@ -51,7 +53,7 @@ pub fn detail_row(p: &ParamDetail) -> Row {
         };
         format!("{sign} {} (at bound)", bound(b))
     } else {
-        measurement(p.value, p.stderr, &p.unit)
+        measurement(p.value, p.stderr, unit)
     };
     let bounds = if p.lower.is_finite() || p.upper.is_finite() {
         format!(
@@ -160,6 +162,15 @@ mod tests {
         let r = detail_row(&detail(200.0, true));
         assert_eq!(r.value, "≥ 200 s (at bound)");
         assert!(table(&[r]).contains("class=at-bound"));
+        let fraction = ParamDetail {
+            unit: "1".into(),
+            ..detail(0.299_725, false)
+        };
+        let r = detail_row(&ParamDetail {
+            stderr: Some(4e-5),
+            ..fraction
+        });
+        assert_eq!(r.value, "0.299725 ± 0.000040");
     }
 
     #[test]
