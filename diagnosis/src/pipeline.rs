@@ -111,16 +111,16 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         meta.azimuth_deg,
     )?;
     let setup = calibration_setup(&data, meta, &fingertip, &stretches, opt);
+    // The baseline's moment direction: whether the moment scales can turn it (a precondition
+    // of crosstalk) and, after the search, what a turn they made would mean.
+    let moment_phi = moment_direction(&setup.drive);
     let protocol = Protocol::of(
         &data,
         &stretches.segments,
         setup.used,
         setup.thermal.is_some(),
     )
-    .with_moment_direction(
-        moment_direction(&setup.drive),
-        setup.calibration.jig_azimuth_tolerance_deg,
-    );
+    .with_moment_direction(moment_phi, setup.calibration.jig_azimuth_tolerance_deg);
     let mains_allowed = protocol.allows(EffectKind::MainsInterference).is_ok();
     let sel = select(&setup, protocol, opt.progress.as_deref());
     let (base, chosen) = (sel.base(), sel.chosen());
@@ -139,7 +139,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
             .as_ref()
             .map(|line| evidence::mains_report(line, &data)),
     );
-    let ambiguous = moment_direction(&setup.drive)
+    let ambiguous = moment_phi
         .filter(|_| setup.used[2] && setup.used[3] && !named(&effects, EffectKind::Crosstalk))
         .and_then(|phi| {
             let details = params::baseline(chosen, &data);

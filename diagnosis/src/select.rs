@@ -26,7 +26,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use rayon::prelude::*;
 use sim::effects::EffectKind;
 
-use crate::candidate::{key_of, label_of, Candidate};
+use crate::candidate::{key_of, label_of, Candidate, Comparison};
 use crate::fit::{initial_baseline, Model, Setup, N_BASE};
 use crate::output::CandidateReport;
 use crate::params::resolved;
@@ -276,31 +276,11 @@ impl<'s, 'a> Selection<'s, 'a> {
         resolved(c, &self.protocol)
     }
 
-    /// From candidate `i`, drop the effect that least earns its place on both tests (the one
-    /// whose removal leaves the lowest BIC among those that fail) until every effect passes both
-    /// against the same model without it; the index of what is left.
-    fn confirm(&mut self, setup: &'s Setup<'a>, mut i: usize, tick: &Tick) -> usize {
-        while !self.all[i].kinds.is_empty() {
-            let mut worst: Option<(usize, usize)> = None;
-            for drop in 0..self.all[i].kinds.len() {
-                let w = self.without(setup, i, drop, tick);
-                let passes = self.all[i].compare(&self.all[w]).passes();
-                if !passes && worst.is_none_or(|(_, b)| self.all[w].bic < self.all[b].bic) {
-                    worst = Some((drop, w));
-                }
-            }
-            let Some((drop, w)) = worst else {
-                return i;
-            };
-            let cmp = self.all[i].compare(&self.all[w]);
-            self.reasons[i] = format!(
-                "not reported: {} does not earn its place on both tests ({})",
-                self.all[i].kinds[drop].name(),
-                cmp.words(&format!("the model without it, {}", self.all[w].label()))
-            );
-            i = w;
-        }
-        i
+    /// From candidate `i`, drop the effect that least earns its place on both tests until
+    /// every effect passes both against the same model without it; the index of what is left.
+    fn confirm(&mut self, setup: &'s Setup<'a>, i: usize, tick: &Tick) -> usize {
+        let why = ("not reported", "does not earn its place on both tests");
+        self.prune(setup, i, 0, Comparison::passes, why, tick)
     }
 
     /// The model `kinds` without effect number `drop`: fitted from `from`'s solution unless
@@ -343,12 +323,28 @@ impl<'s, 'a> Selection<'s, 'a> {
 
     /// Prune the effects of candidate `i` that the model without them no longer admits, the one
     /// whose removal costs least first; the index of what is left.
-    fn backward(&mut self, setup: &'s Setup<'a>, mut i: usize, tick: &Tick) -> usize {
-        while self.all[i].kinds.len() > 1 {
+    fn backward(&mut self, setup: &'s Setup<'a>, i: usize, tick: &Tick) -> usize {
+        let why = ("pruned", "stopped earning its place");
+        self.prune(setup, i, 1, Comparison::admits, why, tick)
+    }
+
+    /// While candidate `i` has more than `keep` effects, drop the one that fails `test` against
+    /// the same model without it and whose removal leaves the lowest BIC; the index left. The
+    /// dropped model's reason reads "`why.0`: <effect> `why.1` (<scores>)".
+    fn prune(
+        &mut self,
+        setup: &'s Setup<'a>,
+        mut i: usize,
+        keep: usize,
+        test: fn(&Comparison) -> bool,
+        why: (&str, &str),
+        tick: &Tick,
+    ) -> usize {
+        while self.all[i].kinds.len() > keep {
             let mut worst: Option<(usize, usize)> = None;
             for drop in 0..self.all[i].kinds.len() {
                 let w = self.without(setup, i, drop, tick);
-                let passes = self.all[i].compare(&self.all[w]).admits();
+                let passes = test(&self.all[i].compare(&self.all[w]));
                 if !passes && worst.is_none_or(|(_, b)| self.all[w].bic < self.all[b].bic) {
                     worst = Some((drop, w));
                 }
@@ -358,8 +354,10 @@ impl<'s, 'a> Selection<'s, 'a> {
             };
             let cmp = self.all[i].compare(&self.all[w]);
             self.reasons[i] = format!(
-                "pruned: {} stopped earning its place ({})",
+                "{}: {} {} ({})",
+                why.0,
                 self.all[i].kinds[drop].name(),
+                why.1,
                 cmp.words(&format!("the model without it, {}", self.all[w].label()))
             );
             i = w;
