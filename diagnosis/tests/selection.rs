@@ -141,23 +141,7 @@ fn a_single_ramp_gets_no_guessed_effect() {
 }
 
 fn truncate(rec: &mut Recording, n: usize) {
-    let c = &mut rec.channels;
-    for v in [
-        &mut c.t_s,
-        &mut c.rod_mm,
-        &mut c.load_n,
-        &mut c.fz_v,
-        &mut c.mx_v,
-        &mut c.my_v,
-    ] {
-        v.truncate(n);
-    }
-    if let Some(t) = rec.temp_c.as_mut() {
-        t.truncate(n);
-    }
-    for col in &mut rec.extra {
-        col.values.truncate(n);
-    }
+    *rec = rec.rows(&(0..n).collect::<Vec<_>>());
 }
 
 /// Relaxation far slower than the record under a long hold: the decay is seen, its time

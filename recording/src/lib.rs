@@ -181,6 +181,12 @@ impl Recording {
         let keep: Vec<usize> = (0..self.channels.len())
             .filter(|&i| !self.channels.is_gap_in(i, &measured))
             .collect();
+        self.rows(&keep)
+    }
+
+    /// The same recording with only the rows `keep` (indices, in the order given), in every
+    /// column: the required ones, `temp_C` and the extra ones.
+    pub fn rows(&self, keep: &[usize]) -> Recording {
         let pick = |v: &Vec<f64>| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
         let c = &self.channels;
         Recording {

@@ -114,28 +114,8 @@ fn missing_rows(rec: &mut Recording, u: &mut dyn FnMut(f64, f64) -> f64) {
         .iter()
         .map(|&ts| !(gap_start..gap_start + 1.0).contains(&ts) && u(0.0, 1.0) >= 0.02)
         .collect();
-    let c = &mut rec.channels;
-    for ch in [
-        &mut c.t_s,
-        &mut c.rod_mm,
-        &mut c.load_n,
-        &mut c.fz_v,
-        &mut c.mx_v,
-        &mut c.my_v,
-    ] {
-        retain(ch, &keep);
-    }
-    if let Some(temp) = rec.temp_c.as_mut() {
-        retain(temp, &keep);
-    }
-}
-
-fn retain(x: &mut Vec<f64>, keep: &[bool]) {
-    let mut k = 0;
-    x.retain(|_| {
-        k += 1;
-        keep[k - 1]
-    });
+    let rows: Vec<usize> = (0..keep.len()).filter(|&i| keep[i]).collect();
+    *rec = rec.rows(&rows);
 }
 
 /// AR(1) noise with a 0.1 s correlation time and the white noise's own deviation.
