@@ -120,11 +120,17 @@ impl Data {
         let fit = decimate(&full, &bounds);
         let segments = on_blocks(&full_segments, &bounds);
         let range = std::array::from_fn(|k| peak_to_peak(&full.y[k]));
-        let noise_rho: [f64; 4] = std::array::from_fn(|k| noise_correlation(&full.y[k]));
+        // The noise is estimated without a mains line: its second differences are large and
+        // strongly correlated, and read as AR(1) noise they weighed a channel down tenfold and
+        // could hide it as one carrying no signal. The line itself is fitted later.
+        let quiet: [Option<Vec<f64>>; 4] =
+            std::array::from_fn(|k| crate::mains::without_line(&full.t_s, &full.y[k], rate));
+        let quiet = |k: usize| quiet[k].as_deref().unwrap_or(&full.y[k]);
+        let noise_rho: [f64; 4] = std::array::from_fn(|k| noise_correlation(quiet(k)));
         let noise_full: [f64; 4] = std::array::from_fn(|k| {
             // Second differences of AR(1) noise have variance sigma^2 (6 - 8 rho + 2 rho^2).
             let r = noise_rho[k];
-            let white = difference_noise(&full.y[k]) * (6.0 / (6.0 - 8.0 * r + 2.0 * r * r)).sqrt();
+            let white = difference_noise(quiet(k)) * (6.0 / (6.0 - 8.0 * r + 2.0 * r * r)).sqrt();
             white.max(1e-6 * range[k]).max(1e-12)
         });
         let weights = std::array::from_fn(|c| {

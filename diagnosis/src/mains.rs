@@ -14,6 +14,9 @@ const SCAN_STEP_HZ: f64 = 0.05;
 const SCAN_SAMPLES: usize = 10_000;
 const REFINE_SAMPLES: usize = 60_000;
 
+/// Prominence (peak over the median of the band's spectrum) for a peak to count as a line.
+pub const MIN_LINE_PROMINENCE: f64 = 30.0;
+
 /// A fitted line: frequency and, per channel, the sine/cosine weights of the fundamental and
 /// third harmonic.
 #[derive(Debug, Clone, PartialEq)]
@@ -133,6 +136,21 @@ pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -
     })
 }
 
+/// `y` with a prominent line in the band (and its third harmonic) subtracted, if it holds one.
+pub fn without_line(t: &[f64], y: &[f64], rate_hz: f64) -> Option<Vec<f64>> {
+    let line = find_line(t, &[y], &vec![true; t.len()], rate_hz)?;
+    if !(line.prominence > MIN_LINE_PROMINENCE) {
+        return None;
+    }
+    let harmonic = line.coef[0][2] != 0.0 || line.coef[0][3] != 0.0;
+    Some(
+        y.iter()
+            .zip(t)
+            .map(|(v, &t)| v - line.at(0, t, harmonic))
+            .collect(),
+    )
+}
+
 /// Least squares of a sin + b cos at f (and 3f) on the selected samples.
 fn fit_coefficients(t: &[f64], r: &[f64], idx: &[usize], f: f64, harmonic: bool) -> [f64; 4] {
     let m = if harmonic { 4 } else { 2 };
@@ -171,5 +189,25 @@ mod tests {
         assert!((line.freq_hz - 59.93).abs() < 1e-3, "{}", line.freq_hz);
         assert!((line.amplitude() - 0.01).abs() < 5e-4);
         assert!(line.prominence > 100.0);
+    }
+
+    /// With the line taken out, the noise estimate of `Data` sees the white noise: read as
+    /// AR(1) noise, the line alone had inflated it about tenfold.
+    #[test]
+    fn the_noise_estimate_sees_through_a_line() {
+        use crate::data::{difference_noise, noise_correlation};
+        let t: Vec<f64> = (0..70_000).map(|k| k as f64 * 2e-3).collect();
+        let mut g = super::super::synth::Gaussian::new(9);
+        let y: Vec<f64> = t
+            .iter()
+            .map(|t| (0.05 * t).sin() + 0.012 * (TAU * 60.0 * t).sin() + 0.003 * g.normal())
+            .collect();
+        assert!(noise_correlation(&y) > 0.5, "the line reads as correlated noise");
+        let quiet = without_line(&t, &y, 500.0).expect("a prominent line");
+        assert!(noise_correlation(&quiet) < 0.05);
+        let sigma = difference_noise(&quiet);
+        assert!((sigma - 0.003).abs() < 2e-4, "{sigma}");
+        let flat: Vec<f64> = t.iter().map(|_| 0.003 * g.normal()).collect();
+        assert!(without_line(&t, &flat, 500.0).is_none());
     }
 }

@@ -70,8 +70,6 @@ impl Options {
 /// Ljung–Box: lags and the p-value below which a residual is structured.
 const LB_LAGS: usize = 20;
 const LB_P: f64 = 1e-3;
-/// Mains line: prominence in the residual spectrum to count as a line.
-const MIN_LINE_PROMINENCE: f64 = 30.0;
 
 /// Everything the HTML report plots.
 pub struct PlotData {
@@ -384,7 +382,7 @@ fn verdict(found: bool, white_after: bool) -> Verdict {
 /// The lines in the baseline's residual prominent enough to report.
 fn prominent_lines(line: Option<&Line>) -> Vec<(f64, f64, f64)> {
     line.iter()
-        .filter(|l| l.prominence > MIN_LINE_PROMINENCE)
+        .filter(|l| l.prominence > mains::MIN_LINE_PROMINENCE)
         .map(|l| (l.freq_hz, l.amplitude(), l.prominence))
         .collect()
 }
@@ -463,7 +461,7 @@ fn add_line(data: &Data, o: &Outputs, line: Option<&Line>) -> Outputs {
 /// The line counts if it is prominent and removing it helps on the fitting stretch and on the
 /// held-out stretch, both in noise units.
 fn mains_helps(data: &Data, o: &Outputs, line: &Line, fit: &[bool], heldout: &[bool]) -> bool {
-    if line.prominence < MIN_LINE_PROMINENCE {
+    if line.prominence < mains::MIN_LINE_PROMINENCE {
         return false;
     }
     let with = add_line(data, o, Some(line));
