@@ -273,6 +273,17 @@ impl<'s, 'a> Model<'s, 'a> {
         }
     }
 
+    /// The cost (sum of squared weighted residuals on the fitting stretch) of a full vector.
+    pub fn sse_at(&self, full: &[f64]) -> f64 {
+        let mut r = Vec::new();
+        self.weighted(
+            &self.expand(&self.free_of(full)),
+            &self.setup.fit_mask,
+            &mut r,
+        );
+        r.iter().map(|v| v * v).sum()
+    }
+
     /// Fit from the best of the starting points; `base` holds the baseline's current values.
     pub fn fit(&self, max_iterations: usize) -> Fitted {
         let free = self.free_indices();

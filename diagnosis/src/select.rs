@@ -283,42 +283,66 @@ impl<'s, 'a> Selection<'s, 'a> {
         self.prune(setup, i, 0, Comparison::passes, why, tick)
     }
 
-    /// The model `kinds` without effect number `drop`: fitted from `from`'s solution unless
-    /// fitted before. Its index.
+    /// The model `from` without effect number `drop`, its index. Fitted from `from`'s solution
+    /// with that effect taken out, unless fitted before; a model fitted before is refitted from
+    /// there too when that start alone already fits better than its own fit did.
+    ///
+    /// Why: a smaller model fitted earlier on the search's path may sit in a worse local
+    /// minimum than the larger model shows it has. Left so, the effect in hand would be credited
+    /// with the difference (a `stiffening` of exponent 1.00, the identity, once gained 1357 in
+    /// BIC that way), though without it the model fits as well.
     fn without(&mut self, setup: &'s Setup<'a>, from: usize, drop: usize, tick: &Tick) -> usize {
         let c = &self.all[from];
-        let kinds: Vec<EffectKind> = c
-            .kinds
-            .iter()
-            .enumerate()
-            .filter(|(j, _)| *j != drop)
-            .map(|(_, k)| *k)
-            .collect();
-        if let Some(i) = self.find(&kinds) {
-            return i;
-        }
-        tick.expect(1);
-        let mut model = Model::new(setup, &kinds, &c.fitted.full[..N_BASE]);
-        let (mut at, mut e) = (N_BASE, 0);
+        let (mut kinds, mut start) = (Vec::new(), c.fitted.full[..N_BASE].to_vec());
+        let mut at = N_BASE;
         for (j, k) in c.kinds.iter().enumerate() {
             let n = k.param_names().len();
             if j != drop {
-                model.pin_starts(e, &c.fitted.full[at..at + n]);
-                e += 1;
+                kinds.push(*k);
+                start.extend_from_slice(&c.fitted.full[at..at + n]);
             }
+            at += n;
+        }
+        let mut model = Model::new(setup, &kinds, &start[..N_BASE]);
+        let before = self.find(&kinds);
+        if let Some(i) = before {
+            if model.sse_at(&start) >= self.all[i].sse() {
+                return i;
+            }
+        }
+        tick.expect(1);
+        let mut at = N_BASE;
+        for (e, k) in kinds.iter().enumerate() {
+            let n = k.param_names().len();
+            model.pin_starts(e, &start[at..at + n]);
             at += n;
         }
         let fitted = Candidate::fit(model, EFFECT_ITERATIONS);
         tick.inc();
-        let why = format!(
-            "{} without {}, fitted to test whether that effect earns its place",
+        let what = format!(
+            "{} without {}",
             self.all[from].label(),
             self.all[from].kinds[drop].name()
         );
-        self.all.push(fitted);
-        self.reasons.push(why);
-        self.parents.push(None);
-        self.all.len() - 1
+        match before {
+            Some(i) => {
+                self.all[i] = fitted;
+                let refit = format!("refitted from {what}, a better start than its first fit");
+                self.reasons[i] = match self.reasons[i].as_str() {
+                    "" => refit,
+                    first => format!("{first}; {refit}"),
+                };
+                i
+            }
+            None => {
+                self.all.push(fitted);
+                self.reasons.push(format!(
+                    "{what}, fitted to test whether that effect earns its place"
+                ));
+                self.parents.push(None);
+                self.all.len() - 1
+            }
+        }
     }
 
     /// Prune the effects of candidate `i` that the model without them no longer admits, the one
