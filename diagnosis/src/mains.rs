@@ -139,7 +139,8 @@ pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -
 /// `y` with a prominent line in the band (and its third harmonic) subtracted, if it holds one.
 pub fn without_line(t: &[f64], y: &[f64], rate_hz: f64) -> Option<Vec<f64>> {
     let line = find_line(t, &[y], &vec![true; t.len()], rate_hz)?;
-    if !(line.prominence > MIN_LINE_PROMINENCE) {
+    // A NaN prominence (a column not measured) is no line either.
+    if line.prominence.is_nan() || line.prominence <= MIN_LINE_PROMINENCE {
         return None;
     }
     let harmonic = line.coef[0][2] != 0.0 || line.coef[0][3] != 0.0;
