@@ -327,6 +327,7 @@ impl<'s, 'a> Selection<'s, 'a> {
         match before {
             Some(i) => {
                 self.all[i] = fitted;
+                self.refit_extensions(setup, i, tick);
                 let refit = format!("refitted from {what}, a better start than its first fit");
                 self.reasons[i] = match self.reasons[i].as_str() {
                     "" => refit,
@@ -342,6 +343,25 @@ impl<'s, 'a> Selection<'s, 'a> {
                 self.parents.push(None);
                 self.all.len() - 1
             }
+        }
+    }
+
+    /// After candidate `i` was refitted to a lower cost, refit each model that extends it and
+    /// now costs more than it, from its new solution (and theirs in turn): every candidate
+    /// keeps a cost no higher than the model it nests.
+    fn refit_extensions(&mut self, setup: &'s Setup<'a>, i: usize, tick: &Tick) {
+        let children: Vec<usize> = (0..self.all.len())
+            .filter(|&j| self.parents[j] == Some(i) && self.all[j].sse() > self.all[i].sse())
+            .collect();
+        for j in children {
+            let Some(&kind) = self.all[j].kinds.last() else {
+                continue;
+            };
+            tick.expect(1);
+            let own = self.all[j].fitted.full[self.all[i].fitted.full.len()..].to_vec();
+            self.all[j] = Candidate::extend(setup, &self.all[i], kind, &[own], EFFECT_ITERATIONS);
+            tick.inc();
+            self.refit_extensions(setup, j, tick);
         }
     }
 
