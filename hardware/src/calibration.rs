@@ -39,7 +39,7 @@ impl Calibration {
         let mut r = Reader::open(file).map_err(|e| vec![e])?;
         let c = Self {
             modulus_ln_range: r.f64("contact.modulus_ln_range", 0.1..=20.0),
-            exponent_shift_min: r.f64("contact.exponent_shift_min", -1.0..=0.0),
+            exponent_shift_min: r.f64("contact.exponent_shift_min", -3.0..=0.0),
             exponent_shift_max: r.f64("contact.exponent_shift_max", 0.0..=3.0),
             exponent_curvature_max: r.f64("contact.exponent_curvature_max", 0.0..=2.0),
             share_exponent_max_fz: r.f64("outputs.share_exponent_max_fz", 0.0..=1.0),
