@@ -6,6 +6,7 @@
 //! one sample (10 Hz data keeps every sample where it needs fine blocks) and never straddles the
 //! edge of a move. Blocks of whole mains periods also cancel 50 Hz pickup and its harmonics.
 
+use rayon::prelude::*;
 use recording::Recording;
 
 use crate::regimes::{self, Regime, Segment};
@@ -123,8 +124,10 @@ impl Data {
         // The noise is estimated without a mains line: its second differences are large and
         // strongly correlated, and read as AR(1) noise they weighed a channel down tenfold and
         // could hide it as one carrying no signal. The line itself is fitted later.
-        let quiet: [Option<Vec<f64>>; 4] =
-            std::array::from_fn(|k| crate::mains::without_line(&full.t_s, &full.y[k], rate));
+        let quiet: Vec<Option<Vec<f64>>> = (0..4)
+            .into_par_iter()
+            .map(|k| crate::mains::without_line(&full.t_s, &full.y[k], rate))
+            .collect();
         let quiet = |k: usize| quiet[k].as_deref().unwrap_or(&full.y[k]);
         let noise_rho: [f64; 4] = std::array::from_fn(|k| noise_correlation(quiet(k)));
         let noise_full: [f64; 4] = std::array::from_fn(|k| {

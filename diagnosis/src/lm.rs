@@ -142,22 +142,28 @@ fn finish(
 }
 
 /// Forward differences, stepping inward at an upper bound: one column per parameter.
+/// Forward differences, one column per parameter, evaluated in parallel: the baseline's fit and
+/// the search's refits run one model at a time, and each column is a whole model evaluation.
 fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options) -> DMatrix<f64> {
+    use rayon::prelude::*;
+    let columns: Vec<Vec<f64>> = (0..p.len())
+        .into_par_iter()
+        .map(|i| {
+            let h = if p[i] + opt.step[i] > opt.upper[i] {
+                -opt.step[i]
+            } else {
+                opt.step[i]
+            };
+            let mut q = p.to_vec();
+            q[i] = p[i] + h;
+            let mut out = Vec::new();
+            problem.residuals(&q, &mut out);
+            out.iter().zip(r).map(|(a, b)| (a - b) / h).collect()
+        })
+        .collect();
     let mut jac = DMatrix::zeros(r.len(), p.len());
-    let mut q = p.to_vec();
-    let mut out = Vec::new();
-    for i in 0..p.len() {
-        let h = if p[i] + opt.step[i] > opt.upper[i] {
-            -opt.step[i]
-        } else {
-            opt.step[i]
-        };
-        q[i] = p[i] + h;
-        problem.residuals(&q, &mut out);
-        q[i] = p[i];
-        for (d, (a, b)) in jac.column_mut(i).iter_mut().zip(out.iter().zip(r)) {
-            *d = (a - b) / h;
-        }
+    for (i, col) in columns.iter().enumerate() {
+        jac.column_mut(i).copy_from_slice(col);
     }
     jac
 }
