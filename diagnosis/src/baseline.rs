@@ -192,9 +192,10 @@ pub struct BaselineParams {
     /// Sensitivity scales of the Fz, Mx and My channels against the nominal front end (each
     /// output's own gain: a recording's metadata gains may each be wrong).
     pub scale: [f64; 3],
-    /// Each output's map from the load against the FE's own: chip output x (F / F_max)^s, the
-    /// package's share of the load and the moment arm changing with the load [Fz, Mx, My].
-    pub share_exponent: [f64; 3],
+    /// ln F added at 60 %, 30 % and 10 % of the largest travel ([`WARP_KNOTS`]), interpolated
+    /// linearly in ln(travel) and zero at the largest travel and at 1 %: a contact law whose
+    /// local exponent wanders in ways no smooth power captures (another gel, another model).
+    pub force_warp: [f64; 3],
     /// Each output's map between the FE's (0) and one linear in the load (1): the FE's own
     /// departure from proportional, r(F) = (chip / F) / (chip / F)_max, raised to 1 - b.
     pub map_blend: [f64; 3],
@@ -219,7 +220,7 @@ impl BaselineParams {
             exponent_shift: 0.0,
             exponent_curvature: 0.0,
             scale: [1.0; 3],
-            share_exponent: [0.0; 3],
+            force_warp: [0.0; 3],
             map_blend: [0.0; 3],
             azimuth_shift_deg: 0.0,
             offset: [0.0; 4],
@@ -227,8 +228,30 @@ impl BaselineParams {
     }
 }
 
-/// ln of the smallest relative rod travel (and load) the force-law and share warps distinguish.
+/// ln of the smallest relative rod travel (and load) the force-law warps distinguish.
 const MIN_LN_REL_ROD: f64 = -4.605_170_185_988_091; // ln(0.01)
+
+/// Relative travels d / d_max of the force warp's knots, largest first.
+pub const WARP_KNOTS: [f64; 3] = [0.6, 0.3, 0.1];
+
+/// The force warp at ln(d / d_max) = `l`: linear between the knots in ln(travel), 0 at the
+/// largest travel (the modulus sets the level there) and at 1 %.
+fn force_warp(w: &[f64; 3], l: f64) -> f64 {
+    if l >= 0.0 || l <= MIN_LN_REL_ROD || *w == [0.0; 3] {
+        return 0.0;
+    }
+    let x = [
+        0.0,
+        WARP_KNOTS[0].ln(),
+        WARP_KNOTS[1].ln(),
+        WARP_KNOTS[2].ln(),
+        MIN_LN_REL_ROD,
+    ];
+    let y = [0.0, w[0], w[1], w[2], 0.0];
+    let j = (1..5).find(|&j| l >= x[j]).unwrap_or(4);
+    let t = (l - x[j - 1]) / (x[j] - x[j - 1]);
+    y[j - 1] + t * (y[j] - y[j - 1])
+}
 
 /// The drive of one evaluation: a time base and the unit response at each time.
 #[derive(Debug, Clone)]
@@ -237,9 +260,6 @@ pub struct Drive {
     pub unit: Vec<UnitResponse>,
     /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
     ln_rel_rod: Vec<f64>,
-    /// ln(F / F_max) of the unit response where in contact (for the outputs' share exponents),
-    /// 0 elsewhere.
-    ln_rel_force: Vec<f64>,
     /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
     /// full load (for the outputs' map blend), 0 out of contact.
     ln_map_departure: Vec<[f64; 3]>,
@@ -263,23 +283,11 @@ impl Drive {
                 }
             })
             .collect();
-        let force_max = unit.iter().map(|u| u.force_n).fold(0.0, f64::max);
-        let ln_rel_force = unit
-            .iter()
-            .map(|u| {
-                if u.force_n > 0.0 && force_max > 0.0 {
-                    (u.force_n / force_max).ln().max(MIN_LN_REL_ROD)
-                } else {
-                    0.0
-                }
-            })
-            .collect();
         let ln_map_departure = map_departure(&unit);
         Self {
             t_s,
             unit,
             ln_rel_rod,
-            ln_rel_force,
             ln_map_departure,
             temp_c: None,
         }
@@ -293,6 +301,12 @@ impl Drive {
         } else {
             1.0
         }
+    }
+
+    /// ln r of each output at each sample: the FE's departure from an output linear in the
+    /// load, relative to full load; 0 out of contact.
+    pub fn ln_map_departure(&self) -> &[[f64; 3]] {
+        &self.ln_map_departure
     }
 
     /// The same drive with the temperature measured at each of its times.
@@ -370,16 +384,12 @@ pub fn evaluate(
     let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
     let warped = drive.unit.iter().zip(&drive.ln_rel_rod);
-    for (i, ((u, &l), &lf)) in warped.zip(&drive.ln_rel_force).enumerate() {
-        let warp = p.exponent_shift * l + p.exponent_curvature * l * l;
+    for (i, (u, &l)) in warped.enumerate() {
+        let warp =
+            p.exponent_shift * l + p.exponent_curvature * l * l + force_warp(&p.force_warp, l);
         let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
-        // ln(F / F_max) of the warped load: the share exponents act on the load itself.
-        let share = |k: usize| {
-            let e = p.share_exponent[k] * (lf + warp);
-            let power = if e != 0.0 { e.exp() } else { 1.0 };
-            power * drive.blend(i, k, p.map_blend[k])
-        };
+        let share = |k: usize| drive.blend(i, k, p.map_blend[k]);
         let (mx, my) = (u.chip[1] * w * share(1), u.chip[2] * w * share(2));
         chip[0].push(u.chip[0] * w * share(0));
         chip[1].push(mx * c - my * s);

@@ -2,9 +2,8 @@
 //! catalogue effects, fitted by least squares to the decimated recording on the fitting stretch.
 //!
 //! Parameter vector (internal coordinates): ln E, exponent shift, the Fz, Mx and My scales, four
-//! offsets, exponent curvature, the three outputs' share exponents and map blends, then each
-//! effect's
-//! parameters (time constants as ln tau). The baseline's bounds are `hardware/calibration.toml`.
+//! offsets, exponent curvature, the force warp's three knots, the three outputs' map blends,
+//! then each effect's parameters (time constants as ln tau). The baseline's bounds are `hardware/calibration.toml`.
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
 //! chi-square in noise units and channels of any unit mix.
 
@@ -21,8 +20,8 @@ pub const N_BASE: usize = 16;
 pub const SCALE_AT: usize = 2;
 /// Index of the first offset [load, Fz, Mx, My].
 pub const OFFSET_AT: usize = 5;
-/// Index of the first share exponent [Fz, Mx, My].
-pub const SHARE_AT: usize = 10;
+/// Index of the first force-warp knot (`baseline::WARP_KNOTS`).
+pub const WARP_AT: usize = 10;
 /// Index of the first map blend [Fz, Mx, My].
 pub const BLEND_AT: usize = 13;
 
@@ -114,7 +113,6 @@ impl<'s, 'a> Model<'s, 'a> {
                 // An output not compared has no scale or shape to calibrate.
                 if c > 0 {
                     fixed[SCALE_AT + c - 1] = Some(base[SCALE_AT + c - 1]);
-                    fixed[SHARE_AT + c - 1] = Some(0.0);
                     fixed[BLEND_AT + c - 1] = Some(0.0);
                 }
             }
@@ -209,7 +207,7 @@ impl<'s, 'a> Model<'s, 'a> {
             youngs_modulus_pa: full[0].exp(),
             exponent_shift: full[1],
             scale: at(SCALE_AT),
-            share_exponent: at(SHARE_AT),
+            force_warp: at(WARP_AT),
             map_blend: at(BLEND_AT),
             azimuth_shift_deg: 0.0,
             offset: std::array::from_fn(|c| full[OFFSET_AT + c]),
@@ -385,9 +383,9 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
         let (start, step) = (base[OFFSET_AT + c], 1e-6 * r[c].max(1e-9));
         spec(name, -bound, bound, step, &[start], false)
     };
-    let share = |name, c: usize| {
-        let bound = cal.share_exponent_max()[c];
-        spec(name, -bound, bound, 1e-5, &[base[SHARE_AT + c]], false)
+    let warp = |name, k: usize| {
+        let bound = cal.force_warp_max;
+        spec(name, -bound, bound, 1e-5, &[base[WARP_AT + k]], false)
     };
     let blend = |name, c: usize| {
         let (lo, hi) = (cal.map_blend_min, cal.map_blend_max);
@@ -426,9 +424,9 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
             &[base[9]],
             false,
         ),
-        share("share_exponent_fz", 0),
-        share("share_exponent_mx", 1),
-        share("share_exponent_my", 2),
+        warp("force_warp_at_60pct", 0),
+        warp("force_warp_at_30pct", 1),
+        warp("force_warp_at_10pct", 2),
         blend("map_blend_fz", 0),
         blend("map_blend_mx", 1),
         blend("map_blend_my", 2),

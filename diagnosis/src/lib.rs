@@ -29,6 +29,7 @@ pub mod regimes;
 pub mod select;
 pub mod specs;
 pub mod standard_test;
+pub mod static_shape;
 pub mod synth;
 pub mod temperature;
 pub mod undecided;

@@ -287,7 +287,7 @@ fn truth_baseline(modulus_pa: f64, u: &mut impl FnMut(f64, f64) -> f64) -> Basel
             moment * u(0.995, 1.005),
             moment * u(0.995, 1.005),
         ],
-        share_exponent: [0.0; 3],
+        force_warp: [0.0; 3],
         map_blend: [u(0.0, 0.3), u(0.0, 0.3), u(0.0, 0.3)],
         azimuth_shift_deg: u(-1.5, 1.5),
         offset: [
@@ -336,7 +336,7 @@ fn random_params(
             if u(0.0, 1.0) < 0.5 { 50.0 } else { 60.0 } + u(-0.1, 0.1),
             u(3e-3, 15e-3),
         ],
-        // Beyond what the calibration's share exponents absorb (`hardware/calibration.toml`:
+        // Beyond what the calibration's map blend absorbs (`hardware/calibration.toml`:
         // 0.1 on Fz, the documented threshold of the static-shape effects): 1.5 to 3 times it.
         BridgeNonlinearity => vec![sign(u) * u(0.15, 0.3)],
         ContactFriction => vec![u(0.04, 0.12)],

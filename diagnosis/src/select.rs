@@ -29,7 +29,7 @@ use sim::effects::EffectKind;
 use crate::candidate::{key_of, label_of, Candidate, Comparison};
 use crate::fit::{initial_baseline, Model, Setup, N_BASE};
 use crate::output::CandidateReport;
-use crate::params::resolved;
+use crate::params::{absorbed_static_shape, at_bounds, resolved};
 use crate::pipeline::Progress;
 use crate::preconditions::Protocol;
 
@@ -273,14 +273,23 @@ impl<'s, 'a> Selection<'s, 'a> {
         if !vs_base.admits() {
             return Err(vs_base.words("the baseline"));
         }
-        resolved(c, &self.protocol)
+        at_bounds(c, &self.protocol)
     }
 
     /// From candidate `i`, drop the effect that least earns its place on both tests until
     /// every effect passes both against the same model without it; the index of what is left.
-    fn confirm(&mut self, setup: &'s Setup<'a>, i: usize, tick: &Tick) -> usize {
+    /// Then, while a static shape bends the outputs no further than the calibration may
+    /// ([`absorbed_static_shape`]), drop it and prune again.
+    fn confirm(&mut self, setup: &'s Setup<'a>, mut i: usize, tick: &Tick) -> usize {
         let why = ("not reported", "does not earn its place on both tests");
-        self.prune(setup, i, 0, Comparison::passes, why, tick)
+        loop {
+            i = self.prune(setup, i, 0, Comparison::passes, why, tick);
+            let Some((drop, weak)) = absorbed_static_shape(&self.all[i]) else {
+                return i;
+            };
+            self.reasons[i] = format!("not reported: {weak}");
+            i = self.without(setup, i, drop, tick);
+        }
     }
 
     /// The model `from` without effect number `drop`, its index. Fitted from `from`'s solution

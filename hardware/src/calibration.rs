@@ -16,10 +16,8 @@ pub struct Calibration {
     pub exponent_shift_max: f64,
     /// Largest magnitude of the curvature of ln F against ln(travel).
     pub exponent_curvature_max: f64,
-    /// Largest |s| of Fz's map from the load, output ~ FE output x (F / F_max)^s.
-    pub share_exponent_max_fz: f64,
-    /// Largest |s| of each moment's map from the load.
-    pub share_exponent_max_moment: f64,
+    /// Largest magnitude of the force warp at each of its knots (ln F).
+    pub force_warp_max: f64,
     /// Lower bound of each output's blend between the FE's map (0) and a linear one (1).
     pub map_blend_min: f64,
     /// Upper bound of that blend.
@@ -42,8 +40,7 @@ impl Calibration {
             exponent_shift_min: r.f64("contact.exponent_shift_min", -3.0..=0.0),
             exponent_shift_max: r.f64("contact.exponent_shift_max", 0.0..=3.0),
             exponent_curvature_max: r.f64("contact.exponent_curvature_max", 0.0..=2.0),
-            share_exponent_max_fz: r.f64("outputs.share_exponent_max_fz", 0.0..=1.0),
-            share_exponent_max_moment: r.f64("outputs.share_exponent_max_moment", 0.0..=1.0),
+            force_warp_max: r.f64("contact.force_warp_max", 0.0..=2.0),
             map_blend_min: r.f64("outputs.map_blend_min", -5.0..=0.0),
             map_blend_max: r.f64("outputs.map_blend_max", 1.0..=5.0),
             scale_max: r.f64("outputs.scale_max", 1.0..=1e6),
@@ -53,14 +50,5 @@ impl Calibration {
         };
         r.finish()?;
         Ok(c)
-    }
-
-    /// The bound of each output's share exponent [Fz, Mx, My].
-    pub fn share_exponent_max(&self) -> [f64; 3] {
-        [
-            self.share_exponent_max_fz,
-            self.share_exponent_max_moment,
-            self.share_exponent_max_moment,
-        ]
     }
 }

@@ -1,0 +1,126 @@
+//! The documented threshold of the static-shape effects (`hardware/calibration.toml`,
+//! `[outputs]`): `stiffening` and `bridge_nonlinearity` are named only where they bend an output
+//! beyond what the calibration's map from the load may bend it.
+//!
+//! Over the samples loaded to 5-100 % of the largest load, the calibration may move output k's
+//! map anywhere between the FE's and one linear in the load: a change of ln(output / load) of up
+//! to S_k = max ln r_k - min ln r_k (r_k the FE's departure from linear, [`Drive`]). An effect
+//! with strength s bends output k by B_k(s) = max - min of ln(y / x) over the same samples, x at
+//! its FE level u = x / max|x|:
+//! - stiffening, y = X sign(x) (|x| / X)^p: ln(y / x) = (p - 1) ln|u|;
+//! - bridge nonlinearity, y = x + q x^2 / X: ln(y / x) = ln(1 + q u).
+//!
+//! The bend the data guarantees is B_k at the strength moved two standard errors towards the
+//! identity; the effect is named only if it exceeds S_k on at least one output, for below that
+//! the effect is one more shape among those our ignorance of the map already allows.
+
+use sim::effects::EffectKind;
+
+use crate::baseline::Drive;
+
+/// The samples the span is taken over: loaded to at least this share of the largest load (the
+/// range over which `calibration.toml` quotes the FE's departure from linear).
+const LOADED_SHARE: f64 = 0.05;
+
+/// Each output's signed level u = x / max|x| (FE chip loads) on the loaded samples, and the
+/// calibration's span S of ln(output / load) there.
+pub struct Span {
+    levels: Vec<[f64; 3]>,
+    pub span: [f64; 3],
+}
+
+impl Span {
+    pub fn of(drive: &Drive) -> Self {
+        let unit = &drive.unit;
+        let force_max = unit.iter().map(|u| u.force_n).fold(0.0, f64::max);
+        let chip_max: [f64; 3] =
+            std::array::from_fn(|k| unit.iter().map(|u| u.chip[k].abs()).fold(0.0, f64::max));
+        let loaded: Vec<usize> = (0..unit.len())
+            .filter(|&i| force_max > 0.0 && unit[i].force_n >= LOADED_SHARE * force_max)
+            .collect();
+        let departure = drive.ln_map_departure();
+        let span = std::array::from_fn(|k| {
+            let (lo, hi) = loaded
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
+                    (a.min(departure[i][k]), b.max(departure[i][k]))
+                });
+            if hi >= lo {
+                hi - lo
+            } else {
+                0.0
+            }
+        });
+        let levels = loaded
+            .iter()
+            .map(|&i| {
+                std::array::from_fn(|k| {
+                    if chip_max[k] > 0.0 {
+                        unit[i].chip[k] / chip_max[k]
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect();
+        Self { levels, span }
+    }
+
+    /// B_k: the bend effect `kind` of strength `s` puts on output `k`; `None` for an effect that
+    /// is not a static shape.
+    pub fn bend(&self, kind: EffectKind, s: f64, k: usize) -> Option<f64> {
+        let ln_factor = |u: f64| -> Option<f64> {
+            let v = match kind {
+                EffectKind::Stiffening => (s - 1.0) * u.abs().ln(),
+                EffectKind::BridgeNonlinearity => (1.0 + s * u).max(f64::MIN_POSITIVE).ln(),
+                _ => return None,
+            };
+            v.is_finite().then_some(v)
+        };
+        matches!(
+            kind,
+            EffectKind::Stiffening | EffectKind::BridgeNonlinearity
+        )
+        .then(|| {
+            let (lo, hi) = self
+                .levels
+                .iter()
+                .filter_map(|u| ln_factor(u[k]))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                });
+            if hi >= lo {
+                hi - lo
+            } else {
+                0.0
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn span_on(levels: &[f64]) -> Span {
+        Span {
+            levels: levels.iter().map(|&u| [u, -u, u]).collect(),
+            span: [0.1; 3],
+        }
+    }
+
+    /// Analytical cases: a power p over levels 0.05..1 bends by |p - 1| ln 20; a quadratic by
+    /// ln((1 + q) / (1 + 0.05 q)), of either sign on a negative output.
+    #[test]
+    fn bends_follow_the_operators() {
+        let s = span_on(&[0.05, 0.3, 1.0]);
+        let b = s.bend(EffectKind::Stiffening, 1.2, 0).unwrap();
+        assert!((b - 0.2 * 20f64.ln()).abs() < 1e-12);
+        let q = s.bend(EffectKind::BridgeNonlinearity, 0.1, 0).unwrap();
+        assert!((q - (1.1f64 / 1.005).ln()).abs() < 1e-12);
+        let neg = s.bend(EffectKind::BridgeNonlinearity, 0.1, 1).unwrap();
+        assert!((neg - (0.995f64 / 0.9).ln()).abs() < 1e-12);
+        assert_eq!(s.bend(EffectKind::Stiffening, 1.0, 2), Some(0.0));
+        assert_eq!(s.bend(EffectKind::Hysteresis, 0.1, 0), None);
+    }
+}
