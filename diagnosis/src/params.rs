@@ -175,7 +175,7 @@ const STRENGTH_Z: f64 = 2.0;
 
 /// The documented threshold of the static-shape effects (`hardware/calibration.toml`,
 /// [`crate::static_shape`]): of the static-shape effects of `c` that, at their strength moved
-/// [`STRENGTH_Z`] standard errors towards the identity, bend no compared output beyond the
+/// two (`STRENGTH_Z`) standard errors towards the identity, bend no compared output beyond the
 /// calibration's span, the one closest to the identity (in standard errors): its index in
 /// `c.kinds` and why in words. `None` when every one bends beyond it.
 ///

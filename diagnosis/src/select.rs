@@ -6,7 +6,8 @@
 //! [`Candidate::extend`]); of those that beat the current model and the baseline on the
 //! criterion without making the held-out misfit worse beyond its noise
 //! ([`Comparison::admits`](crate::candidate::Comparison::admits)) and whose primary parameter
-//! is resolved ([`crate::params::resolved`]), the one with the lowest BIC is taken. Backward:
+//! is not pinned at a bound ([`crate::params::at_bounds`]), the one with the lowest BIC is
+//! taken. Backward:
 //! each effect of the new model must still be admitted against the same model without it; any
 //! that is not is pruned (the one whose removal costs least first). The search stops when no
 //! addition is admitted. There is no limit on the number of effects, and a kind may enter twice
@@ -17,7 +18,9 @@
 //! effect can hide another's held-out gain (a drift over an AC coupling's undershoot): from the
 //! search's last model, the effect that least earns its place on both tests is dropped until
 //! every remaining one passes both against the model without it
-//! ([`Comparison::passes`](crate::candidate::Comparison::passes)). The reported model is that
+//! ([`Comparison::passes`](crate::candidate::Comparison::passes)), and a static shape that
+//! bends no output beyond the calibration's span ([`crate::params::absorbed_static_shape`]) is
+//! dropped too. The reported model is that
 //! one if it passes every test, else the last of the search's path that does; the baseline when
 //! none does.
 

@@ -213,3 +213,36 @@ fn friction_with_relaxation_is_not_a_time_offset() {
         names(&r)
     );
 }
+
+/// The documented threshold of the static shapes (`hardware/calibration.toml`): a quadratic
+/// well inside the span of the calibration's map from the load is not named, however low its
+/// noise makes the criterion; one well beyond it is.
+#[test]
+fn a_static_shape_is_named_only_beyond_the_calibrations_span() {
+    let (rec, opt) = recording(&["bridge_nonlinearity:quadratic=0.02"], 27, |_| {});
+    let r = diagnose(&rec, &opt);
+    check_never_worse(&r);
+    assert!(
+        !names(&r).contains(&"bridge_nonlinearity"),
+        "{:?}",
+        names(&r)
+    );
+    let c = r
+        .candidates
+        .iter()
+        .find(|c| c.effects == ["bridge_nonlinearity"])
+        .expect("listed");
+    // Found by the criterion, refused by the threshold.
+    assert!(
+        !c.accepted
+            && c.reason
+                .contains("the calibration's map from the load may take"),
+        "{}",
+        c.reason
+    );
+
+    let (rec, opt) = recording(&["bridge_nonlinearity:quadratic=0.3"], 27, |_| {});
+    let r = diagnose(&rec, &opt);
+    check_never_worse(&r);
+    assert_eq!(names(&r), ["bridge_nonlinearity"]);
+}
