@@ -6,7 +6,7 @@ use sim::effects::EffectKind;
 
 use crate::candidate::Candidate;
 use crate::data::Data;
-use crate::fit::{physical, stderr, Model, N_BASE};
+use crate::fit::{physical, stderr, Model, BLEND_AT, N_BASE, OFFSET_AT, SCALE_AT};
 use crate::localise;
 use crate::output::ParamDetail;
 use crate::preconditions::Protocol;
@@ -107,13 +107,26 @@ fn fmt(v: f64) -> String {
 
 /// The one recording channel a baseline parameter calibrates (none for the contact law).
 fn channel_of(i: usize) -> Option<usize> {
-    match i {
-        2..=4 => Some(i - 1),
-        5..=8 => Some(i - 5),
-        10..=12 => Some(i - 9),
-        13..=15 => Some(i - 12),
-        _ => None,
+    let within = |at: usize, n: usize| (at..at + n).contains(&i);
+    if within(SCALE_AT, 3) {
+        Some(i - SCALE_AT + 1)
+    } else if within(OFFSET_AT, 4) {
+        Some(i - OFFSET_AT)
+    } else if within(BLEND_AT, 3) {
+        Some(i - BLEND_AT + 1)
+    } else {
+        None
     }
+}
+
+/// Every baseline parameter by its reported name, at its physical value (the JSON's
+/// `baseline.params`).
+pub fn baseline_values(base: &Candidate) -> Vec<(&'static str, f64)> {
+    BASELINE
+        .iter()
+        .enumerate()
+        .map(|(i, (name, _))| (*name, physical(&base.model, &base.fitted.full, i)))
+        .collect()
 }
 
 /// Every calibration parameter of the baseline in full (the compared channels' offsets only).

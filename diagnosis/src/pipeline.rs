@@ -17,7 +17,7 @@ use crate::baseline::{Drive, FrontEnd, Outputs};
 use crate::candidate::{heldout_needed, Candidate, MIN_BIC_GAIN};
 use crate::data::{Data, DataError, CHANNELS};
 use crate::fe_response::{AngleBlend, FeSource};
-use crate::fit::{Setup, BLEND_AT, OFFSET_AT, SCALE_AT, WARP_AT};
+use crate::fit::Setup;
 use crate::localise::{self, ChannelLocalisation, Mismatch};
 use crate::mains::{self, Line};
 use crate::output::*;
@@ -542,22 +542,9 @@ fn channel_localisation(
 }
 
 fn baseline_params(base: &Candidate) -> Numbers {
-    let f = &base.fitted.full;
     let mut n = Numbers::default();
-    n.push("youngs_modulus_Pa", f[0].exp());
-    n.push("force_exponent_shift", f[1]);
-    n.push("force_exponent_curvature", f[9]);
-    for (i, pct) in [60, 30, 10].iter().enumerate() {
-        n.push(&format!("force_warp_at_{pct}pct"), f[WARP_AT + i]);
-    }
-    for (i, ch) in ["fz", "mx", "my"].iter().enumerate() {
-        n.push(&format!("scale_{ch}"), f[SCALE_AT + i]);
-    }
-    for (i, ch) in ["fz", "mx", "my"].iter().enumerate() {
-        n.push(&format!("map_blend_{ch}"), f[BLEND_AT + i]);
-    }
-    for (i, ch) in CHANNELS.iter().enumerate() {
-        n.push(&format!("offset_{ch}"), f[OFFSET_AT + i]);
+    for (name, value) in params::baseline_values(base) {
+        n.push(name, value);
     }
     n
 }

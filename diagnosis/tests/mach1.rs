@@ -17,6 +17,21 @@ fn diagnose(rec: &Recording, label: &str) -> Report {
     let opt = diagnosis::Options::from_hardware(&hw).expect("options");
     let d = diagnosis::diagnose(rec, label, &opt).unwrap_or_else(|e| panic!("{label}: {e}"));
     let r = d.report;
+    // The material alone: no output's calibration is reported, every one of the contact law is.
+    let shown: Vec<&str> = r
+        .baseline
+        .parameters
+        .iter()
+        .map(|p| p.name.as_str())
+        .collect();
+    assert!(!shown.iter().any(|n| n.starts_with("scale_")), "{shown:?}");
+    for n in [
+        "force_exponent_shift",
+        "force_warp_at_60pct",
+        "force_warp_at_10pct",
+    ] {
+        assert!(shown.contains(&n), "{label}: {n} missing from {shown:?}");
+    }
     let names: Vec<&str> = r.effects.iter().map(|e| e.name.as_str()).collect();
     println!(
         "{label}: {:?} {names:?}, held-out {:.4} -> {:.4}, {:.1} s",
