@@ -67,7 +67,7 @@ fn detail(c: &Candidate, i: usize, name: &str, unit: &str, rho: f64, data: &Data
         Some("held fixed, not fitted (see the effect's evidence)".to_string())
     } else if on_lower || on_upper {
         Some(format!(
-            "at its {} bound {}: the data did not resolve it, so the value is a {} bound only",
+            "at its {} bound {}: the data did not resolve it, so the value is {} bound only",
             if on_lower { "lower" } else { "upper" },
             fmt(phys(if on_lower { spec.lower } else { spec.upper })),
             if on_lower { "an upper" } else { "a lower" },
