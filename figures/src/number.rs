@@ -65,8 +65,12 @@ pub fn decimals_for(step: f64) -> usize {
 }
 
 /// `v` with `decimals` places, a true minus sign (U+2212), never "−0", and thin spaces between
-/// groups of three digits from five integer digits on (`71 500 000`).
+/// groups of three digits from five integer digits on (`71 500 000`); "n/a" for a value that is
+/// not a number (a model that was never fitted has no BIC).
 pub fn fixed(v: f64, decimals: usize) -> String {
+    if !v.is_finite() {
+        return "n/a".to_string();
+    }
     let s = format!("{v:.decimals$}");
     let digits = s.trim_start_matches('-');
     if digits.chars().all(|c| c == '0' || c == '.') {
@@ -150,6 +154,7 @@ mod tests {
         assert_eq!(significant(77_967.4, 3), "78\u{2009}000");
         assert_eq!(fixed(-71_527_058.0, 0), "\u{2212}71\u{2009}527\u{2009}058");
         assert_eq!(fixed(2656.4, 0), "2656");
+        assert_eq!(fixed(f64::NAN, 0), "n/a");
     }
 
     #[test]
