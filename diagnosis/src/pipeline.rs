@@ -356,9 +356,14 @@ fn localise_residual(
     );
     let channels = channel_localisation(data, &base_dec, &residual);
     let chosen_dec = chosen.outputs(&setup.drive);
+    // One test per compared channel at a family-wise level of LB_P (Bonferroni), each on the
+    // residual with the noise's own colour taken out: coloured noise is not a mismatch.
+    let compared = setup.used.iter().filter(|u| **u).count().max(1);
     let white_after = (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = weighted(data, c, &diff(&data.fit.y[c], chosen_dec.channel(c)));
-        localise::ljung_box(&r, LB_LAGS).1 > LB_P
+        let bin = data.fit.count.iter().copied().max().unwrap_or(1);
+        let e = prewhitened(&r, data.noise_rho[c], bin);
+        localise::ljung_box(&e, LB_LAGS).1 > LB_P / compared as f64
     });
     Localised {
         mismatches,
@@ -404,6 +409,42 @@ fn weighted(data: &Data, c: usize, r: &[f64]) -> Vec<f64> {
         }
     }
     out
+}
+
+/// `r`, sums of `m` samples of noise with lag-1 correlation `rho` (AR(1), [`Data::noise_rho`]),
+/// with the correlation that noise alone gives the sums taken out. Sums of AR(1) noise are
+/// ARMA(1,1): autoregressive with a = rho^m, lag-1 correlation
+/// phi = rho (1 - rho^m)^2 / (m (1 - rho^2) - 2 rho (1 - rho^m)); w = S_k - a S_(k-1) is then
+/// MA(1) with lag-1 correlation c = (phi - a) / (1 + a^2 - 2 a phi), theta its invertible root
+/// of theta / (1 + theta^2) = c, and e_k = w_k - theta e_(k-1) is white.
+fn prewhitened(r: &[f64], rho: f64, m: usize) -> Vec<f64> {
+    let rho = rho.clamp(0.0, 0.99);
+    if rho == 0.0 || r.len() < 2 {
+        return r.to_vec();
+    }
+    let mf = m.max(1) as f64;
+    let a = rho.powf(mf);
+    let tail = 1.0 - a;
+    let var = mf * (1.0 - rho * rho) - 2.0 * rho * tail;
+    let phi = if var > 0.0 {
+        (rho * tail * tail / var).clamp(0.0, 0.99)
+    } else {
+        rho
+    };
+    let c = ((phi - a) / (1.0 + a * a - 2.0 * a * phi)).clamp(-0.499, 0.499);
+    let theta = if c.abs() < 1e-12 {
+        0.0
+    } else {
+        (1.0 - (1.0 - 4.0 * c * c).sqrt()) / (2.0 * c)
+    };
+    let mut e_prev = 0.0;
+    r.windows(2)
+        .map(|w| {
+            let e = w[1] - a * w[0] - theta * e_prev;
+            e_prev = e;
+            e
+        })
+        .collect()
 }
 
 fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
@@ -547,4 +588,41 @@ fn baseline_params(base: &Candidate) -> Numbers {
         n.push(name, value);
     }
     n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Sums of 50 samples of AR(1) noise (rho 0.98, a 0.1 s correlation at 500 Hz) are
+    /// correlated themselves and fail a whiteness test; with the noise's own colour taken out
+    /// they pass it, while a slow swing still fails.
+    #[test]
+    fn coloured_noise_is_no_mismatch_once_its_colour_is_out() {
+        let (rho, m) = (0.98, 50);
+        let mut g = crate::synth::Gaussian::new(4);
+        let mut x = 0.0;
+        let sums: Vec<f64> = (0..2000)
+            .map(|_| {
+                (0..m)
+                    .map(|_| {
+                        x = rho * x + (1.0f64 - rho * rho).sqrt() * g.normal();
+                        x
+                    })
+                    .sum()
+            })
+            .collect();
+        assert!(localise::ljung_box(&sums, LB_LAGS).1 < LB_P);
+        assert!(localise::ljung_box(&prewhitened(&sums, rho, m), LB_LAGS).1 > 0.01);
+        // A slow swing of three noise deviations (of the sums) is still a mismatch.
+        let sd = sums.iter().map(|v| v * v).sum::<f64>().sqrt() / (sums.len() as f64).sqrt();
+        let swing: Vec<f64> = sums
+            .iter()
+            .enumerate()
+            .map(|(k, v)| v + 3.0 * sd * (k as f64 * std::f64::consts::TAU / 100.0).sin())
+            .collect();
+        assert!(localise::ljung_box(&prewhitened(&swing, rho, m), LB_LAGS).1 < LB_P);
+        // One sample per sum: plain AR(1), whitened by its own coefficient.
+        assert_eq!(prewhitened(&[1.0, 2.0], 0.5, 1), vec![2.0 - 0.5]);
+    }
 }

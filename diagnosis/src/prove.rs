@@ -47,6 +47,8 @@ pub struct Score {
     /// Effects it reported as undecided against a calibration (`Report::undecided`).
     pub undecided: Vec<String>,
     pub correct: bool,
+    /// The verdict was `no_significant_mismatch` (what an effect-free recording must get).
+    pub quiet: bool,
     pub low_snr: bool,
     /// Relative error of each true effect's primary parameter, where that effect was found.
     pub primary_errors: Vec<(String, f64)>,
@@ -368,6 +370,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
             found: vec!["<error>".into()],
             undecided: Vec::new(),
             correct: false,
+            quiet: false,
             low_snr: case.low_snr,
             primary_errors: Vec::new(),
             heldout_before: f64::NAN,
@@ -416,6 +419,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
         found,
         undecided,
         correct: a == b,
+        quiet: r.verdict == crate::output::Verdict::NoSignificantMismatch,
         low_snr: case.low_snr,
         primary_errors,
         heldout_before: r.fit.heldout.rmse_before,
@@ -451,6 +455,9 @@ pub struct Summary {
     pub correct_share: f64,
     pub false_alarms: usize,
     pub no_effect_cases: usize,
+    /// Effect-free recordings whose verdict was not `no_significant_mismatch` (no effect named,
+    /// but the residual left structured: `unexplained`).
+    pub not_quiet: usize,
     pub primary_within_20: f64,
     pub primary_cases: usize,
     pub heldout_ratio_mean: f64,
@@ -487,6 +494,7 @@ impl Summary {
             correct_share: scores.iter().filter(|s| s.correct).count() as f64 / n,
             false_alarms: none.iter().filter(|s| !s.found.is_empty()).count(),
             no_effect_cases: none.len(),
+            not_quiet: none.iter().filter(|s| !s.quiet).count(),
             primary_within_20: primary.iter().filter(|&&e| e <= 0.2).count() as f64
                 / primary.len().max(1) as f64,
             primary_cases: primary.len(),
