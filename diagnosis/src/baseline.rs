@@ -234,11 +234,13 @@ const MIN_LN_REL_ROD: f64 = -4.605_170_185_988_091; // ln(0.01)
 /// Relative travels d / d_max of the force warp's knots, largest first.
 pub const WARP_KNOTS: [f64; 3] = [0.6, 0.3, 0.1];
 
-/// The force warp at ln(d / d_max) = `l`: linear between the knots in ln(travel), 0 at the
-/// largest travel (the modulus sets the level there) and at 1 %.
-fn force_warp(w: &[f64; 3], l: f64) -> f64 {
-    if l >= 0.0 || l <= MIN_LN_REL_ROD || *w == [0.0; 3] {
-        return 0.0;
+/// Where ln(d / d_max) = `l` lies among the force warp's knots: the interval j (between knot
+/// j - 1 and j, counting the largest travel as knot 0 and 1 % as knot 4) and the fraction t
+/// along it; `None` at or beyond either end, where the warp is 0. Fixed by the rod, so found
+/// once per drive rather than in every evaluation.
+fn warp_interval(l: f64) -> Option<(usize, f64)> {
+    if l >= 0.0 || l <= MIN_LN_REL_ROD {
+        return None;
     }
     let x = [
         0.0,
@@ -247,9 +249,17 @@ fn force_warp(w: &[f64; 3], l: f64) -> f64 {
         WARP_KNOTS[2].ln(),
         MIN_LN_REL_ROD,
     ];
-    let y = [0.0, w[0], w[1], w[2], 0.0];
     let j = (1..5).find(|&j| l >= x[j]).unwrap_or(4);
-    let t = (l - x[j - 1]) / (x[j] - x[j - 1]);
+    Some((j, (l - x[j - 1]) / (x[j] - x[j - 1])))
+}
+
+/// The force warp with knot values `w` on interval `at` ([`warp_interval`]): linear between the
+/// knots in ln(travel), 0 at the largest travel (the modulus sets the level there) and at 1 %.
+fn force_warp(w: &[f64; 3], at: Option<(usize, f64)>) -> f64 {
+    let Some((j, t)) = at.filter(|_| *w != [0.0; 3]) else {
+        return 0.0;
+    };
+    let y = [0.0, w[0], w[1], w[2], 0.0];
     y[j - 1] + t * (y[j] - y[j - 1])
 }
 
@@ -260,6 +270,8 @@ pub struct Drive {
     pub unit: Vec<UnitResponse>,
     /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
     ln_rel_rod: Vec<f64>,
+    /// Where each ln(rod / rod_max) lies among the force warp's knots ([`warp_interval`]).
+    warp_at: Vec<Option<(usize, f64)>>,
     /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
     /// full load (for the outputs' map blend), 0 out of contact.
     ln_map_departure: Vec<[f64; 3]>,
@@ -271,7 +283,7 @@ impl Drive {
     pub fn new(model: &dyn FingertipResponse, t_s: Vec<f64>, rod_mm: &[f64]) -> Self {
         let rod_max = rod_mm.iter().cloned().fold(0.0, f64::max);
         let unit: Vec<UnitResponse> = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
-        let ln_rel_rod = rod_mm
+        let ln_rel_rod: Vec<f64> = rod_mm
             .iter()
             // Frozen below 1 % of the largest travel: the warp must stay bounded as d -> 0 (a
             // positive curvature would otherwise blow up at travels of 1e-16 mm).
@@ -284,10 +296,12 @@ impl Drive {
             })
             .collect();
         let ln_map_departure = map_departure(&unit);
+        let warp_at = ln_rel_rod.iter().map(|&l| warp_interval(l)).collect();
         Self {
             t_s,
             unit,
             ln_rel_rod,
+            warp_at,
             ln_map_departure,
             temp_c: None,
         }
@@ -385,8 +399,9 @@ pub fn evaluate(
     let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
     let warped = drive.unit.iter().zip(&drive.ln_rel_rod);
     for (i, (u, &l)) in warped.enumerate() {
-        let warp =
-            p.exponent_shift * l + p.exponent_curvature * l * l + force_warp(&p.force_warp, l);
+        let warp = p.exponent_shift * l
+            + p.exponent_curvature * l * l
+            + force_warp(&p.force_warp, drive.warp_at[i]);
         let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
         let share = |k: usize| drive.blend(i, k, p.map_blend[k]);

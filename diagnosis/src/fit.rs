@@ -3,7 +3,8 @@
 //!
 //! Parameter vector (internal coordinates): ln E, exponent shift, the Fz, Mx and My scales, four
 //! offsets, exponent curvature, the force warp's three knots, the three outputs' map blends,
-//! then each effect's parameters (time constants as ln tau). The baseline's bounds are `hardware/calibration.toml`.
+//! then each effect's parameters (time constants as ln tau). The baseline's bounds are
+//! `hardware/calibration.toml`.
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
 //! chi-square in noise units and channels of any unit mix.
 

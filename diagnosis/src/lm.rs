@@ -141,9 +141,9 @@ fn finish(
     }
 }
 
-/// Forward differences, stepping inward at an upper bound: one column per parameter.
-/// Forward differences, one column per parameter, evaluated in parallel: the baseline's fit and
-/// the search's refits run one model at a time, and each column is a whole model evaluation.
+/// Forward differences, stepping inward at an upper bound, one column per parameter, evaluated
+/// in parallel: the baseline's fit and the search's refits run one model at a time, and each
+/// column is a whole model evaluation.
 fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options) -> DMatrix<f64> {
     use rayon::prelude::*;
     let columns: Vec<Vec<f64>> = (0..p.len())

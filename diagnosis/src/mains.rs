@@ -77,25 +77,31 @@ fn power(t: &[f64], residuals: &[&[f64]], f: f64, idx: &[usize]) -> f64 {
 /// Find the strongest line in the band among the samples `mask` selects; `None` when the
 /// sample rate cannot show the band.
 pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -> Option<Line> {
-    let (idx, freqs, imax, pmax, median) = coarse_scan(t, residuals, mask, rate_hz)?;
+    let scan = coarse_scan(t, residuals, mask, rate_hz)?;
+    Some(refine(t, residuals, scan, rate_hz))
+}
+
+/// The line at the coarse scan's peak, its frequency refined and its amplitudes fitted.
+fn refine(t: &[f64], residuals: &[&[f64]], scan: Scan, rate_hz: f64) -> Line {
+    let (idx, freqs, imax, pmax, median) = scan;
     // Refine on a longer window, whose main lobe is narrower than the scan step: first a fine
     // scan across the coarse peak (golden section alone would land on a side lobe), then golden
     // section within one fine step.
-    let refine: Vec<usize> = idx.iter().copied().take(REFINE_SAMPLES).collect();
-    let span = t[refine[refine.len() - 1]] - t[refine[0]];
+    let window: Vec<usize> = idx.iter().copied().take(REFINE_SAMPLES).collect();
+    let span = t[window[window.len() - 1]] - t[window[0]];
     let fine_step = (0.25 / span.max(1e-9)).min(SCAN_STEP_HZ);
     let n_fine = (2.0 * SCAN_STEP_HZ / fine_step).ceil() as usize;
     let f_fine = (0..=n_fine)
         .map(|i| freqs[imax] - SCAN_STEP_HZ + i as f64 * fine_step)
         .max_by(|&x, &y| {
-            power(t, residuals, x, &refine).total_cmp(&power(t, residuals, y, &refine))
+            power(t, residuals, x, &window).total_cmp(&power(t, residuals, y, &window))
         })
         .unwrap_or(freqs[imax]);
     let (mut a, mut b) = (f_fine - fine_step, f_fine + fine_step);
     let g = 0.618_033_988_75;
     for _ in 0..20 {
         let (x1, x2) = (b - g * (b - a), a + g * (b - a));
-        if power(t, residuals, x1, &refine) > power(t, residuals, x2, &refine) {
+        if power(t, residuals, x1, &window) > power(t, residuals, x2, &window) {
             b = x2;
         } else {
             a = x1;
@@ -107,11 +113,11 @@ pub fn find_line(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -
         .iter()
         .map(|r| fit_coefficients(t, r, &idx, freq_hz, harmonic))
         .collect();
-    Some(Line {
+    Line {
         freq_hz,
         coef,
         prominence: pmax / median,
-    })
+    }
 }
 
 /// The coarse scan of the band: the selected samples, the scanned frequencies, the peak's index
@@ -149,16 +155,14 @@ fn coarse_scan(t: &[f64], residuals: &[&[f64]], mask: &[bool], rate_hz: f64) -> 
 /// `y` with a prominent line in the band (and its third harmonic) subtracted, if it holds one.
 pub fn without_line(t: &[f64], y: &[f64], rate_hz: f64) -> Option<Vec<f64>> {
     let all = vec![true; t.len()];
-    // The coarse scan alone tells most recordings apart, at a fraction of the refinement.
-    let (.., pmax, median) = coarse_scan(t, &[y], &all, rate_hz)?;
-    if pmax.is_nan() || pmax / median <= MIN_LINE_PROMINENCE {
+    // The coarse scan alone tells most recordings apart, at a fraction of the refinement. A
+    // NaN prominence (a column not measured) is no line either.
+    let scan = coarse_scan(t, &[y], &all, rate_hz)?;
+    let prominence = scan.3 / scan.4;
+    if prominence.is_nan() || prominence <= MIN_LINE_PROMINENCE {
         return None;
     }
-    let line = find_line(t, &[y], &all, rate_hz)?;
-    // A NaN prominence (a column not measured) is no line either.
-    if line.prominence.is_nan() || line.prominence <= MIN_LINE_PROMINENCE {
-        return None;
-    }
+    let line = refine(t, &[y], scan, rate_hz);
     let harmonic = line.coef[0][2] != 0.0 || line.coef[0][3] != 0.0;
     Some(
         y.iter()

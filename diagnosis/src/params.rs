@@ -197,7 +197,14 @@ const STRENGTH_Z: f64 = 2.0;
 /// (BIC and held-out misfit), which stays sound where a large structured misfit makes a single
 /// parameter's standard error meaningless (a real rig's relaxation at 0.18 +- 0.40).
 pub fn absorbed_static_shape(c: &Candidate) -> Option<(usize, String)> {
+    let is_static =
+        |k: &EffectKind| matches!(k, EffectKind::Stiffening | EffectKind::BridgeNonlinearity);
+    // Most models hold no static shape: spare them the residual and the span.
+    if !c.kinds.iter().any(is_static) {
+        return None;
+    }
     let rho = residual_rho(c);
+    let span = Span::of(&c.model.setup.drive);
     let mut at = N_BASE;
     let mut worst: Option<(usize, f64, String)> = None;
     for (e, &kind) in c.kinds.iter().enumerate() {
@@ -221,7 +228,7 @@ pub fn absorbed_static_shape(c: &Candidate) -> Option<(usize, String)> {
         } else {
             value - (value - neutral).signum() * STRENGTH_Z * se
         };
-        let Some(words) = within_calibration(c, kind, sure) else {
+        let Some(words) = within_calibration(c, &span, kind, sure) else {
             continue;
         };
         let why = format!(
@@ -239,9 +246,8 @@ pub fn absorbed_static_shape(c: &Candidate) -> Option<(usize, String)> {
 /// For a static-shape effect of strength `sure` that bends no compared output beyond the span
 /// the calibration's map may take ([`Span`]), why in words; `None` when it bends one beyond it
 /// or is not a static shape.
-fn within_calibration(c: &Candidate, kind: EffectKind, sure: f64) -> Option<String> {
+fn within_calibration(c: &Candidate, span: &Span, kind: EffectKind, sure: f64) -> Option<String> {
     let setup = c.model.setup;
-    let span = Span::of(&setup.drive);
     let mut largest: Option<(f64, f64)> = None;
     for k in (0..3).filter(|&k| setup.used[k + 1]) {
         let bend = span.bend(kind, sure, k)?;

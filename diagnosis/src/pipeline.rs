@@ -359,9 +359,9 @@ fn localise_residual(
     // One test per compared channel at a family-wise level of LB_P (Bonferroni), each on the
     // residual with the noise's own colour taken out: coloured noise is not a mismatch.
     let compared = setup.used.iter().filter(|u| **u).count().max(1);
+    let bin = data.fit.count.iter().copied().max().unwrap_or(1);
     let white_after = (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = weighted(data, c, &diff(&data.fit.y[c], chosen_dec.channel(c)));
-        let bin = data.fit.count.iter().copied().max().unwrap_or(1);
         let e = prewhitened(&r, data.noise_rho[c], bin);
         localise::ljung_box(&e, LB_LAGS).1 > LB_P / compared as f64
     });

@@ -4,12 +4,10 @@
 //! Forward: every effect the protocol can show ([`Protocol::allows`]) is added to the current
 //! model in turn (fitted in parallel, each from the current model's solution, see
 //! [`Candidate::extend`]); of those that beat the current model and the baseline on the
-//! criterion without making the held-out misfit worse beyond its noise
-//! ([`Comparison::admits`](crate::candidate::Comparison::admits)) and whose primary parameter
-//! is not pinned at a bound ([`crate::params::at_bounds`]), the one with the lowest BIC is
-//! taken. Backward:
-//! each effect of the new model must still be admitted against the same model without it; any
-//! that is not is pruned (the one whose removal costs least first). The search stops when no
+//! criterion ([`Comparison::admits`](crate::candidate::Comparison::admits)) and whose primary
+//! parameter is not pinned at a bound ([`crate::params::at_bounds`]), the one with the lowest
+//! BIC is taken. Backward: each effect of the new model must still be admitted against the same
+//! model without it; any that is not is pruned (the one whose removal costs least first). The search stops when no
 //! addition is admitted. There is no limit on the number of effects, and a kind may enter twice
 //! where the catalogue allows it (a second Prony term of the relaxation), so combinations are
 //! found, not listed.
@@ -20,9 +18,8 @@
 //! every remaining one passes both against the model without it
 //! ([`Comparison::passes`](crate::candidate::Comparison::passes)), and a static shape that
 //! bends no output beyond the calibration's span ([`crate::params::absorbed_static_shape`]) is
-//! dropped too. The reported model is that
-//! one if it passes every test, else the last of the search's path that does; the baseline when
-//! none does.
+//! dropped too. The reported model is that one if it passes every test, else the last of the
+//! search's path that does; the baseline when none does.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

@@ -39,18 +39,7 @@ impl Span {
             .filter(|&i| force_max > 0.0 && unit[i].force_n >= LOADED_SHARE * force_max)
             .collect();
         let departure = drive.ln_map_departure();
-        let span = std::array::from_fn(|k| {
-            let (lo, hi) = loaded
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
-                    (a.min(departure[i][k]), b.max(departure[i][k]))
-                });
-            if hi >= lo {
-                hi - lo
-            } else {
-                0.0
-            }
-        });
+        let span = std::array::from_fn(|k| spread(loaded.iter().map(|&i| departure[i][k])));
         let levels = loaded
             .iter()
             .map(|&i| {
@@ -69,32 +58,25 @@ impl Span {
     /// B_k: the bend effect `kind` of strength `s` puts on output `k`; `None` for an effect that
     /// is not a static shape.
     pub fn bend(&self, kind: EffectKind, s: f64, k: usize) -> Option<f64> {
-        let ln_factor = |u: f64| -> Option<f64> {
-            let v = match kind {
-                EffectKind::Stiffening => (s - 1.0) * u.abs().ln(),
-                EffectKind::BridgeNonlinearity => (1.0 + s * u).max(f64::MIN_POSITIVE).ln(),
-                _ => return None,
-            };
-            v.is_finite().then_some(v)
+        let ln_factor: fn(f64, f64) -> f64 = match kind {
+            EffectKind::Stiffening => |s, u| (s - 1.0) * u.abs().ln(),
+            EffectKind::BridgeNonlinearity => |s, u| (1.0 + s * u).max(f64::MIN_POSITIVE).ln(),
+            _ => return None,
         };
-        matches!(
-            kind,
-            EffectKind::Stiffening | EffectKind::BridgeNonlinearity
-        )
-        .then(|| {
-            let (lo, hi) = self
-                .levels
-                .iter()
-                .filter_map(|u| ln_factor(u[k]))
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(v), b.max(v))
-                });
-            if hi >= lo {
-                hi - lo
-            } else {
-                0.0
-            }
-        })
+        let factors = self.levels.iter().map(|u| ln_factor(s, u[k]));
+        Some(spread(factors.filter(|v| v.is_finite())))
+    }
+}
+
+/// max - min of `values`, 0 for none.
+fn spread(values: impl Iterator<Item = f64>) -> f64 {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    if hi >= lo {
+        hi - lo
+    } else {
+        0.0
     }
 }
 
