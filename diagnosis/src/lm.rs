@@ -96,16 +96,28 @@ fn damped_step(
     // A parameter with no influence here (a zero column) gets a unit diagonal, so it stays put
     // instead of making the system singular.
     let floor = 1e-12 * jtj.diagonal().iter().fold(0.0, |a: f64, &b| a.max(b));
+    // A parameter at a bound that the gradient pushes further out is held there for this step
+    // (the active set): left in the system, its clamped move would spoil the others' step,
+    // which was solved as if it had moved, and the fit stalled against the bound.
+    let held: Vec<bool> = (0..m)
+        .map(|i| (p[i] <= opt.lower[i] && jtr[i] > 0.0) || (p[i] >= opt.upper[i] && jtr[i] < 0.0))
+        .collect();
+    let mut rhs = -jtr;
     for _ in 0..12 {
         let mut a = jtj.clone();
         for i in 0..m {
-            if jtj[(i, i)] <= floor {
+            if held[i] {
+                a.row_mut(i).fill(0.0);
+                a.column_mut(i).fill(0.0);
+                a[(i, i)] = 1.0;
+                rhs[i] = 0.0;
+            } else if jtj[(i, i)] <= floor {
                 a[(i, i)] = 1.0;
             } else {
                 a[(i, i)] += *lambda * jtj[(i, i)];
             }
         }
-        let Some(delta) = solve_linear(a, -jtr) else {
+        let Some(delta) = solve_linear(a, rhs.clone()) else {
             *lambda *= 10.0;
             continue;
         };
