@@ -223,21 +223,27 @@ pub fn category_passes(s: &Summary) -> bool {
 }
 
 /// Every recording with its case number (`prove-NN.csv` with `--write-recordings`), category,
-/// label, truth and what was found ("?": undecided against a calibration).
+/// label, truth, what was found ("?": undecided against a calibration) and, for an effect-free
+/// recording, whether its verdict was `no_significant_mismatch`.
 pub fn details(labelled: &[Labelled], scores: &[Score]) -> String {
     let mut out = String::from(
-        "| case | category | varied | hidden | found | right |\n|---|---|---|---|---|---|\n",
+        "| case | category | varied | hidden | found | right | effect-free, `no_significant_mismatch` |\n|---|---|---|---|---|---|---|\n",
     );
     for (l, s) in labelled.iter().zip(scores) {
         let _ = writeln!(
             out,
-            "| {:02} | {} | {} | {} | {} | {} |",
+            "| {:02} | {} | {} | {} | {} | {} | {} |",
             s.id,
             l.category.name(),
             l.label,
             s.truth.join(" + "),
             s.answer(" + "),
             if s.correct { "yes" } else { "**no**" },
+            match (s.truth.is_empty(), s.quiet) {
+                (false, _) => "",
+                (true, true) => "yes",
+                (true, false) => "**no**",
+            },
         );
     }
     out
