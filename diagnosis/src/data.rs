@@ -9,6 +9,7 @@
 use rayon::prelude::*;
 use recording::Recording;
 
+use crate::noise::Noise;
 use crate::regimes::{self, Regime, Segment};
 
 /// Compared channels, in contract order.
@@ -24,6 +25,9 @@ const MARGIN_AFTER_S: f64 = 3.0;
 /// Blocks along a move at least: a block mean differs from the curve at its centre by
 /// f'' T^2 / 24, a relative 1e-4 of a power-law load over a twentieth of its move.
 pub const MOVE_BLOCKS: f64 = 20.0;
+/// Fewest samples at a still rod to read the sample-scale noise from (its deviation then has a
+/// standard error of 5 %).
+const MIN_STILL_SAMPLES: usize = 200;
 
 /// One rate's worth of the signals.
 #[derive(Debug, Clone, Default)]
@@ -54,11 +58,10 @@ pub struct Data {
     pub fit: Series,
     /// Peak-to-peak range of each recorded channel (the contract's RMSE normaliser).
     pub range: [f64; 4],
-    /// White-noise standard deviation of each channel at full rate.
-    pub noise_full: [f64; 4],
-    /// Lag-1 correlation of that noise (0 for white; the firmware smoother or an anti-alias
-    /// filter colour it), modelled as AR(1).
-    pub noise_rho: [f64; 4],
+    /// The full-rate samples `start..end` behind each sample of `fit`.
+    pub bounds: Vec<(usize, usize)>,
+    /// Each channel's noise at full rate ([`Noise`]).
+    pub noise: [Noise; 4],
     /// The regimes found at the full rate, with the load telling a start in contact, as index
     /// runs on `fit` (its blocks never straddle a segment's edge). Finer than detecting them on
     /// `fit` itself, where block means blur the encoder's quanta.
@@ -129,25 +132,49 @@ impl Data {
             .map(|k| crate::mains::without_line(&full.t_s, &full.y[k], rate))
             .collect();
         let quiet = |k: usize| quiet[k].as_deref().unwrap_or(&full.y[k]);
-        let noise_rho: [f64; 4] = std::array::from_fn(|k| noise_correlation(quiet(k)));
-        let noise_full: [f64; 4] = std::array::from_fn(|k| {
-            // Second differences of AR(1) noise have variance sigma^2 (6 - 8 rho + 2 rho^2).
-            let r = noise_rho[k];
-            let white = difference_noise(quiet(k)) * (6.0 / (6.0 - 8.0 * r + 2.0 * r * r)).sqrt();
-            white.max(1e-6 * range[k]).max(1e-12)
+        // Slow noise is looked for where nothing but noise moves the channels: from a still
+        // start (not one the load shows in contact) up to the first contact, where the contract
+        // puts `rod_mm` = 0.
+        let free = match full_segments.first() {
+            Some(first) if first.regime == Regime::Rest => {
+                0..c.rod_mm.iter().position(|&r| r > 0.0).unwrap_or(0)
+            }
+            _ => 0..0,
+        };
+        // The sample-scale noise is read where the rod stands still: at a low rate a moving rod
+        // bends the load between neighbouring samples, and its second differences would read
+        // as noise (at 20 Hz, as noise correlated at 0.99). All of it where the still stretches
+        // are too short.
+        let still_runs: Vec<std::ops::Range<usize>> = full_segments
+            .iter()
+            .filter(|s| matches!(s.regime, Regime::Rest | Regime::Hold | Regime::Recovery))
+            .map(|s| s.start..s.end)
+            .filter(|r| r.len() >= 3)
+            .collect();
+        let still = if still_runs.iter().map(|r| r.len()).sum::<usize>() >= MIN_STILL_SAMPLES {
+            still_runs
+        } else {
+            std::iter::once(0..full.len()).collect()
+        };
+        let noise: [Noise; 4] = std::array::from_fn(|k| {
+            let x = quiet(k);
+            let pieces: Vec<&[f64]> = still.iter().map(|r| &x[r.clone()]).collect();
+            let mut n = Noise::estimate(&pieces, &x[free.clone()]);
+            n.sample.sd = n.sample.sd.max(1e-6 * range[k]).max(1e-12);
+            n
         });
         let weights = std::array::from_fn(|c| {
             fit.count
                 .iter()
-                .map(|&n| block_weight(n, noise_rho[c], noise_full[c]))
+                .map(|&n| 1.0 / noise[c].mean_sd(n))
                 .collect()
         });
         Ok(Self {
             full,
             fit,
             range,
-            noise_full,
-            noise_rho,
+            noise,
+            bounds,
             segments,
             weights,
         })
@@ -157,19 +184,6 @@ impl Data {
     pub fn weight(&self, c: usize, k: usize) -> f64 {
         self.weights[c][k]
     }
-}
-
-/// One over the noise level of the mean of `n` samples of AR(1) noise (lag-1 correlation `r`,
-/// standard deviation `sigma`).
-fn block_weight(n: usize, r: f64, sigma: f64) -> f64 {
-    let n = n as f64;
-    // Variance of the mean of n AR(1) samples over sigma^2 / n.
-    let inflation = if r > 0.0 {
-        ((1.0 + r) / (1.0 - r) - 2.0 * r * (1.0 - r.powf(n)) / (n * (1.0 - r).powi(2))).max(1.0)
-    } else {
-        1.0
-    };
-    (n / inflation).sqrt() / sigma
 }
 
 /// The block length (samples) wanted at each sample, and where a block must end (the edges of
@@ -264,66 +278,9 @@ pub fn peak_to_peak(x: &[f64]) -> f64 {
     }
 }
 
-/// Lag-1 correlation rho of AR(1) noise from second differences, which cancel any signal that
-/// is smooth on the sample scale. For AR(1) noise (autocovariance sigma^2 rho^h) the lag-1
-/// correlation of `d[k] = e[k] - 2 e[k-1] + e[k-2]` is
-/// (-4 + 7 rho - 4 rho^2 + rho^3) / (6 - 8 rho + 2 rho^2), -2/3 for white noise, rising with
-/// rho; inverted by bisection. Clamped to [0, 0.99].
-pub fn noise_correlation(x: &[f64]) -> f64 {
-    if x.len() < 5 {
-        return 0.0;
-    }
-    let d: Vec<f64> = x.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
-    let c = super::localise::lag1(&d);
-    let model = |r: f64| (-4.0 + 7.0 * r - 4.0 * r * r + r * r * r) / (6.0 - 8.0 * r + 2.0 * r * r);
-    let (mut lo, mut hi) = (0.0, 0.99);
-    if c <= model(lo) {
-        return 0.0;
-    }
-    if c >= model(hi) {
-        return hi;
-    }
-    for _ in 0..50 {
-        let mid = 0.5 * (lo + hi);
-        if model(mid) < c {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
-/// White-noise level from second differences, which cancel any signal that is smooth on the
-/// sample scale: `var(x[k+1] - 2x[k] + x[k-1]) = 6 sigma^2`. The median absolute value (scaled
-/// for a normal law) keeps fast transients and clipping from inflating it.
-pub fn difference_noise(x: &[f64]) -> f64 {
-    if x.len() < 3 {
-        return 0.0;
-    }
-    let mut d: Vec<f64> = x
-        .windows(3)
-        .map(|w| (w[2] - 2.0 * w[1] + w[0]).abs())
-        .collect();
-    let mid = d.len() / 2;
-    let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
-    *median / 0.674_489_75 / 6f64.sqrt()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn difference_noise_recovers_sigma_under_a_slow_signal() {
-        let mut g = super::super::synth::Gaussian::new(3);
-        let x: Vec<f64> = (0..50_000)
-            .map(|k| (k as f64 * 1e-3).sin() * 5.0 + 0.01 * g.normal())
-            .collect();
-        let s = difference_noise(&x);
-        assert!((s / 0.01 - 1.0).abs() < 0.03, "{s}");
-        assert!(noise_correlation(&x) < 0.02);
-    }
 
     /// Blocks over the standard test at `rate_hz`: the bounds, the full-rate segments and the
     /// segments carried onto the blocks.
@@ -374,18 +331,5 @@ mod tests {
             let deep = recovery.start + (recovery.end - recovery.start) / 2;
             assert_eq!(len(deep), coarse, "{rate} Hz");
         }
-    }
-
-    #[test]
-    fn ar1_correlation_is_recovered() {
-        let mut g = super::super::synth::Gaussian::new(4);
-        let mut e = 0.0;
-        let x: Vec<f64> = (0..100_000)
-            .map(|_| {
-                e = 0.8 * e + g.normal();
-                e
-            })
-            .collect();
-        assert!((noise_correlation(&x) - 0.8).abs() < 0.02);
     }
 }

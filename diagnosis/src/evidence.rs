@@ -166,7 +166,7 @@ fn join_second_term(first: &mut EffectReport, second: Vec<ParamDetail>) {
 /// over N samples spanning T.
 pub fn mains_report(line: &Line, data: &Data) -> EffectReport {
     let n = data.full.len() as f64;
-    let sigma = (1..4).map(|c| data.noise_full[c]).sum::<f64>() / 3.0;
+    let sigma = (1..4).map(|c| data.noise[c].sd()).sum::<f64>() / 3.0;
     let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
     let a = line.amplitude().max(1e-300);
     let detail =

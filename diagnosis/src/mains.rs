@@ -216,7 +216,7 @@ mod tests {
     /// AR(1) noise, the line alone had inflated it about tenfold.
     #[test]
     fn the_noise_estimate_sees_through_a_line() {
-        use crate::data::{difference_noise, noise_correlation};
+        use crate::noise::{correlation as noise_correlation, difference_noise};
         let t: Vec<f64> = (0..70_000).map(|k| k as f64 * 2e-3).collect();
         let mut g = super::super::synth::Gaussian::new(9);
         let y: Vec<f64> = t

@@ -24,7 +24,7 @@ use crate::output::*;
 use crate::preconditions::Protocol;
 use crate::regimes::{self, Segment};
 use crate::select::select;
-use crate::{evidence, params, undecided};
+use crate::{evidence, noise, params, undecided};
 
 /// Told after each candidate model is fitted: (candidates fitted so far, candidates in all).
 pub type Progress = dyn Fn(usize, usize) + Send + Sync;
@@ -230,13 +230,19 @@ fn calibration_setup<'a>(
     };
     Setup {
         data,
-        drive: Drive::new(fingertip, fit_t.clone(), &data.fit.rod_mm)
-            .with_temperature(thermal.and(data.fit.temp_c.clone())),
+        drive: Drive::over_blocks(
+            fingertip,
+            fit_t.clone(),
+            &data.fit.rod_mm,
+            &data.full.rod_mm,
+            &data.bounds,
+        )
+        .with_temperature(thermal.and(data.fit.temp_c.clone())),
         front_end: front_end(meta, opt),
         contact_angle_deg: meta.contact_angle_deg,
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,
-        used: std::array::from_fn(|c| data.range[c] > 10.0 * data.noise_full[c]),
+        used: std::array::from_fn(|c| data.range[c] > 10.0 * data.noise[c].sd()),
         thermal,
         calibration: opt.calibration.clone(),
     }
@@ -362,7 +368,7 @@ fn localise_residual(
     let bin = data.fit.count.iter().copied().max().unwrap_or(1);
     let white_after = (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = weighted(data, c, &diff(&data.fit.y[c], chosen_dec.channel(c)));
-        let e = prewhitened(&r, data.noise_rho[c], bin);
+        let e = noise::prewhitened(&r, &data.noise[c], bin, LB_LAGS);
         localise::ljung_box(&e, LB_LAGS).1 > LB_P / compared as f64
     });
     Localised {
@@ -392,59 +398,26 @@ fn prominent_lines(line: Option<&Line>) -> Vec<(f64, f64, f64)> {
         .collect()
 }
 
-/// Residual in noise units, re-binned to the coarse block length (fine blocks summed in
-/// groups): whiteness is judged on the time scales the models describe, and noise coloured
-/// on the scale of a few samples (smoother, anti-alias filter) does not count as structure.
+/// Residual re-binned to the coarse block length (fine blocks summed in groups), each bin the
+/// sum over its samples divided by the noise model's deviation of such a sum: whiteness is
+/// judged on the time scales the models describe, and noise coloured on the scale of a few
+/// samples (smoother, anti-alias filter) does not count as structure. Normalised by the whole
+/// bin's noise, not block by block: under slow noise, fine blocks' weights would make a bin in
+/// a move several times as variable as one at rest, and a whiteness test over bins of unequal
+/// variance rejects too often.
 fn weighted(data: &Data, c: usize, r: &[f64]) -> Vec<f64> {
     let target = data.fit.count.iter().copied().max().unwrap_or(1);
     let mut out = Vec::new();
-    let (mut sum, mut m, mut count) = (0.0, 0usize, 0usize);
-    for (k, v) in r.iter().enumerate() {
-        sum += v * data.weight(c, k);
-        m += 1;
-        count += data.fit.count[k];
+    let (mut sum, mut count) = (0.0, 0usize);
+    for (v, &n) in r.iter().zip(&data.fit.count) {
+        sum += v * n as f64;
+        count += n;
         if count >= target {
-            out.push(sum / (m as f64).sqrt());
-            (sum, m, count) = (0.0, 0, 0);
+            out.push(sum / data.noise[c].sum_covariance(count, 0).sqrt());
+            (sum, count) = (0.0, 0);
         }
     }
     out
-}
-
-/// `r`, sums of `m` samples of noise with lag-1 correlation `rho` (AR(1), [`Data::noise_rho`]),
-/// with the correlation that noise alone gives the sums taken out. Sums of AR(1) noise are
-/// ARMA(1,1): autoregressive with a = rho^m, lag-1 correlation
-/// phi = rho (1 - rho^m)^2 / (m (1 - rho^2) - 2 rho (1 - rho^m)); w = S_k - a S_(k-1) is then
-/// MA(1) with lag-1 correlation c = (phi - a) / (1 + a^2 - 2 a phi), theta its invertible root
-/// of theta / (1 + theta^2) = c, and e_k = w_k - theta e_(k-1) is white.
-fn prewhitened(r: &[f64], rho: f64, m: usize) -> Vec<f64> {
-    let rho = rho.clamp(0.0, 0.99);
-    if rho == 0.0 || r.len() < 2 {
-        return r.to_vec();
-    }
-    let mf = m.max(1) as f64;
-    let a = rho.powf(mf);
-    let tail = 1.0 - a;
-    let var = mf * (1.0 - rho * rho) - 2.0 * rho * tail;
-    let phi = if var > 0.0 {
-        (rho * tail * tail / var).clamp(0.0, 0.99)
-    } else {
-        rho
-    };
-    let c = ((phi - a) / (1.0 + a * a - 2.0 * a * phi)).clamp(-0.499, 0.499);
-    let theta = if c.abs() < 1e-12 {
-        0.0
-    } else {
-        (1.0 - (1.0 - 4.0 * c * c).sqrt()) / (2.0 * c)
-    };
-    let mut e_prev = 0.0;
-    r.windows(2)
-        .map(|w| {
-            let e = w[1] - a * w[0] - theta * e_prev;
-            e_prev = e;
-            e
-        })
-        .collect()
 }
 
 fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
@@ -454,7 +427,7 @@ fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
 /// Mean over the compared channels of RMS residual / recorded peak-to-peak range.
 fn contract_rmse(data: &Data, o: &Outputs, mask: &[bool]) -> f64 {
     let used: Vec<usize> = (0..4)
-        .filter(|&c| data.range[c] > 10.0 * data.noise_full[c])
+        .filter(|&c| data.range[c] > 10.0 * data.noise[c].sd())
         .collect();
     used.iter()
         .map(|&c| channel_rmse(data, o, c, mask))
@@ -509,7 +482,7 @@ fn mains_helps(data: &Data, o: &Outputs, line: &Line, fit: &[bool], heldout: &[b
     let chi2 = |m: &Outputs, mask: &[bool]| -> f64 {
         (1..4)
             .map(|c| {
-                let w = 1.0 / data.noise_full[c];
+                let w = 1.0 / data.noise[c].sd();
                 (0..data.full.len())
                     .filter(|&k| mask[k])
                     .map(|k| ((data.full.y[c][k] - m.channel(c)[k]) * w).powi(2))
@@ -522,7 +495,7 @@ fn mains_helps(data: &Data, o: &Outputs, line: &Line, fit: &[bool], heldout: &[b
     // The two models differ by the line itself: its norm on the held-out stretch.
     let diff = (1..4)
         .map(|c| {
-            let w = 1.0 / data.noise_full[c];
+            let w = 1.0 / data.noise[c].sd();
             (0..data.full.len())
                 .filter(|&k| heldout[k])
                 .map(|k| ((with.channel(c)[k] - o.channel(c)[k]) * w).powi(2))
@@ -554,7 +527,7 @@ fn channel_localisation(
         })
         .collect();
     (0..4)
-        .filter(|&c| data.range[c] > 10.0 * data.noise_full[c])
+        .filter(|&c| data.range[c] > 10.0 * data.noise[c].sd())
         .map(|c| {
             let r = &residual[c];
             let (q, p) = localise::ljung_box(&weighted(data, c, r), LB_LAGS);
@@ -588,41 +561,4 @@ fn baseline_params(base: &Candidate) -> Numbers {
         n.push(name, value);
     }
     n
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Sums of 50 samples of AR(1) noise (rho 0.98, a 0.1 s correlation at 500 Hz) are
-    /// correlated themselves and fail a whiteness test; with the noise's own colour taken out
-    /// they pass it, while a slow swing still fails.
-    #[test]
-    fn coloured_noise_is_no_mismatch_once_its_colour_is_out() {
-        let (rho, m) = (0.98, 50);
-        let mut g = crate::synth::Gaussian::new(4);
-        let mut x = 0.0;
-        let sums: Vec<f64> = (0..2000)
-            .map(|_| {
-                (0..m)
-                    .map(|_| {
-                        x = rho * x + (1.0f64 - rho * rho).sqrt() * g.normal();
-                        x
-                    })
-                    .sum()
-            })
-            .collect();
-        assert!(localise::ljung_box(&sums, LB_LAGS).1 < LB_P);
-        assert!(localise::ljung_box(&prewhitened(&sums, rho, m), LB_LAGS).1 > 0.01);
-        // A slow swing of three noise deviations (of the sums) is still a mismatch.
-        let sd = sums.iter().map(|v| v * v).sum::<f64>().sqrt() / (sums.len() as f64).sqrt();
-        let swing: Vec<f64> = sums
-            .iter()
-            .enumerate()
-            .map(|(k, v)| v + 3.0 * sd * (k as f64 * std::f64::consts::TAU / 100.0).sin())
-            .collect();
-        assert!(localise::ljung_box(&prewhitened(&swing, rho, m), LB_LAGS).1 < LB_P);
-        // One sample per sum: plain AR(1), whitened by its own coefficient.
-        assert_eq!(prewhitened(&[1.0, 2.0], 0.5, 1), vec![2.0 - 0.5]);
-    }
 }

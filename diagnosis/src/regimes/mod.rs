@@ -133,7 +133,7 @@ pub fn starts_in_contact(rod: &[f64], load: &[f64], segments: &[Segment]) -> boo
         return false;
     }
     let is_move = |s: &&Segment| matches!(s.regime, Regime::Loading | Regime::Release);
-    let sigma = crate::data::difference_noise(&load);
+    let sigma = crate::noise::difference_noise(&load);
     let first = segments.first().map_or(
         load.len(),
         |s| {
