@@ -25,13 +25,22 @@ pub trait FingertipResponse: Sync {
     fn unit_response(&self, rod_mm: f64) -> UnitResponse;
 }
 
-/// A tabulated response (from the FE model or any other source), zero before the first point
-/// (no contact), monotone cubic (PCHIP, [`super::interp`]) between points, and straight on
-/// along the end slope past the last.
+/// A tabulated response (from the FE model or any other source), zero at and before the first
+/// point (no contact). Between points the force is interpolated as ln F against ln(travel), and
+/// each chip load as its ratio to the force, both monotone cubic (PCHIP, [`super::interp`]).
+/// A contact force grows like a power of the travel whose exponent changes slowly, so it is
+/// nearly straight in those coordinates: interpolated in F against d, the FE's 0.8 mm steps put
+/// ripples of ~0.5 % on the load (its local exponent wandering by +-0.05 between nodes), a
+/// hundred times a load cell's noise, which another model's smooth law exposed as a structured
+/// misfit. The chip loads' ratios to the force (the maps of the outputs) change slowly too.
+/// Before the first point in contact the force follows the first interval's power; past the
+/// last, the last interval's; the ratios stay at their end values.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResponseTable {
     rod_mm: Vec<f64>,
-    /// Force, then the three chip loads, per Pa, at each rod travel.
+    /// ln rod travel at the nodes in contact (positive travel and force).
+    ln_rod: Vec<f64>,
+    /// ln force per Pa, then the three chip loads over the force, at those nodes.
     values: [Vec<f64>; 4],
     slopes: [Vec<f64>; 4],
 }
@@ -44,15 +53,29 @@ impl ResponseTable {
             rod_mm.windows(2).all(|w| w[1] > w[0]),
             "rod travel must increase"
         );
+        let contact: Vec<(f64, &UnitResponse)> = rod_mm
+            .iter()
+            .zip(&points)
+            .filter(|(d, p)| **d > 0.0 && p.force_n > 0.0)
+            .map(|(d, p)| (d.ln(), p))
+            .collect();
+        let ln_rod: Vec<f64> = contact.iter().map(|(l, _)| *l).collect();
         let values: [Vec<f64>; 4] = std::array::from_fn(|k| {
-            points
+            contact
                 .iter()
-                .map(|p| if k == 0 { p.force_n } else { p.chip[k - 1] })
+                .map(|(_, p)| {
+                    if k == 0 {
+                        p.force_n.ln()
+                    } else {
+                        p.chip[k - 1] / p.force_n
+                    }
+                })
                 .collect()
         });
-        let slopes = std::array::from_fn(|k| super::interp::slopes(&rod_mm, &values[k]));
+        let slopes = std::array::from_fn(|k| super::interp::slopes(&ln_rod, &values[k]));
         Self {
             rod_mm,
+            ln_rod,
             values,
             slopes,
         }
@@ -95,25 +118,38 @@ impl ResponseTable {
         self.rod_mm.last().copied().unwrap_or(0.0)
     }
 
-    fn component(&self, k: usize, rod_mm: f64) -> f64 {
-        let (x, y, d) = (&self.rod_mm, &self.values[k], &self.slopes[k]);
+    /// Component `k` (ln F, or a chip load's ratio to F) at ln travel `l`: the cubic inside the
+    /// nodes, the end interval's straight line (ln F) or the end value (ratios) outside.
+    fn component(&self, k: usize, l: f64) -> f64 {
+        let (x, y, d) = (&self.ln_rod, &self.values[k], &self.slopes[k]);
         let last = x.len() - 1;
-        if rod_mm > x[last] {
-            y[last] + d[last] * (rod_mm - x[last])
+        let end = |i: usize, j: usize| {
+            if k == 0 && last > 0 {
+                y[i] + (y[j] - y[i]) / (x[j] - x[i]) * (l - x[i])
+            } else {
+                y[i]
+            }
+        };
+        if l < x[0] {
+            end(0, 1.min(last))
+        } else if l > x[last] {
+            end(last, last.saturating_sub(1))
         } else {
-            super::interp::eval(x, y, d, rod_mm)
+            super::interp::eval(x, y, d, l)
         }
     }
 }
 
 impl FingertipResponse for ResponseTable {
     fn unit_response(&self, rod_mm: f64) -> UnitResponse {
-        if self.rod_mm.is_empty() || rod_mm <= self.rod_mm[0] {
+        if self.ln_rod.is_empty() || rod_mm <= 0.0 || rod_mm <= self.rod_mm[0] {
             return UnitResponse::default();
         }
+        let l = rod_mm.ln();
+        let force_n = self.component(0, l).exp();
         UnitResponse {
-            force_n: self.component(0, rod_mm),
-            chip: std::array::from_fn(|k| self.component(k + 1, rod_mm)),
+            force_n,
+            chip: std::array::from_fn(|k| force_n * self.component(k + 1, l)),
         }
     }
 }
@@ -196,6 +232,9 @@ pub struct BaselineParams {
     /// linearly in ln(travel) and zero at the largest travel and at 1 %: a contact law whose
     /// local exponent wanders in ways no smooth power captures (another gel, another model).
     pub force_warp: [f64; 3],
+    /// The contact law between the FE's (0) and the power law of the travel that best matches
+    /// it over 10-100 % of the largest travel (1): another law need not show the FE's features.
+    pub force_law_blend: f64,
     /// Each output's map between the FE's (0) and one linear in the load (1): the FE's own
     /// departure from proportional, r(F) = (chip / F) / (chip / F)_max, raised to 1 - b.
     pub map_blend: [f64; 3],
@@ -221,6 +260,7 @@ impl BaselineParams {
             exponent_curvature: 0.0,
             scale: [1.0; 3],
             force_warp: [0.0; 3],
+            force_law_blend: 0.0,
             map_blend: [0.0; 3],
             azimuth_shift_deg: 0.0,
             offset: [0.0; 4],
@@ -272,6 +312,9 @@ pub struct Drive {
     ln_rel_rod: Vec<f64>,
     /// Where each ln(rod / rod_max) lies among the force warp's knots ([`warp_interval`]).
     warp_at: Vec<Option<(usize, f64)>>,
+    /// ln of the power law matching the fingertip's force less ln of its force, in contact
+    /// ([`power_law_departure`]): the force-law blend's direction.
+    to_power_law: Vec<f64>,
     /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
     /// full load (for the outputs' map blend), 0 out of contact.
     ln_map_departure: Vec<[f64; 3]>,
@@ -282,7 +325,57 @@ pub struct Drive {
 impl Drive {
     pub fn new(model: &dyn FingertipResponse, t_s: Vec<f64>, rod_mm: &[f64]) -> Self {
         let rod_max = rod_mm.iter().cloned().fold(0.0, f64::max);
-        let unit: Vec<UnitResponse> = rod_mm.iter().map(|&d| model.unit_response(d)).collect();
+        let law = matching_power_law(model, rod_max);
+        let (unit, power) = rod_mm
+            .iter()
+            .map(|&d| (model.unit_response(d), law.force(d)))
+            .unzip();
+        Self::with_units(t_s, rod_mm, rod_max, unit, power)
+    }
+
+    /// The drive of block means: the response averaged over each block's full-rate travels
+    /// `full_rod_mm[a..b]` (`bounds`), as the recorded block means are. The response at the
+    /// block's mean travel would differ by F'' var(d) / 2, on a fast ramp's blocks many times
+    /// the noise of their means (the force is convex in the travel).
+    pub fn over_blocks(
+        model: &dyn FingertipResponse,
+        t_s: Vec<f64>,
+        rod_mm: &[f64],
+        full_rod_mm: &[f64],
+        bounds: &[(usize, usize)],
+    ) -> Self {
+        let rod_max = full_rod_mm.iter().cloned().fold(0.0, f64::max);
+        let law = matching_power_law(model, rod_max);
+        let (unit, power) = bounds
+            .iter()
+            .map(|&(a, b)| {
+                let n = (b - a).max(1) as f64;
+                let sum = full_rod_mm[a..b].iter().fold([0.0; 5], |mut acc, &d| {
+                    let u = model.unit_response(d);
+                    acc[0] += u.force_n;
+                    (0..3).for_each(|k| acc[k + 1] += u.chip[k]);
+                    acc[4] += law.force(d);
+                    acc
+                });
+                let unit = UnitResponse {
+                    force_n: sum[0] / n,
+                    chip: [sum[1] / n, sum[2] / n, sum[3] / n],
+                };
+                (unit, sum[4] / n)
+            })
+            .unzip();
+        Self::with_units(t_s, rod_mm, rod_max, unit, power)
+    }
+
+    /// `power`: the matching power law's force per Pa at each sample (block means for a drive
+    /// of blocks), the force-law blend's target.
+    fn with_units(
+        t_s: Vec<f64>,
+        rod_mm: &[f64],
+        rod_max: f64,
+        unit: Vec<UnitResponse>,
+        power: Vec<f64>,
+    ) -> Self {
         let ln_rel_rod: Vec<f64> = rod_mm
             .iter()
             // Frozen below 1 % of the largest travel: the warp must stay bounded as d -> 0 (a
@@ -297,11 +390,23 @@ impl Drive {
             .collect();
         let ln_map_departure = map_departure(&unit);
         let warp_at = ln_rel_rod.iter().map(|&l| warp_interval(l)).collect();
+        let to_power_law = unit
+            .iter()
+            .zip(&power)
+            .map(|(u, &p)| {
+                if u.force_n > 0.0 && p > 0.0 {
+                    p.ln() - u.force_n.ln()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         Self {
             t_s,
             unit,
             ln_rel_rod,
             warp_at,
+            to_power_law,
             ln_map_departure,
             temp_c: None,
         }
@@ -328,6 +433,22 @@ impl Drive {
         Self { temp_c, ..self }
     }
 
+    /// How ln F at sample `i` moves with each of the contact law's shape parameters, in their
+    /// order in the fit's vector: exponent shift, curvature, the warp's knots, the force-law
+    /// blend. `None` out of contact.
+    pub fn contact_shape_basis(&self, i: usize) -> Option<[f64; 6]> {
+        let l = self.ln_rel_rod[i];
+        if l == 0.0 && self.unit[i].force_n <= 0.0 {
+            return None;
+        }
+        let knot = |j: usize| {
+            let mut w = [0.0; 3];
+            w[j] = 1.0;
+            force_warp(&w, self.warp_at[i])
+        };
+        Some([l, l * l, knot(0), knot(1), knot(2), self.to_power_law[i]])
+    }
+
     pub fn len(&self) -> usize {
         self.t_s.len()
     }
@@ -337,12 +458,64 @@ impl Drive {
     }
 }
 
+/// A power law of the travel, F = exp(a) (d / d_max)^b per Pa.
+#[derive(Debug, Clone, Copy)]
+struct PowerLaw {
+    a: f64,
+    b: f64,
+    rod_max: f64,
+}
+
+impl PowerLaw {
+    fn force(&self, rod_mm: f64) -> f64 {
+        if rod_mm > 0.0 && self.rod_max > 0.0 {
+            (self.a + self.b * (rod_mm / self.rod_max).ln()).exp()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The power law closest to `model`'s force over 10-100 % of `rod_max` (least squares in
+/// ln F at 19 travels even in ln d). Found from the model and the largest travel alone, so the
+/// fit's block drive and the full-rate drive blend towards the same law.
+fn matching_power_law(model: &dyn FingertipResponse, rod_max: f64) -> PowerLaw {
+    let points: Vec<(f64, f64)> = (0..19)
+        .map(|k| -std::f64::consts::LN_10 * k as f64 / 18.0)
+        .filter_map(|l| {
+            let f = model.unit_response(rod_max * l.exp()).force_n;
+            (f > 0.0).then(|| (l, f.ln()))
+        })
+        .collect();
+    let n = points.len() as f64;
+    if n < 2.0 {
+        return PowerLaw {
+            a: 0.0,
+            b: 0.0,
+            rod_max: 0.0,
+        };
+    }
+    let (mx, my) = points
+        .iter()
+        .fold((0.0, 0.0), |(x, y), p| (x + p.0 / n, y + p.1 / n));
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let b = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    PowerLaw {
+        a: my - b * mx,
+        b,
+        rod_max,
+    }
+}
+
 /// Largest |ln r| of an output's departure from linear: beyond a decade the ratio is of two
 /// numbers near zero (a moment at no inclination), not a map.
 const MAX_LN_DEPARTURE: f64 = std::f64::consts::LN_10;
 
-/// ln r(F) = ln[(chip / F) / (chip / F) at the largest load] of each output at each sample; 0
-/// below 1 % of the largest load, where the ratio is of numbers near zero.
+/// ln r(F) = ln[(chip / F) / (chip / F) at the largest load] of each output at each sample in
+/// contact, 0 out of it. The table interpolates chip / F itself and holds it below its first
+/// point, so the ratio stays a map down to the lightest touch; cut off at 1 % of the largest
+/// load, as it once was, the outputs of a model linear in the load kept the FE's map there.
 fn map_departure(unit: &[UnitResponse]) -> Vec<[f64; 3]> {
     let Some(top) = unit.iter().max_by(|a, b| a.force_n.total_cmp(&b.force_n)) else {
         return Vec::new();
@@ -352,7 +525,7 @@ fn map_departure(unit: &[UnitResponse]) -> Vec<[f64; 3]> {
             std::array::from_fn(|k| {
                 let (r, r_top) = (u.chip[k] / u.force_n, top.chip[k] / top.force_n);
                 let ratio = r / r_top;
-                if u.force_n > 0.01 * top.force_n && ratio > 0.0 && ratio.is_finite() {
+                if u.force_n > 0.0 && ratio > 0.0 && ratio.is_finite() {
                     ratio.ln().clamp(-MAX_LN_DEPARTURE, MAX_LN_DEPARTURE)
                 } else {
                     0.0
@@ -401,7 +574,8 @@ pub fn evaluate(
     for (i, (u, &l)) in warped.enumerate() {
         let warp = p.exponent_shift * l
             + p.exponent_curvature * l * l
-            + force_warp(&p.force_warp, drive.warp_at[i]);
+            + force_warp(&p.force_warp, drive.warp_at[i])
+            + p.force_law_blend * drive.to_power_law[i];
         let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
         let share = |k: usize| drive.blend(i, k, p.map_blend[k]);

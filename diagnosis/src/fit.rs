@@ -16,7 +16,7 @@ use super::lm::{self, Problem, Solution};
 use super::specs::effect_specs;
 
 /// Number of baseline parameters at the head of the vector.
-pub const N_BASE: usize = 16;
+pub const N_BASE: usize = 17;
 /// Index of the first output scale [Fz, Mx, My] in the parameter vector.
 pub const SCALE_AT: usize = 2;
 /// Index of the first offset [load, Fz, Mx, My].
@@ -25,6 +25,8 @@ pub const OFFSET_AT: usize = 5;
 pub const WARP_AT: usize = 10;
 /// Index of the first map blend [Fz, Mx, My].
 pub const BLEND_AT: usize = 13;
+/// Index of the force-law blend (`BaselineParams::force_law_blend`).
+pub const LAW_BLEND_AT: usize = 16;
 
 /// What stays fixed for all fits of one recording.
 pub struct Setup<'a> {
@@ -213,6 +215,7 @@ impl<'s, 'a> Model<'s, 'a> {
             azimuth_shift_deg: 0.0,
             offset: std::array::from_fn(|c| full[OFFSET_AT + c]),
             exponent_curvature: full[9],
+            force_law_blend: full[LAW_BLEND_AT],
         };
         let mut effects = Vec::new();
         let mut i = N_BASE;
@@ -431,6 +434,14 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
         blend("map_blend_fz", 0),
         blend("map_blend_mx", 1),
         blend("map_blend_my", 2),
+        spec(
+            "force_law_blend",
+            0.0,
+            cal.force_law_blend_max,
+            1e-5,
+            &[base[LAW_BLEND_AT]],
+            false,
+        ),
     ]
 }
 
@@ -474,8 +485,58 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
     let mut v = vec![e.ln(), 0.0];
     v.extend(scales);
     v.extend(rest);
-    v.extend([0.0; 7]);
+    v.extend([0.0; 8]);
+    if let Some(law) = contact_law_start(setup, rest[0]) {
+        v[0] = law[0];
+        v[1] = law[1];
+        v[9] = law[2];
+        v[WARP_AT..WARP_AT + 3].copy_from_slice(&law[3..6]);
+        v[LAW_BLEND_AT] = law[6];
+    }
     v
+}
+
+/// The contact law straight from the load cell: ln(load - offset) - ln(unit force) is linear
+/// in ln E and the law's shape parameters ([`Drive::contact_shape_basis`]), so weighted linear
+/// least squares over the loaded samples (above 5 % of the peak, each weighted by its load:
+/// the load cell's noise is the same in newtons, its error in ln F falls as 1 / F) finds the
+/// static law whatever its shape, within the calibration's bounds. A start only: from zeros,
+/// another model's law (another exponent) left the fit in a far local minimum with a knot at its
+/// bound. [ln E, shift, curvature, knots, blend], or `None` with too few loaded samples.
+fn contact_law_start(setup: &Setup, offset: f64) -> Option<[f64; 7]> {
+    let (load, drive, cal) = (&setup.data.fit.y[0], &setup.drive, &setup.calibration);
+    let peak = load.iter().map(|f| f - offset).fold(0.0, f64::max);
+    let rows: Vec<([f64; 7], f64, f64)> = (0..load.len())
+        .filter(|&k| setup.fit_mask[k] && load[k] - offset > 0.05 * peak)
+        .filter_map(|k| {
+            let u = drive.unit[k].force_n;
+            let b = drive.contact_shape_basis(k).filter(|_| u > 0.0)?;
+            let y = (load[k] - offset).ln() - u.ln();
+            Some((
+                [1.0, b[0], b[1], b[2], b[3], b[4], b[5]],
+                y,
+                load[k] - offset,
+            ))
+        })
+        .collect();
+    if rows.len() < 12 {
+        return None;
+    }
+    let a = nalgebra::DMatrix::from_fn(rows.len(), 7, |r, c| rows[r].0[c] * rows[r].2);
+    let y = nalgebra::DVector::from_fn(rows.len(), |r, _| rows[r].1 * rows[r].2);
+    let x = a.svd(true, true).solve(&y, 1e-10).ok()?;
+    let warp = cal.force_warp_max;
+    let bounds = [
+        (f64::NEG_INFINITY, f64::INFINITY),
+        (cal.exponent_shift_min, cal.exponent_shift_max),
+        (-cal.exponent_curvature_max, cal.exponent_curvature_max),
+        (-warp, warp),
+        (-warp, warp),
+        (-warp, warp),
+        (0.0, cal.force_law_blend_max),
+    ];
+    let law: [f64; 7] = std::array::from_fn(|i| x[i].clamp(bounds[i].0, bounds[i].1));
+    law.iter().all(|v| v.is_finite()).then_some(law)
 }
 
 /// Mean of each channel over the samples before the rod first touches.

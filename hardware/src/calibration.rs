@@ -18,6 +18,8 @@ pub struct Calibration {
     pub exponent_curvature_max: f64,
     /// Largest magnitude of the force warp at each of its knots (ln F).
     pub force_warp_max: f64,
+    /// Largest blend of the contact law towards a pure power law of the travel (0: the FE's).
+    pub force_law_blend_max: f64,
     /// Lower bound of each output's blend between the FE's map (0) and a linear one (1).
     pub map_blend_min: f64,
     /// Upper bound of that blend.
@@ -41,6 +43,7 @@ impl Calibration {
             exponent_shift_max: r.f64("contact.exponent_shift_max", 0.0..=3.0),
             exponent_curvature_max: r.f64("contact.exponent_curvature_max", 0.0..=2.0),
             force_warp_max: r.f64("contact.force_warp_max", 0.0..=2.0),
+            force_law_blend_max: r.f64("contact.force_law_blend_max", 0.0..=1.0),
             map_blend_min: r.f64("outputs.map_blend_min", -5.0..=0.0),
             map_blend_max: r.f64("outputs.map_blend_max", 1.0..=5.0),
             scale_max: r.f64("outputs.scale_max", 1.0..=1e6),
