@@ -539,14 +539,15 @@ fn contact_law_start(setup: &Setup, offset: f64) -> Option<[f64; 7]> {
     law.iter().all(|v| v.is_finite()).then_some(law)
 }
 
-/// Mean of each channel over the samples before the rod first touches.
+/// Mean of each channel over the samples before the rod first touches; none (zeros: a load
+/// cell and a bridge zeroed before the test) when the recording starts in contact, where the
+/// first sample is a preload, not an offset: taken as one, it sent the contact law's start
+/// and then the fit to a law shifted by the whole preload.
 fn rest_offsets(d: &Series) -> [f64; 4] {
-    let n = d
-        .rod_mm
-        .iter()
-        .position(|&r| r > 0.0)
-        .unwrap_or(d.len())
-        .max(1);
+    let n = d.rod_mm.iter().position(|&r| r > 0.0).unwrap_or(d.len());
+    if n == 0 {
+        return [0.0; 4];
+    }
     std::array::from_fn(|c| d.y[c][..n].iter().sum::<f64>() / n as f64)
 }
 
