@@ -124,45 +124,7 @@ impl Data {
         let fit = decimate(&full, &bounds);
         let segments = on_blocks(&full_segments, &bounds);
         let range = std::array::from_fn(|k| peak_to_peak(&full.y[k]));
-        // The noise is estimated without a mains line: its second differences are large and
-        // strongly correlated, and read as AR(1) noise they weighed a channel down tenfold and
-        // could hide it as one carrying no signal. The line itself is fitted later.
-        let quiet: Vec<Option<Vec<f64>>> = (0..4)
-            .into_par_iter()
-            .map(|k| crate::mains::without_line(&full.t_s, &full.y[k], rate))
-            .collect();
-        let quiet = |k: usize| quiet[k].as_deref().unwrap_or(&full.y[k]);
-        // Slow noise is looked for where nothing but noise moves the channels: from a still
-        // start (not one the load shows in contact) up to the first contact, where the contract
-        // puts `rod_mm` = 0.
-        let free = match full_segments.first() {
-            Some(first) if first.regime == Regime::Rest => {
-                0..c.rod_mm.iter().position(|&r| r > 0.0).unwrap_or(0)
-            }
-            _ => 0..0,
-        };
-        // The sample-scale noise is read where the rod stands still: at a low rate a moving rod
-        // bends the load between neighbouring samples, and its second differences would read
-        // as noise (at 20 Hz, as noise correlated at 0.99). All of it where the still stretches
-        // are too short.
-        let still_runs: Vec<std::ops::Range<usize>> = full_segments
-            .iter()
-            .filter(|s| matches!(s.regime, Regime::Rest | Regime::Hold | Regime::Recovery))
-            .map(|s| s.start..s.end)
-            .filter(|r| r.len() >= 3)
-            .collect();
-        let still = if still_runs.iter().map(|r| r.len()).sum::<usize>() >= MIN_STILL_SAMPLES {
-            still_runs
-        } else {
-            std::iter::once(0..full.len()).collect()
-        };
-        let noise: [Noise; 4] = std::array::from_fn(|k| {
-            let x = quiet(k);
-            let pieces: Vec<&[f64]> = still.iter().map(|r| &x[r.clone()]).collect();
-            let mut n = Noise::estimate(&pieces, &x[free.clone()]);
-            n.sample.sd = n.sample.sd.max(1e-6 * range[k]).max(1e-12);
-            n
-        });
+        let noise = channel_noise(&full, &full_segments, rate, &range);
         let weights = std::array::from_fn(|c| {
             fit.count
                 .iter()
@@ -184,6 +146,48 @@ impl Data {
     pub fn weight(&self, c: usize, k: usize) -> f64 {
         self.weights[c][k]
     }
+}
+
+/// Each channel's noise ([`Noise`]) over the full-rate series `full` with its `segments`.
+fn channel_noise(full: &Series, segments: &[Segment], rate: f64, range: &[f64; 4]) -> [Noise; 4] {
+    // The noise is estimated without a mains line: its second differences are large and
+    // strongly correlated, and read as AR(1) noise they weighed a channel down tenfold and could
+    // hide it as one carrying no signal. The line itself is fitted later.
+    let quiet: Vec<Option<Vec<f64>>> = (0..4)
+        .into_par_iter()
+        .map(|k| crate::mains::without_line(&full.t_s, &full.y[k], rate))
+        .collect();
+    // Slow noise is looked for where nothing but noise moves the channels: from a still start
+    // (not one the load shows in contact) up to the first contact, where the contract puts
+    // `rod_mm` = 0.
+    let free = match segments.first() {
+        Some(first) if first.regime == Regime::Rest => {
+            0..full.rod_mm.iter().position(|&r| r > 0.0).unwrap_or(0)
+        }
+        _ => 0..0,
+    };
+    // The sample-scale noise is read where the rod stands still: at a low rate a moving rod
+    // bends the load between neighbouring samples, and its second differences would read as
+    // noise (at 20 Hz, as noise correlated at 0.99). All of it where the still stretches are
+    // too short.
+    let still_runs: Vec<std::ops::Range<usize>> = segments
+        .iter()
+        .filter(|s| matches!(s.regime, Regime::Rest | Regime::Hold | Regime::Recovery))
+        .map(|s| s.start..s.end)
+        .filter(|r| r.len() >= 3)
+        .collect();
+    let still = if still_runs.iter().map(|r| r.len()).sum::<usize>() >= MIN_STILL_SAMPLES {
+        still_runs
+    } else {
+        std::iter::once(0..full.len()).collect()
+    };
+    std::array::from_fn(|k| {
+        let x = quiet[k].as_deref().unwrap_or(&full.y[k]);
+        let pieces: Vec<&[f64]> = still.iter().map(|r| &x[r.clone()]).collect();
+        let mut n = Noise::estimate(&pieces, &x[free.clone()]);
+        n.sample.sd = n.sample.sd.max(1e-6 * range[k]).max(1e-12);
+        n
+    })
 }
 
 /// The block length (samples) wanted at each sample, and where a block must end (the edges of

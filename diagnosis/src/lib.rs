@@ -27,6 +27,7 @@ pub mod params;
 pub mod pipeline;
 pub mod preconditions;
 pub mod regimes;
+pub mod response_table;
 pub mod select;
 pub mod specs;
 pub mod standard_test;
