@@ -120,13 +120,30 @@ impl<'s, 'a> Model<'s, 'a> {
                 }
             }
         }
-        Self {
+        let mut model = Self {
             setup,
             kinds: kinds.to_vec(),
             specs,
             fixed,
             extra_starts: Vec::new(),
+        };
+        // A recording that starts in contact never shows its unloaded zero: the offsets trade
+        // with the contact law over travels never seen, and the baseline this model nests can
+        // sit far from where the effects put the law (an offset of -5 N and a bent law took up a
+        // relaxation's ramp, and a static shape the rest). So the fit also starts from the load
+        // cell's own law, with the effects at their first starts; the better end is kept, so the
+        // model still fits no worse than the baseline it nests.
+        let starts_in_contact = setup.data.fit.rod_mm.first().is_some_and(|&r| r > 0.0);
+        if starts_in_contact && !kinds.is_empty() {
+            let mut start: Vec<f64> = model.specs.iter().map(|s| s.starts[0]).collect();
+            let init = initial_baseline(setup);
+            start[..N_BASE].copy_from_slice(&init[..N_BASE]);
+            for (i, v) in start.iter_mut().enumerate().take(N_BASE) {
+                *v = v.clamp(model.specs[i].lower, model.specs[i].upper);
+            }
+            model.extra_starts.push(start);
         }
+        model
     }
 
     /// Also start the fit from the full vector `start` (internal units).
