@@ -186,7 +186,7 @@ pub struct Drive {
     /// Where each ln(rod / rod_max) lies among the force warp's knots ([`warp_interval`]).
     warp_at: Vec<Option<(usize, f64)>>,
     /// ln of the power law matching the fingertip's force less ln of its force, in contact
-    /// ([`power_law_departure`]): the force-law blend's direction.
+    /// ([`matching_power_law`]): the force-law blend's direction.
     to_power_law: Vec<f64>,
     /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
     /// full load (for the outputs' map blend), 0 out of contact.
@@ -322,6 +322,16 @@ impl Drive {
         Some([l, l * l, knot(0), knot(1), knot(2), self.to_power_law[i]])
     }
 
+    /// ln of the calibrated force over the fingertip's own at sample `i`: the same law as
+    /// [`Drive::contact_shape_basis`] (linear in those parameters), evaluated directly.
+    fn ln_force_warp(&self, i: usize, p: &BaselineParams) -> f64 {
+        let l = self.ln_rel_rod[i];
+        p.exponent_shift * l
+            + p.exponent_curvature * l * l
+            + force_warp(&p.force_warp, self.warp_at[i])
+            + p.force_law_blend * self.to_power_law[i]
+    }
+
     pub fn len(&self) -> usize {
         self.t_s.len()
     }
@@ -443,12 +453,8 @@ pub fn evaluate(
     let mut load = Vec::with_capacity(n);
     let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
-    let warped = drive.unit.iter().zip(&drive.ln_rel_rod);
-    for (i, (u, &l)) in warped.enumerate() {
-        let warp = p.exponent_shift * l
-            + p.exponent_curvature * l * l
-            + force_warp(&p.force_warp, drive.warp_at[i])
-            + p.force_law_blend * drive.to_power_law[i];
+    for (i, u) in drive.unit.iter().enumerate() {
+        let warp = drive.ln_force_warp(i, p);
         let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
         let share = |k: usize| drive.blend(i, k, p.map_blend[k]);
@@ -488,20 +494,24 @@ pub fn evaluate(
     }
 }
 
+/// A fingertip whose force and chip loads grow linearly with the travel: the tests' fixture.
+#[cfg(test)]
+pub(crate) struct Linear;
+
+#[cfg(test)]
+impl FingertipResponse for Linear {
+    fn unit_response(&self, rod_mm: f64) -> UnitResponse {
+        let d = rod_mm.max(0.0);
+        UnitResponse {
+            force_n: d,
+            chip: [d, -d, 0.5 * d],
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    struct Linear;
-    impl FingertipResponse for Linear {
-        fn unit_response(&self, rod_mm: f64) -> UnitResponse {
-            let d = rod_mm.max(0.0);
-            UnitResponse {
-                force_n: d,
-                chip: [d, -d, 0.5 * d],
-            }
-        }
-    }
 
     /// The recursive smoother and its continuous equivalent agree on a step.
     #[test]

@@ -13,7 +13,7 @@ use crate::specs::starts;
 /// (1995) scale, which fixes this constant independently of our generator.
 pub const MIN_BIC_GAIN: f64 = 10.0;
 /// The held-out improvement must exceed this many standard deviations of its own sampling noise
-/// (see [`Candidate::heldout_test`]): two is the usual one-sided 2.3 % level.
+/// (see [`heldout_needed`]): two is the usual one-sided 2.3 % level.
 const HELDOUT_Z: f64 = 2.0;
 /// The smallest held-out improvement worth a name, as a share of the held-out misfit left by
 /// the smaller model: below half a percent an effect changes the held-out RMSE by less than a

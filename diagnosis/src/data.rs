@@ -123,7 +123,7 @@ impl Data {
         let bounds = block_bounds(&block, &cut);
         let fit = decimate(&full, &bounds);
         let segments = on_blocks(&full_segments, &bounds);
-        let range = std::array::from_fn(|k| peak_to_peak(&full.y[k]));
+        let range = std::array::from_fn(|k| peak_to_peak(full.y[k].iter().copied()));
         let noise = channel_noise(&full, &full_segments, rate, &range);
         let weights = std::array::from_fn(|c| {
             fit.count
@@ -140,6 +140,12 @@ impl Data {
             segments,
             weights,
         })
+    }
+
+    /// Whether channel `c` is worth comparing: its peak-to-peak range stands ten noise
+    /// deviations above its noise.
+    pub fn compared(&self, c: usize) -> bool {
+        self.range[c] > 10.0 * self.noise[c].sd()
     }
 
     /// Weight of decimated sample `k` of channel `c`: one over its noise level.
@@ -269,10 +275,11 @@ pub fn decimate(s: &Series, bounds: &[(usize, usize)]) -> Series {
     }
 }
 
-pub fn peak_to_peak(x: &[f64]) -> f64 {
-    let (lo, hi) = x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+/// max - min of `values`, 0 for none.
+pub fn peak_to_peak(values: impl IntoIterator<Item = f64>) -> f64 {
+    let (lo, hi) = values
+        .into_iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
             (l.min(v), h.max(v))
         });
     if hi >= lo {

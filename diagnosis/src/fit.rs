@@ -44,6 +44,17 @@ pub struct Setup<'a> {
     pub thermal: Option<super::temperature::ThermalFit>,
     /// How far the baseline may be calibrated (`hardware/calibration.toml`).
     pub calibration: hardware::Calibration,
+    /// [`initial_baseline`], worked out once ([`Setup::initial_baseline`]).
+    pub initial: std::sync::OnceLock<Vec<f64>>,
+}
+
+impl Setup<'_> {
+    /// The starting baseline from the load cell and the outputs ([`initial_baseline`]), worked
+    /// out on first use and kept: the baseline's fit and every effect model of a recording that
+    /// starts in contact start from it.
+    pub fn initial_baseline(&self) -> &[f64] {
+        self.initial.get_or_init(|| initial_baseline(self))
+    }
 }
 
 /// One parameter's coding: bounds, finite-difference step and starting values (internal units).
@@ -136,8 +147,7 @@ impl<'s, 'a> Model<'s, 'a> {
         let starts_in_contact = setup.data.fit.rod_mm.first().is_some_and(|&r| r > 0.0);
         if starts_in_contact && !kinds.is_empty() {
             let mut start: Vec<f64> = model.specs.iter().map(|s| s.starts[0]).collect();
-            let init = initial_baseline(setup);
-            start[..N_BASE].copy_from_slice(&init[..N_BASE]);
+            start[..N_BASE].copy_from_slice(&setup.initial_baseline()[..N_BASE]);
             for (i, v) in start.iter_mut().enumerate().take(N_BASE) {
                 *v = v.clamp(model.specs[i].lower, model.specs[i].upper);
             }

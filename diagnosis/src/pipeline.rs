@@ -242,9 +242,10 @@ fn calibration_setup<'a>(
         contact_angle_deg: meta.contact_angle_deg,
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,
-        used: std::array::from_fn(|c| data.range[c] > 10.0 * data.noise[c].sd()),
+        used: std::array::from_fn(|c| data.compared(c)),
         thermal,
         calibration: opt.calibration.clone(),
+        initial: Default::default(),
     }
 }
 
@@ -426,9 +427,7 @@ fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
 
 /// Mean over the compared channels of RMS residual / recorded peak-to-peak range.
 fn contract_rmse(data: &Data, o: &Outputs, mask: &[bool]) -> f64 {
-    let used: Vec<usize> = (0..4)
-        .filter(|&c| data.range[c] > 10.0 * data.noise[c].sd())
-        .collect();
+    let used: Vec<usize> = (0..4).filter(|&c| data.compared(c)).collect();
     used.iter()
         .map(|&c| channel_rmse(data, o, c, mask))
         .sum::<f64>()
@@ -527,7 +526,7 @@ fn channel_localisation(
         })
         .collect();
     (0..4)
-        .filter(|&c| data.range[c] > 10.0 * data.noise[c].sd())
+        .filter(|&c| data.compared(c))
         .map(|c| {
             let r = &residual[c];
             let (q, p) = localise::ljung_box(&weighted(data, c, r), LB_LAGS);

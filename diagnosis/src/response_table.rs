@@ -135,17 +135,7 @@ impl FingertipResponse for ResponseTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    struct Linear;
-    impl FingertipResponse for Linear {
-        fn unit_response(&self, rod_mm: f64) -> UnitResponse {
-            let d = rod_mm.max(0.0);
-            UnitResponse {
-                force_n: d,
-                chip: [d, -d, 0.5 * d],
-            }
-        }
-    }
+    use crate::baseline::Linear;
 
     #[test]
     fn table_interpolates_and_is_zero_before_contact() {

@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use sim::effects::EffectKind;
 
 use crate::candidate::{key_of, label_of, Candidate, Comparison};
-use crate::fit::{initial_baseline, Model, Setup, N_BASE};
+use crate::fit::{Model, Setup, N_BASE};
 use crate::output::CandidateReport;
 use crate::params::{absorbed_static_shape, at_bounds, resolved};
 use crate::pipeline::Progress;
@@ -105,8 +105,8 @@ pub fn select<'s, 'a>(
         total: AtomicUsize::new(1 + eligible.len()),
         report: progress,
     };
-    let init = initial_baseline(setup);
-    let base = Candidate::fit(Model::new(setup, &[], &init), BASE_ITERATIONS);
+    let init = setup.initial_baseline();
+    let base = Candidate::fit(Model::new(setup, &[], init), BASE_ITERATIONS);
     tick.inc();
     let mut s = Selection {
         all: vec![base],
@@ -383,7 +383,7 @@ impl<'s, 'a> Selection<'s, 'a> {
 
     /// While candidate `i` has more than `keep` effects, drop the one that fails `test` against
     /// the same model without it and whose removal leaves the lowest BIC; the index left. The
-    /// dropped model's reason reads "`why.0`: <effect> `why.1` (<scores>)".
+    /// dropped model's reason reads "`why.0`: `<effect>` `why.1` (`<scores>`)".
     fn prune(
         &mut self,
         setup: &'s Setup<'a>,

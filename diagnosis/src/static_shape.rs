@@ -17,6 +17,7 @@
 use sim::effects::EffectKind;
 
 use crate::baseline::Drive;
+use crate::data::peak_to_peak;
 
 /// The samples the span is taken over: loaded to at least this share of the largest load (the
 /// range over which `calibration.toml` quotes the FE's departure from linear).
@@ -39,7 +40,7 @@ impl Span {
             .filter(|&i| force_max > 0.0 && unit[i].force_n >= LOADED_SHARE * force_max)
             .collect();
         let departure = drive.ln_map_departure();
-        let span = std::array::from_fn(|k| spread(loaded.iter().map(|&i| departure[i][k])));
+        let span = std::array::from_fn(|k| peak_to_peak(loaded.iter().map(|&i| departure[i][k])));
         let levels = loaded
             .iter()
             .map(|&i| {
@@ -64,19 +65,7 @@ impl Span {
             _ => return None,
         };
         let factors = self.levels.iter().map(|u| ln_factor(s, u[k]));
-        Some(spread(factors.filter(|v| v.is_finite())))
-    }
-}
-
-/// max - min of `values`, 0 for none.
-fn spread(values: impl Iterator<Item = f64>) -> f64 {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-        (a.min(v), b.max(v))
-    });
-    if hi >= lo {
-        hi - lo
-    } else {
-        0.0
+        Some(peak_to_peak(factors.filter(|v| v.is_finite())))
     }
 }
 
