@@ -177,17 +177,20 @@ impl<'s, 'a> Candidate<'s, 'a> {
     ///
     /// The held-out gain G = sum(r_s^2 - r_l^2) over held-out samples. With the residuals in
     /// noise units, its sampling noise (the measurement noise e entering both models alike) is
-    /// sum 2 (m_l - m_s) e, of standard deviation 2 |m_l - m_s|: twice the norm of the two
-    /// models' difference on the held-out stretch. G must exceed `HELDOUT_Z` such deviations
-    /// and `MIN_HELDOUT_SHARE` of the smaller model's held-out misfit.
+    /// sum 2 (m_l - m_s) e: for white noise of standard deviation 2 |m_l - m_s|, twice the norm
+    /// of the two models' difference on the held-out stretch; under slow noise, which moves
+    /// neighbouring blocks together, more for a smooth difference ([`sum_deviation`]). G must
+    /// exceed `HELDOUT_Z` such deviations and `MIN_HELDOUT_SHARE` of the smaller model's
+    /// held-out misfit.
     pub fn compare(&self, smaller: &Candidate) -> Comparison {
-        let diff: f64 = self
+        let d: Vec<f64> = self
             .heldout_r
             .iter()
             .zip(&smaller.heldout_r)
-            .map(|(a, b)| (a - b).powi(2))
-            .sum::<f64>()
-            .sqrt();
+            .map(|(a, b)| a - b)
+            .collect();
+        let setup = self.model.setup;
+        let diff = sum_deviation(setup, &setup.heldout_mask, &d);
         Comparison {
             bic_gain: smaller.bic - self.bic,
             heldout_ratio: smaller.heldout_chi2 / self.heldout_chi2.max(1e-300),
@@ -215,6 +218,29 @@ impl<'s, 'a> Candidate<'s, 'a> {
     pub fn label(&self) -> String {
         label_of(&self.kinds)
     }
+}
+
+/// Standard deviation of sum_k d_k e_k, `d` a difference of weighted residuals on `mask` (the
+/// used channels one after the other, as [`Model::weighted`] lays them out) and e the noise in
+/// the same units, under each channel's noise model: |d| for white noise.
+fn sum_deviation(setup: &Setup, mask: &[bool], d: &[f64]) -> f64 {
+    let data = setup.data;
+    let rows: Vec<usize> = (0..mask.len()).filter(|&k| mask[k]).collect();
+    let blocks: Vec<(usize, usize)> = rows.iter().map(|&k| data.bounds[k]).collect();
+    (0..4)
+        .filter(|&c| setup.used[c])
+        .zip(d.chunks(rows.len().max(1)))
+        .map(|(c, d)| {
+            let coefficients: Vec<f64> = rows
+                .iter()
+                .zip(d)
+                .map(|(&k, dk)| dk * data.weight(c, k))
+                .collect();
+            data.noise[c].block_means_variance(&blocks, &coefficients)
+        })
+        .sum::<f64>()
+        .max(0.0)
+        .sqrt()
 }
 
 /// The least held-out chi-square decrease that counts, for two models whose predictions on the

@@ -57,7 +57,38 @@ impl Ar1 {
     }
 }
 
+impl Ar1 {
+    /// Variance of sum_k c_k mean_k, mean_k the mean of the samples `blocks[k]` (disjoint, in
+    /// time order). For k before j the means covary by sd^2 g_k g_j rho^(a_j - b_k + 1), with
+    /// g = (1 - rho^n) / ((1 - rho) n): separable, so the double sum runs in one pass, carrying
+    /// E_j = sum over k < j of c_k g_k rho^(a_j - b_k + 1) from one block's start to the next.
+    fn block_means_variance(&self, blocks: &[(usize, usize)], c: &[f64]) -> f64 {
+        let r = self.rho.clamp(0.0, 0.999_999);
+        let g = |n: f64| (1.0 - r.powf(n)) / ((1.0 - r) * n);
+        let (mut variance, mut carried) = (0.0, 0.0);
+        for (k, (&(a, b), &ck)) in blocks.iter().zip(c).enumerate() {
+            let n = (b - a).max(1);
+            let gk = g(n as f64);
+            variance += ck * ck * self.sum_covariance(n, 0) / (n * n) as f64
+                + 2.0 * self.sd.powi(2) * ck * gk * carried;
+            if let Some(&(next, _)) = blocks.get(k + 1) {
+                carried = carried * r.powf(next.saturating_sub(a) as f64)
+                    + ck * gk * r.powf((next + 1).saturating_sub(b) as f64);
+            }
+        }
+        variance
+    }
+}
+
 impl Noise {
+    /// Variance of sum_k c_k mean_k over the means of the disjoint samples `blocks[k]`, in
+    /// time order: what a smooth difference between two models' predictions is worth against
+    /// slow noise, which moves neighbouring block means together.
+    pub fn block_means_variance(&self, blocks: &[(usize, usize)], c: &[f64]) -> f64 {
+        self.sample.block_means_variance(blocks, c)
+            + self.slow.map_or(0.0, |s| s.block_means_variance(blocks, c))
+    }
+
     /// The noise of a channel (a mains line already out): `pieces` the stretches to read the
     /// sample-scale part from, `free` its stretch at rest before contact (may be empty).
     pub fn estimate(pieces: &[&[f64]], free: &[f64]) -> Self {
@@ -271,6 +302,38 @@ fn median_sd(mut d: Vec<f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The one-pass variance of a weighted sum of block means against the double sum of the
+    /// samples' AR(1) covariances, on blocks of uneven length with gaps between them.
+    #[test]
+    fn block_means_variance_matches_the_double_sum() {
+        let noise = Noise {
+            sample: Ar1 { sd: 1.5, rho: 0.3 },
+            slow: Some(Ar1 { sd: 0.7, rho: 0.95 }),
+        };
+        let blocks = [(0, 5), (5, 17), (20, 21), (30, 42)];
+        let c = [0.4, -1.0, 2.0, 0.3];
+        let cov = |i: usize, j: usize| {
+            let h = i.abs_diff(j) as i32;
+            [noise.sample, noise.slow.unwrap()]
+                .iter()
+                .map(|p| p.sd * p.sd * p.rho.powi(h))
+                .sum::<f64>()
+        };
+        let mut direct = 0.0;
+        for (&(a, b), &ca) in blocks.iter().zip(&c) {
+            for (&(p, q), &cp) in blocks.iter().zip(&c) {
+                let (na, np) = ((b - a) as f64, (q - p) as f64);
+                for i in a..b {
+                    for j in p..q {
+                        direct += ca * cp * cov(i, j) / (na * np);
+                    }
+                }
+            }
+        }
+        let fast = noise.block_means_variance(&blocks, &c);
+        assert!((fast - direct).abs() < 1e-9 * direct, "{fast} vs {direct}");
+    }
     use crate::localise::ljung_box;
     use crate::synth::Gaussian;
 
