@@ -11,6 +11,7 @@
 use sim::effects::Chain;
 use sim::forward::SignalPath;
 
+use crate::map_by_load::MapByLoad;
 pub use crate::response_table::ResponseTable;
 
 /// Probe force and chip loads per pascal of gel modulus at one rod travel.
@@ -111,6 +112,12 @@ pub struct BaselineParams {
     /// Each output's map between the FE's (0) and one linear in the load (1): the FE's own
     /// departure from proportional, r(F) = (chip / F) / (chip / F)_max, raised to 1 - b.
     pub map_blend: [f64; 3],
+    /// Where the outputs' maps are read ([`crate::map_by_load`]): at the FE's load at that travel
+    /// (0: the outputs follow the travel) or at the calibrated law's (1: they follow the load).
+    pub map_load_share: f64,
+    /// ln of the load the outputs' maps follow over the FE's at the largest travel
+    /// ([`crate::map_by_load`]): another law's level, where the modulus moved the load alone.
+    pub map_load_level: f64,
     /// Rotation of the moment vector, deg: the jig's mounting error. Data only (the proof's
     /// truth); the fit leaves it at 0, since in a one-direction test the two moment scales
     /// carry the same rotation.
@@ -135,6 +142,8 @@ impl BaselineParams {
             force_warp: [0.0; 3],
             force_law_blend: 0.0,
             map_blend: [0.0; 3],
+            map_load_share: 0.0,
+            map_load_level: 0.0,
             azimuth_shift_deg: 0.0,
             offset: [0.0; 4],
         }
@@ -191,6 +200,12 @@ pub struct Drive {
     /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
     /// full load (for the outputs' map blend), 0 out of contact.
     ln_map_departure: Vec<[f64; 3]>,
+    /// The outputs' maps against the load, to read them at another load ([`MapByLoad`]).
+    map_by_load: std::sync::Arc<MapByLoad>,
+    /// ln of the fingertip's force per Pa in contact (the load its maps are read at), else
+    /// `None`; and the table's maps there.
+    ln_unit_force: Vec<Option<f64>>,
+    map_at_own_load: Vec<[f64; 3]>,
     /// Measured temperature at each time, for a drift regressed on it.
     pub temp_c: Option<Vec<f64>>,
 }
@@ -203,7 +218,8 @@ impl Drive {
             .iter()
             .map(|&d| (model.unit_response(d), law.force(d)))
             .unzip();
-        Self::with_units(t_s, rod_mm, rod_max, unit, power)
+        let map = MapByLoad::new(model, rod_max);
+        Self::with_units(t_s, rod_mm, rod_max, unit, power, map)
     }
 
     /// The drive of block means: the response averaged over each block's full-rate travels
@@ -237,7 +253,8 @@ impl Drive {
                 (unit, sum[4] / n)
             })
             .unzip();
-        Self::with_units(t_s, rod_mm, rod_max, unit, power)
+        let map = MapByLoad::new(model, rod_max);
+        Self::with_units(t_s, rod_mm, rod_max, unit, power, map)
     }
 
     /// `power`: the matching power law's force per Pa at each sample (block means for a drive
@@ -248,6 +265,7 @@ impl Drive {
         rod_max: f64,
         unit: Vec<UnitResponse>,
         power: Vec<f64>,
+        map_by_load: MapByLoad,
     ) -> Self {
         let ln_rel_rod: Vec<f64> = rod_mm
             .iter()
@@ -274,6 +292,14 @@ impl Drive {
                 }
             })
             .collect();
+        let ln_unit_force: Vec<Option<f64>> = unit
+            .iter()
+            .map(|u| (u.force_n > 0.0).then(|| u.force_n.ln()))
+            .collect();
+        let map_at_own_load = ln_unit_force
+            .iter()
+            .map(|x| x.map_or([0.0; 3], |x| map_by_load.at(x)))
+            .collect();
         Self {
             t_s,
             unit,
@@ -281,18 +307,36 @@ impl Drive {
             warp_at,
             to_power_law,
             ln_map_departure,
+            map_by_load: std::sync::Arc::new(map_by_load),
+            ln_unit_force,
+            map_at_own_load,
             temp_c: None,
         }
     }
 
-    /// The map blend's factor of output `k` at sample `i` for blend `b`.
-    fn blend(&self, i: usize, k: usize, b: f64) -> f64 {
-        let e = -b * self.ln_map_departure[i][k];
-        if e != 0.0 {
-            e.exp()
-        } else {
-            1.0
-        }
+    /// The factors of the three outputs at sample `i` that give them their calibrated maps: the
+    /// FE's departure r raised to 1 - b (the map blend), read at the load of
+    /// [`crate::map_by_load`] (`warp`: ln of the calibrated force over the fingertip's own).
+    fn map_factors(&self, i: usize, p: &BaselineParams, warp: f64) -> [f64; 3] {
+        let moved = match self.ln_unit_force[i] {
+            Some(x) if p.map_load_share != 0.0 || p.map_load_level != 0.0 => {
+                let x = x + p.map_load_share * warp + p.map_load_level;
+                Some(self.map_by_load.at(x))
+            }
+            _ => None,
+        };
+        std::array::from_fn(|k| {
+            let b = p.map_blend[k];
+            let mut e = -b * self.ln_map_departure[i][k];
+            if let Some(m) = moved {
+                e += (1.0 - b) * (m[k] - self.map_at_own_load[i][k]);
+            }
+            if e != 0.0 {
+                e.exp()
+            } else {
+                1.0
+            }
+        })
     }
 
     /// ln r of each output at each sample: the FE's departure from an output linear in the
@@ -457,9 +501,9 @@ pub fn evaluate(
         let warp = drive.ln_force_warp(i, p);
         let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
         load.push(u.force_n * w);
-        let share = |k: usize| drive.blend(i, k, p.map_blend[k]);
-        let (mx, my) = (u.chip[1] * w * share(1), u.chip[2] * w * share(2));
-        chip[0].push(u.chip[0] * w * share(0));
+        let share = drive.map_factors(i, p, warp);
+        let (mx, my) = (u.chip[1] * w * share[1], u.chip[2] * w * share[2]);
+        chip[0].push(u.chip[0] * w * share[0]);
         chip[1].push(mx * c - my * s);
         chip[2].push(mx * s + my * c);
     }

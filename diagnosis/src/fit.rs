@@ -3,6 +3,7 @@
 //!
 //! Parameter vector (internal coordinates): ln E, exponent shift, the Fz, Mx and My scales, four
 //! offsets, exponent curvature, the force warp's three knots, the three outputs' map blends,
+//! the force-law blend, where the outputs' maps are read (load share, level),
 //! then each effect's parameters (time constants as ln tau). The baseline's bounds are
 //! `hardware/calibration.toml`.
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
@@ -16,7 +17,7 @@ use super::lm::{self, Problem, Solution};
 use super::specs::effect_specs;
 
 /// Number of baseline parameters at the head of the vector.
-pub const N_BASE: usize = 17;
+pub const N_BASE: usize = 19;
 /// Index of the first output scale [Fz, Mx, My] in the parameter vector.
 pub const SCALE_AT: usize = 2;
 /// Index of the first offset [load, Fz, Mx, My].
@@ -27,6 +28,9 @@ pub const WARP_AT: usize = 10;
 pub const BLEND_AT: usize = 13;
 /// Index of the force-law blend (`BaselineParams::force_law_blend`).
 pub const LAW_BLEND_AT: usize = 16;
+/// Index of the outputs' map load share, then of its level (`BaselineParams::map_load_share`,
+/// `map_load_level`).
+pub const MAP_LOAD_AT: usize = 17;
 
 /// What stays fixed for all fits of one recording.
 pub struct Setup<'a> {
@@ -130,6 +134,11 @@ impl<'s, 'a> Model<'s, 'a> {
                     fixed[BLEND_AT + c - 1] = Some(0.0);
                 }
             }
+        }
+        // With no output compared, nothing reads the outputs' maps.
+        if !setup.used[1..].iter().any(|&u| u) {
+            fixed[MAP_LOAD_AT] = Some(0.0);
+            fixed[MAP_LOAD_AT + 1] = Some(0.0);
         }
         let mut model = Self {
             setup,
@@ -243,6 +252,8 @@ impl<'s, 'a> Model<'s, 'a> {
             offset: std::array::from_fn(|c| full[OFFSET_AT + c]),
             exponent_curvature: full[9],
             force_law_blend: full[LAW_BLEND_AT],
+            map_load_share: full[MAP_LOAD_AT],
+            map_load_level: full[MAP_LOAD_AT + 1],
         };
         let mut effects = Vec::new();
         let mut i = N_BASE;
@@ -469,6 +480,22 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
             &[base[LAW_BLEND_AT]],
             false,
         ),
+        spec(
+            "map_load_share",
+            0.0,
+            cal.map_load_share_max,
+            1e-5,
+            &[base[MAP_LOAD_AT]],
+            false,
+        ),
+        spec(
+            "map_load_level",
+            -cal.map_load_level_max,
+            cal.map_load_level_max,
+            1e-5,
+            &[base[MAP_LOAD_AT + 1]],
+            false,
+        ),
     ]
 }
 
@@ -512,7 +539,7 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
     let mut v = vec![e.ln(), 0.0];
     v.extend(scales);
     v.extend(rest);
-    v.extend([0.0; 8]);
+    v.extend([0.0; 10]);
     if let Some(law) = contact_law_start(setup, rest[0]) {
         v[0] = law[0];
         v[1] = law[1];

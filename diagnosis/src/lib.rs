@@ -21,6 +21,7 @@ pub mod interp;
 pub mod lm;
 pub mod localise;
 pub mod mains;
+pub mod map_by_load;
 pub mod noise;
 pub mod output;
 pub mod params;

@@ -36,6 +36,8 @@ const BASELINE: [(&str, &str); N_BASE] = [
     ("map_blend_mx", "1"),
     ("map_blend_my", "1"),
     ("force_law_blend", "1"),
+    ("map_load_share", "1"),
+    ("map_load_level", "1"),
 ];
 
 /// Lag-1 correlation of the fit's weighted residual (inflates the standard errors).

@@ -291,6 +291,8 @@ fn truth_baseline(modulus_pa: f64, u: &mut impl FnMut(f64, f64) -> f64) -> Basel
         ],
         force_warp: [0.0; 3],
         force_law_blend: 0.0,
+        map_load_share: 0.0,
+        map_load_level: 0.0,
         map_blend: [u(0.0, 0.3), u(0.0, 0.3), u(0.0, 0.3)],
         azimuth_shift_deg: u(-1.5, 1.5),
         offset: [

@@ -24,6 +24,11 @@ pub struct Calibration {
     pub map_blend_min: f64,
     /// Upper bound of that blend.
     pub map_blend_max: f64,
+    /// Largest share of the calibrated law's departure from the FE's that the outputs' maps
+    /// follow (0: they follow the travel; 1: the load).
+    pub map_load_share_max: f64,
+    /// Largest magnitude of ln of the level of the load the outputs' maps follow.
+    pub map_load_level_max: f64,
     /// Largest magnitude of an output's sensitivity scale.
     pub scale_max: f64,
     /// How far the ratio of the two moment scales may depart from 1 on identical chains.
@@ -46,6 +51,8 @@ impl Calibration {
             force_law_blend_max: r.f64("contact.force_law_blend_max", 0.0..=1.0),
             map_blend_min: r.f64("outputs.map_blend_min", -5.0..=0.0),
             map_blend_max: r.f64("outputs.map_blend_max", 1.0..=5.0),
+            map_load_share_max: r.f64("outputs.map_load_share_max", 0.0..=1.0),
+            map_load_level_max: r.f64("outputs.map_load_level_max", 0.0..=3.0),
             scale_max: r.f64("outputs.scale_max", 1.0..=1e6),
             moment_gain_ratio_tolerance: r.f64("outputs.moment_gain_ratio_tolerance", 0.0..=1.0),
             jig_azimuth_tolerance_deg: r.f64("outputs.jig_azimuth_tolerance_deg", 0.0..=45.0),
