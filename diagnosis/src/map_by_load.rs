@@ -24,10 +24,16 @@ const POINTS: usize = 240;
 /// ratio is of two numbers near zero (a moment at no inclination), not a map.
 const MAX_LN_DEPARTURE: f64 = std::f64::consts::LN_10;
 
-/// ln r of each output against ln F per Pa, tabulated from a fingertip model.
+/// Points of the even grid in ln F the table is resampled onto, so a lookup (once per sample in
+/// every evaluation of a fit) is an index, not a search.
+const EVEN_POINTS: usize = 1024;
+
+/// ln r of each output against ln F per Pa, tabulated from a fingertip model on an even grid.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MapByLoad {
-    ln_force: Vec<f64>,
+    /// ln F per Pa at the first point and the grid's step.
+    ln_force_start: f64,
+    step: f64,
     ln_ratio: Vec<[f64; 3]>,
 }
 
@@ -59,28 +65,54 @@ impl MapByLoad {
                 }
             }));
         }
-        Self { ln_force, ln_ratio }
+        Self::even(&ln_force, &ln_ratio)
     }
 
-    /// ln r of each output at ln F per Pa `x`: linear between the table's points, held at its
+    /// The table (`ln_force` increasing) resampled linearly onto [`EVEN_POINTS`] even in ln F.
+    fn even(ln_force: &[f64], ln_ratio: &[[f64; 3]]) -> Self {
+        let (Some(&first), Some(&last)) = (ln_force.first(), ln_force.last()) else {
+            return Self {
+                ln_force_start: 0.0,
+                step: 1.0,
+                ln_ratio: Vec::new(),
+            };
+        };
+        let step = ((last - first) / (EVEN_POINTS - 1) as f64).max(f64::MIN_POSITIVE);
+        let ln_ratio = (0..EVEN_POINTS)
+            .map(|i| {
+                let x = first + step * i as f64;
+                let j = ln_force
+                    .partition_point(|&f| f < x)
+                    .clamp(1, ln_force.len().max(2) - 1);
+                if ln_force.len() < 2 {
+                    return ln_ratio[0];
+                }
+                let (a, b) = (ln_force[j - 1], ln_force[j]);
+                let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
+                std::array::from_fn(|k| {
+                    ln_ratio[j - 1][k] + t * (ln_ratio[j][k] - ln_ratio[j - 1][k])
+                })
+            })
+            .collect();
+        Self {
+            ln_force_start: first,
+            step,
+            ln_ratio,
+        }
+    }
+
+    /// ln r of each output at ln F per Pa `x`: linear between the grid's points, held at its
     /// ends.
     pub fn at(&self, x: f64) -> [f64; 3] {
-        let n = self.ln_force.len();
+        let n = self.ln_ratio.len();
         if n == 0 {
             return [0.0; 3];
         }
-        let j = self.ln_force.partition_point(|&f| f < x);
-        if j == 0 {
-            return self.ln_ratio[0];
-        }
-        if j == n {
-            return self.ln_ratio[n - 1];
-        }
-        let (a, b) = (self.ln_force[j - 1], self.ln_force[j]);
-        let t = (x - a) / (b - a);
-        std::array::from_fn(|k| {
-            self.ln_ratio[j - 1][k] + t * (self.ln_ratio[j][k] - self.ln_ratio[j - 1][k])
-        })
+        let u = ((x - self.ln_force_start) / self.step).clamp(0.0, (n - 1) as f64);
+        let j = (u as usize).min(n.saturating_sub(2));
+        let t = u - j as f64;
+        let (a, b) = (self.ln_ratio[j], self.ln_ratio[(j + 1).min(n - 1)]);
+        std::array::from_fn(|k| a[k] + t * (b[k] - a[k]))
     }
 }
 
