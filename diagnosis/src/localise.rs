@@ -82,6 +82,39 @@ pub fn ljung_box(r: &[f64], m: usize) -> (f64, f64) {
     (q, chi2_survival(q, m as f64))
 }
 
+/// How strongly `r` shows structure, on the information criterion that names effects: the BIC of
+/// white noise less that of the best autoregression of order 1 to `max_order` (Yule–Walker, order
+/// by BIC), and that order; (0, 0) when white noise is best. An AR model of the residual is a
+/// generic stand-in for whatever is missing, so structure is claimed on the same evidence as an
+/// effect (a BIC gain above [`crate::candidate::MIN_BIC_GAIN`]). Unlike a portmanteau test at a
+/// fixed level, a few small autocorrelations spread over many lags (a model's approximations at
+/// a ten-thousandth of the range) must pay for every lag they use.
+pub fn ar_evidence(r: &[f64], max_order: usize) -> (f64, usize) {
+    let n = r.len();
+    if n <= 2 * max_order + 2 {
+        return (0.0, 0);
+    }
+    let mean = r.iter().sum::<f64>() / n as f64;
+    let c: Vec<f64> = (0..=max_order)
+        .map(|h| {
+            (h..n)
+                .map(|i| (r[i] - mean) * (r[i - h] - mean))
+                .sum::<f64>()
+                / n as f64
+        })
+        .collect();
+    let (_, errors) = crate::noise::levinson_durbin(&c);
+    let nf = n as f64;
+    let bic = |p: usize, e: f64| nf * e.max(f64::MIN_POSITIVE).ln() + p as f64 * nf.ln();
+    let white = bic(0, errors[0]);
+    errors
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(p, &e)| (white - bic(p, e), p))
+        .fold((0.0, 0), |best, x| if x.0 > best.0 { x } else { best })
+}
+
 /// Lag-1 autocorrelation.
 pub fn lag1(r: &[f64]) -> f64 {
     let n = r.len();
@@ -198,6 +231,37 @@ mod tests {
             .map(|k| (k as f64 * 0.01).sin() + 0.1 * g.normal())
             .collect();
         assert!(ljung_box(&smooth, 20).1 < 1e-6);
+    }
+
+    /// White noise never earns an autoregression on the effects' evidence scale (the largest of
+    /// 300 series of 700 is far below it); a sway of 0.8 deviations does, and so does AR(1)
+    /// noise with a correlation of 0.3.
+    #[test]
+    fn ar_evidence_separates_white_from_structure() {
+        let mut g = super::super::synth::Gaussian::new(5);
+        let worst = (0..300)
+            .map(|_| {
+                let white: Vec<f64> = (0..700).map(|_| g.normal()).collect();
+                ar_evidence(&white, 20).0
+            })
+            .fold(0.0, f64::max);
+        assert!(worst < 0.8 * crate::candidate::MIN_BIC_GAIN, "{worst}");
+        let sway: Vec<f64> = (0..700)
+            .map(|k| 0.8 * (k as f64 * std::f64::consts::TAU / 60.0).sin() + g.normal())
+            .collect();
+        assert!(ar_evidence(&sway, 20).0 > crate::candidate::MIN_BIC_GAIN);
+        let mut e = 0.0;
+        let ar1: Vec<f64> = (0..700)
+            .map(|_| {
+                e = 0.3 * e + g.normal();
+                e
+            })
+            .collect();
+        let (gain, order) = ar_evidence(&ar1, 20);
+        assert!(
+            gain > 3.0 * crate::candidate::MIN_BIC_GAIN && order == 1,
+            "{gain} {order}"
+        );
     }
 
     #[test]

@@ -206,7 +206,7 @@ fn autocovariance(x: &[f64], h: usize) -> f64 {
 /// stays structured.
 pub fn prewhitened(r: &[f64], noise: &Noise, m: usize, order: usize) -> Vec<f64> {
     let c: Vec<f64> = (0..=order).map(|h| noise.sum_covariance(m, h)).collect();
-    let a = levinson_durbin(&c);
+    let (a, _) = levinson_durbin(&c);
     (0..r.len())
         .map(|k| {
             let past: f64 = a
@@ -221,11 +221,14 @@ pub fn prewhitened(r: &[f64], noise: &Noise, m: usize, order: usize) -> Vec<f64>
 }
 
 /// Coefficients a_1..a_p of the best linear predictor x_k ~ sum_j a_j x_(k-j) for a stationary
-/// series with autocovariances `c` (c_0..c_p). Written out: a dozen lines, no crate for it.
-fn levinson_durbin(c: &[f64]) -> Vec<f64> {
+/// series with autocovariances `c` (c_0..c_p), and the prediction error's variance at each order
+/// 0..=p (fewer where the recursion stops on a singular series). Written out: a dozen lines, no
+/// crate for it.
+pub(crate) fn levinson_durbin(c: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let p = c.len().saturating_sub(1);
     let mut a: Vec<f64> = Vec::with_capacity(p);
     let mut err = c.first().copied().unwrap_or(0.0);
+    let mut errors = vec![err];
     for k in 1..=p {
         if err <= 0.0 {
             break;
@@ -238,8 +241,9 @@ fn levinson_durbin(c: &[f64]) -> Vec<f64> {
         }
         a.push(kappa);
         err *= 1.0 - kappa * kappa;
+        errors.push(err);
     }
-    a
+    (a, errors)
 }
 
 /// Lag-1 correlation rho of AR(1) noise from second differences, which cancel any signal that

@@ -67,7 +67,8 @@ impl Options {
     }
 }
 
-/// Ljung–Box: lags and the p-value below which a residual is structured.
+/// Lags of the whiteness tests (Ljung–Box for the baseline's residual, the verdict's
+/// autoregression), and the Ljung–Box p-value below which a residual is structured.
 const LB_LAGS: usize = 20;
 const LB_P: f64 = 1e-3;
 
@@ -363,14 +364,21 @@ fn localise_residual(
     );
     let channels = channel_localisation(data, &base_dec, &residual);
     let chosen_dec = chosen.outputs(&setup.drive);
-    // One test per compared channel at a family-wise level of LB_P (Bonferroni), each on the
-    // residual with the noise's own colour taken out: coloured noise is not a mismatch.
+    // Each compared channel's residual, with the noise's own colour taken out (coloured noise is
+    // not a mismatch), is structured where it fails both of two tests: a portmanteau test at a
+    // family-wise LB_P over the channels (Bonferroni), and the evidence an effect needs for an
+    // autoregression of it (`localise::ar_evidence`). The first alone took a model's
+    // approximations at a ten-thousandth of the range, spread over many lags, for a mismatch; the
+    // second alone, the lag-1 correlation the slow noise's estimate (from a few seconds at rest)
+    // leaves in the whitened bins.
     let compared = setup.used.iter().filter(|u| **u).count().max(1);
     let bin = data.fit.count.iter().copied().max().unwrap_or(1);
     let white_after = (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = weighted(data, c, &diff(&data.fit.y[c], chosen_dec.channel(c)));
         let e = noise::prewhitened(&r, &data.noise[c], bin, LB_LAGS);
-        localise::ljung_box(&e, LB_LAGS).1 > LB_P / compared as f64
+        let significant = localise::ljung_box(&e, LB_LAGS).1 <= LB_P / compared as f64;
+        let earned = localise::ar_evidence(&e, LB_LAGS).0 > crate::candidate::MIN_BIC_GAIN;
+        !(significant && earned)
     });
     Localised {
         mismatches,

@@ -106,6 +106,33 @@ fn effect_free_recordings_show_no_significant_mismatch() {
     }
 }
 
+/// A bump on one moment output while the rod rests after the first release: no catalogue effect
+/// makes it, so the verdict must say the residual stays structured rather than call it noise.
+#[test]
+fn a_mismatch_outside_the_catalogue_is_not_called_noise() {
+    let (mut rec, opt) = recording(&[], 24, |_| {});
+    let c = &mut rec.channels;
+    let release = (1..c.len())
+        .find(|&k| c.rod_mm[k - 1] > 0.0 && c.rod_mm[k] <= 0.0)
+        .unwrap();
+    let centre_s = c.t_s[release] + 15.0;
+    for (v, t) in c.mx_v.iter_mut().zip(&c.t_s) {
+        // Five noise deviations at its top, two seconds wide.
+        *v += 5.0 * 2e-3 * (-((t - centre_s) / 2.0).powi(2)).exp();
+    }
+    let r = diagnose(&rec, &opt);
+    check_never_worse(&r);
+    assert!(
+        matches!(
+            r.verdict,
+            Verdict::Unexplained | Verdict::PartiallyExplained
+        ),
+        "{:?} {:?}",
+        r.verdict,
+        names(&r)
+    );
+}
+
 /// One loading ramp, cut before the hold: no unloading, no hold, no change of speed. Even with
 /// a relaxing gel behind it nothing may be named from the shape of one ramp.
 #[test]
