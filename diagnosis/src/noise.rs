@@ -291,6 +291,32 @@ pub fn difference_noise(x: &[f64]) -> f64 {
     median_sd(second_differences(x))
 }
 
+/// Differences in `x` below this are floating-point rounding of its values, not steps.
+pub fn rounding(x: &[f64]) -> f64 {
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    1e-9 * (hi - lo).max(hi.abs()).max(lo.abs())
+}
+
+/// The quantum of a series: the smallest step between neighbouring samples beyond rounding
+/// (an encoder's count, an ADC's LSB, a machine export's last digit); 0 without a step.
+pub fn quantum(x: &[f64]) -> f64 {
+    let floor = rounding(x);
+    let q = x
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|&d| d > floor)
+        .fold(f64::INFINITY, f64::min);
+    if q.is_finite() {
+        q
+    } else {
+        0.0
+    }
+}
+
 /// The deviation of normal values `d` from their median absolute value, over sqrt(6): the
 /// white-noise level behind second differences.
 fn median_sd(mut d: Vec<f64>) -> f64 {
@@ -306,6 +332,20 @@ fn median_sd(mut d: Vec<f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A load read to 0.05 N steps has that quantum, whatever its offset; a continuous one none
+    /// worth the name.
+    #[test]
+    fn quantum_is_the_smallest_step() {
+        let mut g = crate::synth::Gaussian::new(3);
+        let steps: Vec<f64> = (0..500)
+            .map(|k| 12.3 + 0.05 * ((k as f64 * 0.01).sin() * 10.0 + 0.4 * g.normal()).round())
+            .collect();
+        assert!((quantum(&steps) - 0.05).abs() < 1e-9, "{}", quantum(&steps));
+        let smooth: Vec<f64> = (0..500).map(|_| 0.02 * g.normal()).collect();
+        assert!(quantum(&smooth) < 1e-3);
+        assert_eq!(quantum(&[1.0; 10]), 0.0);
+    }
 
     /// The one-pass variance of a weighted sum of block means against the double sum of the
     /// samples' AR(1) covariances, on blocks of uneven length with gaps between them.

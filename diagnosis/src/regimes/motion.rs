@@ -14,7 +14,7 @@
 //! 5. `legs`: each remaining move is split at reversals larger than [`SMALL_MOVE`] of its own
 //!    extent (overshoot and back-steps stay in the leg they interrupt).
 
-use crate::noise::difference_noise;
+use crate::noise::{difference_noise, quantum, rounding};
 
 /// A still run is a hold when it lasts at least this share of the motion between the holds
 /// around it. Why a twentieth: a ramp read in N quanta dwells on each level 1/N of its
@@ -55,21 +55,7 @@ pub struct Piece {
 
 /// The rod's resolution: the smallest change that is motion rather than noise or quantisation.
 pub fn band(x: &[f64]) -> f64 {
-    let (lo, hi) = x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-            (l.min(v), h.max(v))
-        });
-    let range = hi - lo;
-    // Differences below this are floating-point rounding of a smooth trajectory.
-    let floor = 1e-9 * range.max(hi.abs()).max(lo.abs());
-    let quantum = x
-        .windows(2)
-        .map(|w| (w[1] - w[0]).abs())
-        .filter(|&d| d > floor)
-        .fold(f64::INFINITY, f64::min);
-    let quantum = if quantum.is_finite() { quantum } else { 0.0 };
-    (QUANTUM_BAND * quantum + NOISE_BAND * difference_noise(x)).max(floor)
+    (QUANTUM_BAND * quantum(x) + NOISE_BAND * difference_noise(x)).max(rounding(x))
 }
 
 /// The rod cut into still stretches and monotone moves.
