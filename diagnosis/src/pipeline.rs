@@ -369,16 +369,19 @@ fn localise_residual(
     // family-wise LB_P over the channels (Bonferroni), and the evidence an effect needs for an
     // autoregression of it (`localise::ar_evidence`). The first alone took a model's
     // approximations at a ten-thousandth of the range, spread over many lags, for a mismatch; the
-    // second alone, the lag-1 correlation the slow noise's estimate (from a few seconds at rest)
-    // leaves in the whitened bins.
+    // second alone, a lag-1 correlation that whitening with a slightly wrong slow noise leaves.
+    // And it must fail them under every noise the free stretch allows (`Noise::plausible`):
+    // a slow part read from a few seconds is known to a third, and whitening with its middle
+    // left bins correlated by +-0.25 in both directions on coloured noise alone.
     let compared = setup.used.iter().filter(|u| **u).count().max(1);
     let bin = data.fit.count.iter().copied().max().unwrap_or(1);
     let white_after = (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = weighted(data, c, &diff(&data.fit.y[c], chosen_dec.channel(c)));
-        let e = noise::prewhitened(&r, &data.noise[c], bin, LB_LAGS);
-        let significant = localise::ljung_box(&e, LB_LAGS).1 <= LB_P / compared as f64;
-        let earned = localise::ar_evidence(&e, LB_LAGS).0 > crate::candidate::MIN_BIC_GAIN;
-        !(significant && earned)
+        !data.noise[c].plausible().iter().all(|noise| {
+            let e = noise::prewhitened(&r, noise, bin, LB_LAGS);
+            let significant = localise::ljung_box(&e, LB_LAGS).1 <= LB_P / compared as f64;
+            significant && localise::ar_evidence(&e, LB_LAGS).0 > crate::candidate::MIN_BIC_GAIN
+        })
     });
     Localised {
         mismatches,
