@@ -179,7 +179,7 @@ impl<'s, 'a> Candidate<'s, 'a> {
     /// noise units, its sampling noise (the measurement noise e entering both models alike) is
     /// sum 2 (m_l - m_s) e: for white noise of standard deviation 2 |m_l - m_s|, twice the norm
     /// of the two models' difference on the held-out stretch; under slow noise, which moves
-    /// neighbouring blocks together, more for a smooth difference ([`sum_deviation`]). G must
+    /// neighbouring blocks together, more for a smooth difference (`sum_deviation`). G must
     /// exceed `HELDOUT_Z` such deviations and `MIN_HELDOUT_SHARE` of the smaller model's
     /// held-out misfit.
     pub fn compare(&self, smaller: &Candidate) -> Comparison {

@@ -433,7 +433,10 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
         let (lo, hi) = (cal.map_blend_min, cal.map_blend_max);
         spec(name, lo, hi, 1e-5, &[base[BLEND_AT + c]], false)
     };
+    // A shape parameter of the law or the maps: linear, between `lo` and `hi`, from base[i].
+    let shape = |name, lo, hi, i: usize| spec(name, lo, hi, 1e-5, &[base[i]], false);
     let (ln_e, curvature) = (base[0], cal.exponent_curvature_max);
+    let (shift, level) = (cal.exponent_shift_min, cal.map_load_level_max);
     vec![
         spec(
             "youngs_modulus_Pa",
@@ -443,14 +446,7 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
             &[ln_e],
             true,
         ),
-        spec(
-            "exponent_shift",
-            cal.exponent_shift_min,
-            cal.exponent_shift_max,
-            1e-5,
-            &[base[1]],
-            false,
-        ),
+        shape("exponent_shift", shift, cal.exponent_shift_max, 1),
         scale("scale_fz", 0),
         scale("scale_mx", 1),
         scale("scale_my", 2),
@@ -458,44 +454,21 @@ fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
         offset("offset_fz_V", 1),
         offset("offset_mx_V", 2),
         offset("offset_my_V", 3),
-        spec(
-            "exponent_curvature",
-            -curvature,
-            curvature,
-            1e-5,
-            &[base[9]],
-            false,
-        ),
+        shape("exponent_curvature", -curvature, curvature, 9),
         warp("force_warp_at_60pct", 0),
         warp("force_warp_at_30pct", 1),
         warp("force_warp_at_10pct", 2),
         blend("map_blend_fz", 0),
         blend("map_blend_mx", 1),
         blend("map_blend_my", 2),
-        spec(
+        shape(
             "force_law_blend",
             0.0,
             cal.force_law_blend_max,
-            1e-5,
-            &[base[LAW_BLEND_AT]],
-            false,
+            LAW_BLEND_AT,
         ),
-        spec(
-            "map_load_share",
-            0.0,
-            cal.map_load_share_max,
-            1e-5,
-            &[base[MAP_LOAD_AT]],
-            false,
-        ),
-        spec(
-            "map_load_level",
-            -cal.map_load_level_max,
-            cal.map_load_level_max,
-            1e-5,
-            &[base[MAP_LOAD_AT + 1]],
-            false,
-        ),
+        shape("map_load_share", 0.0, cal.map_load_share_max, MAP_LOAD_AT),
+        shape("map_load_level", -level, level, MAP_LOAD_AT + 1),
     ]
 }
 

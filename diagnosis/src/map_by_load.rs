@@ -38,7 +38,7 @@ pub struct MapByLoad {
 }
 
 impl MapByLoad {
-    /// From `model` over travels up to `rod_max_mm` and beyond ([`SHARE_RANGE`]). Points where
+    /// From `model` over travels up to `rod_max_mm` and beyond (0.5 % to three times it). Points where
     /// the force does not rise (no contact, a flat stretch) are left out, so ln F is strictly
     /// increasing and the map is a function of it.
     pub fn new(model: &dyn FingertipResponse, rod_max_mm: f64) -> Self {
