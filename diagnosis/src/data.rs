@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use recording::Recording;
 
 use crate::noise::Noise;
+use crate::quantisation::Lattice;
 use crate::regimes::{self, Regime, Segment};
 
 /// Compared channels, in contract order.
@@ -62,6 +63,8 @@ pub struct Data {
     pub bounds: Vec<(usize, usize)>,
     /// Each channel's noise at full rate ([`Noise`]).
     pub noise: [Noise; 4],
+    /// The lattice each channel's values sit on, where they do ([`Lattice`]).
+    pub lattice: [Option<Lattice>; 4],
     /// The regimes found at the full rate, with the load telling a start in contact, as index
     /// runs on `fit` (its blocks never straddle a segment's edge). Finer than detecting them on
     /// `fit` itself, where block means blur the encoder's quanta.
@@ -125,6 +128,7 @@ impl Data {
         let segments = on_blocks(&full_segments, &bounds);
         let range = std::array::from_fn(|k| peak_to_peak(full.y[k].iter().copied()));
         let noise = channel_noise(&full, &full_segments, rate, &range);
+        let lattice = std::array::from_fn(|k| Lattice::of(&full.y[k]));
         let weights = std::array::from_fn(|c| {
             fit.count
                 .iter()
@@ -136,6 +140,7 @@ impl Data {
             fit,
             range,
             noise,
+            lattice,
             bounds,
             segments,
             weights,

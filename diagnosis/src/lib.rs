@@ -27,6 +27,7 @@ pub mod output;
 pub mod params;
 pub mod pipeline;
 pub mod preconditions;
+pub mod quantisation;
 pub mod regimes;
 pub mod response_table;
 pub mod select;

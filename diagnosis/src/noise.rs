@@ -415,9 +415,30 @@ fn median_sd(mut d: Vec<f64>) -> f64 {
         return 0.0;
     }
     d.iter_mut().for_each(|v| *v = v.abs());
-    let mid = d.len() / 2;
-    let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
-    *median / 0.674_489_75 / 6f64.sqrt()
+    let median = match crate::quantisation::Lattice::of(&d) {
+        Some(lattice) => grouped_median(&d, lattice.quantum),
+        None => {
+            let mid = d.len() / 2;
+            *d.select_nth_unstable_by(mid, f64::total_cmp).1
+        }
+    };
+    median / 0.674_489_75 / 6f64.sqrt()
+}
+
+/// The median of non-negative values `a` that sit on multiples of `q`, each read as spread
+/// evenly over its class (j q - q / 2, j q + q / 2), the lowest from 0 (the median of grouped
+/// data). A plain median takes only lattice values: second differences of a load read to 0.05 N
+/// over 0.02 N of noise gave 0.030 N where the deviation was 0.024 N, and the same 0.030 N up to
+/// 0.030 N.
+fn grouped_median(a: &[f64], q: f64) -> f64 {
+    let class = |v: f64| (v / q).round().max(0.0);
+    let mut sorted = a.to_vec();
+    let mid = sorted.len() / 2;
+    let j = class(*sorted.select_nth_unstable_by(mid, f64::total_cmp).1);
+    let below = a.iter().filter(|&&v| class(v) < j).count() as f64;
+    let within = a.iter().filter(|&&v| class(v) == j).count().max(1) as f64;
+    let (lo, hi) = ((j - 0.5).max(0.0) * q, (j + 0.5) * q);
+    lo + ((a.len() as f64 / 2.0 - below) / within).clamp(0.0, 1.0) * (hi - lo)
 }
 
 #[cfg(test)]
@@ -675,5 +696,19 @@ mod tests {
         };
         let e = prewhitened(&[1.0, 2.0], &ar1, 1, lags);
         assert!((e[1] - 1.5).abs() < 1e-12, "{e:?}");
+    }
+
+    #[test]
+    fn a_quantised_noise_is_read_between_its_quanta() {
+        // A load read to 0.05 N over 0.0192 N of noise at many levels: its deviation is
+        // sqrt(0.0192^2 + 0.05^2 / 12) = 0.024 N. A plain median of the second differences takes
+        // a lattice value and reads 0.030 N.
+        let mut g = crate::synth::Gaussian::new(3);
+        let (q, sigma) = (0.05, 0.0192);
+        let x: Vec<f64> = (0..100_000)
+            .map(|i| ((0.013 * (i / 2000) as f64 + sigma * g.normal()) / q).round() * q)
+            .collect();
+        let sd = difference_noise(&x);
+        assert!((sd - 0.024).abs() < 0.0015, "{sd}");
     }
 }
