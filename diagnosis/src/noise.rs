@@ -429,12 +429,18 @@ fn median_sd(mut d: Vec<f64>) -> f64 {
 /// evenly over its class (j q - q / 2, j q + q / 2), the lowest from 0 (the median of grouped
 /// data). A plain median takes only lattice values: second differences of a load read to 0.05 N
 /// over 0.02 N of noise gave 0.030 N where the deviation was 0.024 N, and the same 0.030 N up to
-/// 0.030 N.
+/// 0.030 N. Where the median is in the lowest class, nothing is read into it.
 fn grouped_median(a: &[f64], q: f64) -> f64 {
     let class = |v: f64| (v / q).round().max(0.0);
     let mut sorted = a.to_vec();
     let mid = sorted.len() / 2;
     let j = class(*sorted.select_nth_unstable_by(mid, f64::total_cmp).1);
+    if j == 0.0 {
+        // Most values repeat exactly: a series smooth on the lattice (a ramp read in whole
+        // steps) or a noise well below the quantum, which the values cannot resolve (the
+        // callers then take the quantum's own floor).
+        return 0.0;
+    }
     let below = a.iter().filter(|&&v| class(v) < j).count() as f64;
     let within = a.iter().filter(|&&v| class(v) == j).count().max(1) as f64;
     let (lo, hi) = ((j - 0.5).max(0.0) * q, (j + 0.5) * q);
