@@ -11,6 +11,13 @@ use crate::regimes::{Regime, Segment};
 /// Lowest mains frequency the line search looks for (`mains::BAND_HZ`).
 const LOWEST_MAINS_HZ: f64 = 45.0;
 
+/// Whether a recording sampled at `sample_rate_hz` can show a mains line: its Nyquist
+/// frequency must lie above the lowest mains frequency. Below it a line aliases to whatever
+/// slow wave the sampling makes of it, which no line search can attribute.
+pub fn mains_visible(sample_rate_hz: f64) -> bool {
+    sample_rate_hz > 2.0 * LOWEST_MAINS_HZ
+}
+
 /// The features of a recording that catalogue signatures need.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Protocol {
@@ -112,7 +119,7 @@ impl Protocol {
             ThermalDrift if !(self.rest || self.temperature) => Err("precondition: no stretch out of contact and no measured temperature (drift shows at rest, unrelated to load)".into()),
             Crosstalk | ContactFriction if !moments => Err("precondition: the two moment channels are not both measured".into()),
             Crosstalk if self.moment_scales_turn => Err("precondition: one direction of load with the moment off both axes: a rotated chip is the two moment scales' ratio, which calibration absorbs (see `undecided`)".into()),
-            MainsInterference if self.sample_rate_hz <= 2.0 * LOWEST_MAINS_HZ => Err(format!(
+            MainsInterference if !mains_visible(self.sample_rate_hz) => Err(format!(
                 "precondition: sample rate {:.0} Hz cannot show a 45-65 Hz line (Nyquist {:.0} Hz)",
                 self.sample_rate_hz,
                 self.sample_rate_hz / 2.0

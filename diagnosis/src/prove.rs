@@ -28,6 +28,12 @@ pub struct Case {
 }
 
 impl Score {
+    /// Nothing was hidden in the recording, seen or not: it must be answered
+    /// `no_significant_mismatch` with nothing named.
+    pub fn effect_free(&self) -> bool {
+        self.truth.is_empty() && self.unseen.is_empty()
+    }
+
     /// What the diagnosis answered, for a table: the named effects, then the undecided ones
     /// with a "?" ("" for none).
     pub fn answer(&self, sep: &str) -> String {
@@ -41,7 +47,10 @@ impl Score {
 #[derive(Debug, Clone)]
 pub struct Score {
     pub id: usize,
+    /// The hidden effects the recording can show (what must be found).
     pub truth: Vec<String>,
+    /// Hidden effects its sample rate cannot show (a mains line below its Nyquist rate).
+    pub unseen: Vec<String>,
     /// The effects the diagnosis named.
     pub found: Vec<String>,
     /// Effects it reported as undecided against a calibration (`Report::undecided`).
@@ -361,15 +370,25 @@ pub fn run(cases: &[Case], opt: &Options) -> Vec<Score> {
 }
 
 fn score(case: &Case, report: Option<Report>) -> Score {
-    let truth: Vec<String> = case
+    // What the recording can show is what is asked for: a mains line sampled below its
+    // Nyquist rate has aliased into a slow wave (listed as `unseen`, not required).
+    let visible = |e: &&Effect| {
+        e.kind() != sim::effects::EffectKind::MainsInterference
+            || crate::preconditions::mains_visible(case.recording.meta.sample_rate_hz)
+    };
+    let name = |e: &Effect| e.kind().name().to_string();
+    let truth: Vec<String> = case.truth.iter().filter(visible).map(name).collect();
+    let unseen: Vec<String> = case
         .truth
         .iter()
-        .map(|e| e.kind().name().to_string())
+        .filter(|e| !visible(e))
+        .map(name)
         .collect();
     let Some(r) = report else {
         return Score {
             id: case.id,
             truth,
+            unseen,
             found: vec!["<error>".into()],
             undecided: Vec::new(),
             correct: false,
@@ -419,6 +438,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
         runner_up,
         id: case.id,
         truth,
+        unseen,
         found,
         undecided,
         correct: a == b,
@@ -470,7 +490,7 @@ pub struct Summary {
 impl Summary {
     pub fn of(scores: &[Score]) -> Self {
         let n = scores.len().max(1) as f64;
-        let none: Vec<&Score> = scores.iter().filter(|s| s.truth.is_empty()).collect();
+        let none: Vec<&Score> = scores.iter().filter(|s| s.effect_free()).collect();
         // Primary parameter: every true effect counts; a missed effect counts as outside 20 %.
         let mut primary = Vec::new();
         for s in scores {

@@ -236,10 +236,19 @@ pub fn details(labelled: &[Labelled], scores: &[Score]) -> String {
             s.id,
             l.category.name(),
             l.label,
-            s.truth.join(" + "),
+            s.truth
+                .iter()
+                .cloned()
+                .chain(
+                    s.unseen
+                        .iter()
+                        .map(|e| format!("({e}, unseen at this rate)"))
+                )
+                .collect::<Vec<_>>()
+                .join(" + "),
             s.answer(" + "),
             if s.correct { "yes" } else { "**no**" },
-            match (s.truth.is_empty(), s.quiet) {
+            match (s.effect_free(), s.quiet) {
                 (false, _) => "",
                 (true, true) => "yes",
                 (true, false) => "**no**",
