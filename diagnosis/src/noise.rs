@@ -38,6 +38,10 @@ pub struct Noise {
     pub slow: Option<Ar1>,
     /// Samples the slow part was read from (its free stretch; 0 without one).
     pub slow_samples: usize,
+    /// Where no slow part is significant, the one that fits the free stretch best: the stretch
+    /// cannot tell it from none (a few seconds at 50 Hz hold too few correlation times to find
+    /// a 0.1 s noise as strong as the white). Only the verdict's set of noises uses it.
+    pub unresolved: Option<Ar1>,
 }
 
 impl Ar1 {
@@ -99,10 +103,16 @@ impl Noise {
         // Second differences of AR(1) noise have variance sd^2 (6 - 8 rho + 2 rho^2).
         let sd = median_sd(d) * (6.0 / (6.0 - 8.0 * rho + 2.0 * rho * rho)).sqrt();
         let sample = Ar1 { sd, rho };
+        let (slow, unresolved) = match slow_part(free, sample) {
+            Some((part, true)) => (Some(part), None),
+            Some((part, false)) => (None, Some(part)),
+            None => (None, None),
+        };
         Self {
             sample,
-            slow: slow_part(free, sample),
+            slow,
             slow_samples: free.len(),
+            unresolved,
         }
     }
 
@@ -112,14 +122,22 @@ impl Noise {
     /// variance is (1 - phi^2) / n ~ 2 / (tau n), and tau's relative error follows; the
     /// variance's likewise). A few seconds at rest hold some twenty correlation times, so both
     /// are known to about a third; this whole set is the noise model's answer, not its middle.
+    /// Where the slow part is [`Noise::unresolved`], none at all is as plausible, and comes first.
     pub fn plausible(&self) -> Vec<Noise> {
-        let Some(slow) = self.slow.filter(|_| self.slow_samples > 0) else {
+        let Some(slow) = self
+            .slow
+            .or(self.unresolved)
+            .filter(|_| self.slow_samples > 0)
+        else {
             return vec![*self];
         };
         let tau = -1.0 / slow.rho.clamp(1e-12, 0.999_999).ln();
         let se = (2.0 * tau / self.slow_samples as f64).sqrt().min(1.0);
         let factors = [(-2.0 * se).exp(), 1.0, (2.0 * se).exp()];
-        let mut out = Vec::with_capacity(9);
+        let mut out = Vec::with_capacity(10);
+        if self.slow.is_none() {
+            out.push(*self);
+        }
         for a in factors {
             for b in factors {
                 out.push(Noise {
@@ -155,8 +173,8 @@ impl Noise {
 /// part's, are fitted by s^2 times what a unit AR(1) part's would be after the same detrending
 /// ([`detrended_ar1_autocovariance`]), over a grid of correlation times. The part is kept where
 /// s^2 exceeds its standard error (Bartlett: var gamma(h) ~ gamma(0)^2 / n at every lag) at a
-/// family-wise `SLOW_P` over the grid.
-fn slow_part(free: &[f64], sample: Ar1) -> Option<Ar1> {
+/// family-wise `SLOW_P` over the grid. Returned with whether it is (the best fit either way).
+fn slow_part(free: &[f64], sample: Ar1) -> Option<(Ar1, bool)> {
     let n = free.len();
     let max_lag = (n as f64 * MAX_TAU_SHARE) as usize;
     if n < MIN_FREE || max_lag < 2 {
@@ -201,7 +219,10 @@ fn slow_part(free: &[f64], sample: Ar1) -> Option<Ar1> {
         }
     }
     let (_, slow, z) = best?;
-    (0.5 * erfc(z / std::f64::consts::SQRT_2) < SLOW_P / TAU_GRID as f64).then_some(slow)
+    Some((
+        slow,
+        0.5 * erfc(z / std::f64::consts::SQRT_2) < SLOW_P / TAU_GRID as f64,
+    ))
 }
 
 /// The expected [`autocovariance`] at each of `lags` of `n` samples of a unit-variance AR(1)
@@ -463,6 +484,7 @@ mod tests {
                 rho: (-1.0f64 / 50.0).exp(),
             }),
             slow_samples: 2000,
+            unresolved: None,
         };
         let all = noise.plausible();
         assert_eq!(all.len(), 9);
@@ -484,6 +506,16 @@ mod tests {
             ..noise
         };
         assert_eq!(white.plausible(), vec![white]);
+        // A slow part the stretch could not resolve: none, then the same span around it.
+        let unresolved = Noise {
+            slow: None,
+            unresolved: noise.slow,
+            ..noise
+        };
+        let all = unresolved.plausible();
+        assert_eq!(all.len(), 10);
+        assert_eq!(all[0], unresolved);
+        assert_eq!(all[5].slow, noise.slow);
     }
 
     /// A load read to 0.05 N steps has that quantum, whatever its offset; a continuous one none
@@ -552,6 +584,7 @@ mod tests {
             sample: Ar1 { sd: 1.5, rho: 0.3 },
             slow: Some(Ar1 { sd: 0.7, rho: 0.95 }),
             slow_samples: 0,
+            unresolved: None,
         };
         let blocks = [(0, 5), (5, 17), (20, 21), (30, 42)];
         let c = [0.4, -1.0, 2.0, 0.3];
@@ -685,6 +718,7 @@ mod tests {
                 rho: (-1.0f64 / 50.0).exp(),
             }),
             slow_samples: 0,
+            unresolved: None,
         };
         assert!(ljung_box(&sums, lags).1 < 1e-3);
         assert!(ljung_box(&prewhitened(&sums, &noise, m, lags), lags).1 > 0.01);
@@ -699,6 +733,7 @@ mod tests {
             sample: Ar1 { sd: 1.0, rho: 0.5 },
             slow: None,
             slow_samples: 0,
+            unresolved: None,
         };
         let e = prewhitened(&[1.0, 2.0], &ar1, 1, lags);
         assert!((e[1] - 1.5).abs() < 1e-12, "{e:?}");
