@@ -374,12 +374,13 @@ fn localise_residual(
     // a slow part read from a few seconds is known to a third, and whitening with its middle
     // left bins correlated by +-0.25 in both directions on coloured noise alone. A channel read
     // to a quantum coarser than its noise first has its rounding bias taken out (`quantisation`):
-    // a held value keeps its own bias, which no amount of averaging removes.
+    // a held value keeps its own bias, which no amount of averaging removes. Isolated outlying
+    // bins (a spike is one bin at 10 Hz) are not structure in time and are set aside.
     let compared = setup.used.iter().filter(|u| **u).count().max(1);
     let bin = data.fit.count.iter().copied().max().unwrap_or(1);
     let white_after = (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = crate::quantisation::residual_without_rounding_bias(data, c, chosen_dec.channel(c));
-        let r = weighted(data, c, &r);
+        let r = localise::without_isolated_outliers(&weighted(data, c, &r), LB_P);
         !data.noise[c].plausible().iter().all(|noise| {
             let e = noise::prewhitened(&r, noise, bin, LB_LAGS);
             let significant = localise::ljung_box(&e, LB_LAGS).1 <= LB_P / compared as f64;
