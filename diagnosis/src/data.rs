@@ -61,6 +61,8 @@ pub struct Data {
     pub range: [f64; 4],
     /// The full-rate samples `start..end` behind each sample of `fit`.
     pub bounds: Vec<(usize, usize)>,
+    /// Full sample rate, Hz: from the time column, the metadata's only where time stands still.
+    pub rate_hz: f64,
     /// Each channel's noise at full rate ([`Noise`]).
     pub noise: [Noise; 4],
     /// The lattice each channel's values sit on, where they do ([`Lattice`]).
@@ -139,6 +141,7 @@ impl Data {
             full,
             fit,
             range,
+            rate_hz: rate,
             noise,
             lattice,
             bounds,

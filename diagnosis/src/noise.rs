@@ -99,9 +99,10 @@ impl Noise {
     /// sample-scale part from, `free` its stretch at rest before contact (may be empty).
     pub fn estimate(pieces: &[&[f64]], free: &[f64]) -> Self {
         let d: Vec<f64> = pieces.iter().flat_map(|x| second_differences(x)).collect();
-        let rho = difference_correlation(&d);
+        let white = median_sd(&mut d.clone());
+        let rho = difference_correlation(&d, white);
         // Second differences of AR(1) noise have variance sd^2 (6 - 8 rho + 2 rho^2).
-        let sd = median_sd(d) * (6.0 / (6.0 - 8.0 * rho + 2.0 * rho * rho)).sqrt();
+        let sd = white * (6.0 / (6.0 - 8.0 * rho + 2.0 * rho * rho)).sqrt();
         let sample = Ar1 { sd, rho };
         let (slow, unresolved) = match slow_part(free, sample) {
             Some((part, true)) => (Some(part), None),
@@ -364,19 +365,22 @@ pub(crate) fn levinson_durbin(c: &[f64]) -> (Vec<f64>, Vec<f64>) {
 /// (-4 + 7 rho - 4 rho^2 + rho^3) / (6 - 8 rho + 2 rho^2), -2/3 for white noise, rising with
 /// rho; inverted by bisection. Clamped to [0, 0.99].
 pub fn correlation(x: &[f64]) -> f64 {
-    difference_correlation(&second_differences(x))
+    let d = second_differences(x);
+    let white = median_sd(&mut d.clone());
+    difference_correlation(&d, white)
 }
 
 fn second_differences(x: &[f64]) -> Vec<f64> {
     x.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect()
 }
 
-/// [`correlation`] from the second differences `d`.
-fn difference_correlation(d: &[f64]) -> f64 {
+/// [`correlation`] from the second differences `d`, whose white-noise level ([`median_sd`]) is
+/// `white`.
+fn difference_correlation(d: &[f64], white: f64) -> f64 {
     if d.len() < 3 {
         return 0.0;
     }
-    let c = trimmed_lag1(d, OUTLIER_SDS * median_sd(d.to_vec()) * 6f64.sqrt());
+    let c = trimmed_lag1(d, OUTLIER_SDS * white * 6f64.sqrt());
     let model = |r: f64| (-4.0 + 7.0 * r - 4.0 * r * r + r * r * r) / (6.0 - 8.0 * r + 2.0 * r * r);
     let (mut lo, mut hi) = (0.0, 0.99);
     if c <= model(lo) {
@@ -428,7 +432,7 @@ fn trimmed_lag1(d: &[f64], limit: f64) -> f64 {
 /// sample scale: `var(x[k+1] - 2x[k] + x[k-1]) = 6 sigma^2`. The median absolute value (scaled
 /// for a normal law) keeps fast transients and clipping from inflating it.
 pub fn difference_noise(x: &[f64]) -> f64 {
-    median_sd(second_differences(x))
+    median_sd(&mut second_differences(x))
 }
 
 /// Differences in `x` below this are floating-point rounding of its values, not steps.
@@ -458,14 +462,14 @@ pub fn quantum(x: &[f64]) -> f64 {
 }
 
 /// The deviation of normal values `d` from their median absolute value, over sqrt(6): the
-/// white-noise level behind second differences.
-fn median_sd(mut d: Vec<f64>) -> f64 {
+/// white-noise level behind second differences. Takes `d` as scratch (made absolute, reordered).
+fn median_sd(d: &mut [f64]) -> f64 {
     if d.is_empty() {
         return 0.0;
     }
     d.iter_mut().for_each(|v| *v = v.abs());
-    let median = match crate::quantisation::Lattice::of(&d) {
-        Some(lattice) => grouped_median(&d, lattice.quantum),
+    let median = match crate::quantisation::Lattice::of(d) {
+        Some(lattice) => grouped_median(d, lattice.quantum),
         None => {
             let mid = d.len() / 2;
             *d.select_nth_unstable_by(mid, f64::total_cmp).1
@@ -479,11 +483,10 @@ fn median_sd(mut d: Vec<f64>) -> f64 {
 /// data). A plain median takes only lattice values: second differences of a load read to 0.05 N
 /// over 0.02 N of noise gave 0.030 N where the deviation was 0.024 N, and the same 0.030 N up to
 /// 0.030 N. Where the median is in the lowest class, nothing is read into it.
-fn grouped_median(a: &[f64], q: f64) -> f64 {
+fn grouped_median(a: &mut [f64], q: f64) -> f64 {
     let class = |v: f64| (v / q).round().max(0.0);
-    let mut sorted = a.to_vec();
-    let mid = sorted.len() / 2;
-    let j = class(*sorted.select_nth_unstable_by(mid, f64::total_cmp).1);
+    let mid = a.len() / 2;
+    let j = class(*a.select_nth_unstable_by(mid, f64::total_cmp).1);
     if j == 0.0 {
         // Most values repeat exactly: a series smooth on the lattice (a ramp read in whole
         // steps) or a noise well below the quantum, which the values cannot resolve (the

@@ -6,7 +6,7 @@ use sim::effects::EffectKind;
 
 use crate::candidate::Candidate;
 use crate::data::Data;
-use crate::fit::{physical, stderr, Model, BLEND_AT, N_BASE, OFFSET_AT, SCALE_AT};
+use crate::fit::{physical, stderr, Model, ParamSpec, BLEND_AT, N_BASE, OFFSET_AT, SCALE_AT};
 use crate::localise;
 use crate::output::ParamDetail;
 use crate::preconditions::Protocol;
@@ -55,13 +55,18 @@ fn record_s(data: &Data) -> f64 {
 }
 
 /// Parameter `i` of `c` in full; `name` as reported.
+/// Whether the internal value `v` sits on `spec`'s lower and upper bound (within
+/// `AT_BOUND_SHARE` of its range).
+fn on_bound(spec: &ParamSpec, v: f64) -> (bool, bool) {
+    let tol = AT_BOUND_SHARE * (spec.upper - spec.lower);
+    (v <= spec.lower + tol, v >= spec.upper - tol)
+}
+
 fn detail(c: &Candidate, i: usize, name: &str, unit: &str, rho: f64, data: &Data) -> ParamDetail {
     let model: &Model = &c.model;
     let spec = &model.specs()[i];
     let v = c.fitted.full[i];
-    let tol = AT_BOUND_SHARE * (spec.upper - spec.lower);
-    let on_lower = v <= spec.lower + tol;
-    let on_upper = v >= spec.upper - tol;
+    let (on_lower, on_upper) = on_bound(spec, v);
     let phys = |x: f64| if spec.log { x.exp() } else { x };
     let value = physical(model, &c.fitted.full, i);
     let fixed = model.is_fixed(i);
@@ -281,10 +286,9 @@ fn vanished(c: &Candidate, first: usize, kind: EffectKind) -> Result<(), String>
     };
     let i = first + strength;
     let spec = &c.model.specs()[i];
-    let v = c.fitted.full[i];
-    let tol = AT_BOUND_SHARE * (spec.upper - spec.lower);
-    let zero_is_a_bound = spec.lower == 0.0 || spec.upper == 0.0;
-    if zero_is_a_bound && v.abs() <= tol && !c.model.is_fixed(i) {
+    let (on_lower, on_upper) = on_bound(spec, c.fitted.full[i]);
+    let at_zero = (on_lower && spec.lower == 0.0) || (on_upper && spec.upper == 0.0);
+    if at_zero && !c.model.is_fixed(i) {
         return Err(format!(
             "{} of {} at zero, its bound: the effect is the identity there",
             kind.param_names()[strength],

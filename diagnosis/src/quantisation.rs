@@ -130,13 +130,7 @@ pub fn residual_without_rounding_bias(data: &Data, c: usize, model: &[f64]) -> V
     let bins = fit.count.iter().sum::<usize>() / bin.max(1);
     let sigma = lattice.noise_before_rounding(noise.sd());
     let harmonics = lattice.harmonics(sigma, noise.mean_sd(bin), bins);
-    let full = &data.full.t_s;
-    let span = full.last().copied().unwrap_or(0.0) - full.first().copied().unwrap_or(0.0);
-    let rate = if span > 0.0 {
-        (full.len() - 1) as f64 / span
-    } else {
-        1.0
-    };
+    let rate = data.rate_hz;
     // Each block's sweep: the model's slope there (from its neighbours) over the block's time.
     let sweep: Vec<f64> = (0..model.len())
         .map(|i| {
