@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 count="${1:-20}"
 # As a user runs it: release.
-cargo build --release --locked -p host --bin tactile
+cargo build --release --locked -p tactile --bin tactile
 tactile="$PWD/target/release/tactile"
 work="$(mktemp -d "${TMPDIR:-/tmp}/tactile-bench-batch.XXXXXX")"
 trap 'rm -rf "$work"' EXIT

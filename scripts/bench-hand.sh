@@ -8,6 +8,6 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 sensors="${2:-16}"
 # The logger as a user runs it: release, the same profile as the bench.
-cargo build --release -p host --bin tactile
+cargo build --release -p tactile --bin tactile
 TACTILE_HAND_SECONDS="$seconds" TACTILE_HAND_SENSORS="$sensors" \
     cargo bench -p hil --bench hand

@@ -34,7 +34,7 @@ batch=16
 
 say "build the QEMU firmware and the tactile CLI"
 (cd firmware && cargo build -q --release --bin qemu-mps2-an386) || fail "firmware build"
-cargo build -q --release -p host --bin tactile || fail "tactile build"
+cargo build -q --release -p tactile --bin tactile || fail "tactile build"
 elf=firmware/target/thumbv7em-none-eabihf/release/qemu-mps2-an386
 tactile=target/release/tactile
 

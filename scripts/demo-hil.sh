@@ -12,7 +12,7 @@ say() { printf '\033[1m[demo-hil]\033[0m %s\n' "$*"; }
 
 say "build the QEMU firmware and the tactile CLI"
 (cd firmware && cargo build -q --release --bin qemu-mps2-an386)
-cargo build -q -p host --bin tactile
+cargo build -q -p tactile --bin tactile
 elf=firmware/target/thumbv7em-none-eabihf/release/qemu-mps2-an386
 tactile=target/debug/tactile
 

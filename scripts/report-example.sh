@@ -4,7 +4,7 @@
 # and the screenshot diagnosis/report-example.png (headless Chromium, from scripts/setup.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --locked -p host
+cargo build --release --locked -p tactile
 tactile=target/release/tactile
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -8,6 +8,6 @@ cd "$(dirname "$0")/.."
 minutes="${1:-10}"
 target="${CARGO_TARGET_DIR:-$PWD/target}"
 # The logger as the tests build it (the test profile: host optimised, see Cargo.toml).
-cargo build --profile test -p host --bin tactile
+cargo build --profile test -p tactile --bin tactile
 TACTILE_SOAK_MINUTES="$minutes" TACTILE_BIN="$target/debug/tactile" \
     cargo test -p hil --test soak_native -- --ignored --nocapture

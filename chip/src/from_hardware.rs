@@ -110,3 +110,10 @@ fn resistor(r: &hardware::ChipResistor) -> Result<Resistor, FromHardwareError> {
         arm,
     })
 }
+
+/// A chip description the model cannot represent is bad data.
+impl sysexit::ExitStatus for FromHardwareError {
+    fn exit_code(&self) -> u8 {
+        sysexit::DATA
+    }
+}

@@ -27,6 +27,8 @@ pub mod calibration;
 pub mod frame_fe;
 #[cfg(any(test, feature = "std"))]
 pub mod from_hardware;
+#[cfg(feature = "std")]
+pub mod report;
 
 #[cfg(test)]
 mod tests;

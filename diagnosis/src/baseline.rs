@@ -40,10 +40,6 @@ pub struct FrontEnd {
     pub smoother_tau_s: Option<f64>,
 }
 
-/// The metadata key (this project's own; the format keeps unknown keys) that records the
-/// firmware smoother's alpha.
-pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
-
 /// The smoother `y[k] = y[k-1] + alpha (x[k] - y[k-1])` at `sample_rate_hz` as a first-order
 /// low-pass: its step response e^{-k ln(1/(1-alpha))} gives tau = dt / ln(1 / (1 - alpha)).
 pub fn smoother_tau_s(alpha: f64, sample_rate_hz: f64) -> Option<f64> {

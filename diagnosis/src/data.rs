@@ -309,6 +309,13 @@ pub fn peak_to_peak(values: impl IntoIterator<Item = f64>) -> f64 {
     }
 }
 
+/// A recording the diagnosis cannot use is bad data.
+impl sysexit::ExitStatus for DataError {
+    fn exit_code(&self) -> u8 {
+        sysexit::DATA
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,7 +11,6 @@
 
 pub mod baseline;
 pub mod candidate;
-pub mod chip_report;
 pub mod data;
 pub mod evidence;
 pub mod fe_cache;

@@ -262,7 +262,7 @@ fn front_end(meta: &Meta, opt: &Options) -> FrontEnd {
         smoother_tau_s: meta
             .other
             .iter()
-            .find(|(k, _)| k == crate::baseline::SMOOTHER_KEY)
+            .find(|(k, _)| k == recording::SMOOTHER_KEY)
             .and_then(|(_, v)| v.trim().parse::<f64>().ok())
             .and_then(|alpha| crate::baseline::smoother_tau_s(alpha, meta.sample_rate_hz)),
     }

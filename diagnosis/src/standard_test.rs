@@ -9,9 +9,10 @@ use recording::Recording;
 use sim::compression::CompressionTest;
 use sim::effects::Effect;
 
-use crate::baseline::{smoother_tau_s, BaselineParams, FingertipResponse, FrontEnd, SMOOTHER_KEY};
+use crate::baseline::{smoother_tau_s, BaselineParams, FingertipResponse, FrontEnd};
 use crate::fe_response::{FeResponseError, FeSource};
 use crate::synth::{simulate, Noise, SimSpec};
+use recording::SMOOTHER_KEY;
 
 /// The options of `tactile simulate` that shape the recording (the command's output files are
 /// its own). Optional values default to `hardware/`.
@@ -139,6 +140,16 @@ pub enum SimulateError {
     /// The fingertip's FE response for the angles failed.
     #[error(transparent)]
     Fingertip(#[from] FeResponseError),
+}
+
+/// Options out of range and a hardware description that makes no sensor are bad input.
+impl sysexit::ExitStatus for SimulateError {
+    fn exit_code(&self) -> u8 {
+        match self {
+            SimulateError::Hardware(_) => sysexit::DATA,
+            _ => sysexit::USAGE,
+        }
+    }
 }
 
 /// The recording of the standard test with `opt`, through the same forward model as the

@@ -232,3 +232,15 @@ impl Config {
         Ok(())
     }
 }
+
+/// A configuration out of range or a load the model cannot reach is bad input; a solver that
+/// fails is the program's own failure.
+impl sysexit::ExitStatus for Error {
+    fn exit_code(&self) -> u8 {
+        match self {
+            Error::InvalidConfig { .. } | Error::PeakNotReached { .. } => sysexit::DATA,
+            Error::Io(_) => sysexit::IO,
+            _ => sysexit::SOFTWARE,
+        }
+    }
+}

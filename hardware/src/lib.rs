@@ -188,3 +188,10 @@ impl fmt::Display for LoadError {
 }
 
 impl std::error::Error for LoadError {}
+
+/// A parameter file that breaks its rules is bad data.
+impl sysexit::ExitStatus for LoadError {
+    fn exit_code(&self) -> u8 {
+        sysexit::DATA
+    }
+}

@@ -61,6 +61,13 @@ impl fmt::Display for CalibrationError {
 
 impl std::error::Error for CalibrationError {}
 
+/// A matrix the device cannot hold is bad input data.
+impl sysexit::ExitStatus for CalibrationError {
+    fn exit_code(&self) -> u8 {
+        sysexit::DATA
+    }
+}
+
 /// The f32 matrix the device stores, checked element by element.
 pub fn to_device_matrix(c: &Matrix3) -> Result<Calibration, CalibrationError> {
     let mut out = [[0.0_f32; 3]; 3];

@@ -63,7 +63,7 @@ fn the_logger_writes_contract_keys_filter_and_temperature() {
         Some(hw.fingertip.test.rod_speed_mm_per_min)
     );
     assert_eq!(m.source.as_deref(), Some("unit test"));
-    assert_eq!(m.get(diagnosis::baseline::SMOOTHER_KEY), Some("0.2"));
+    assert_eq!(m.get(recording::SMOOTHER_KEY), Some("0.2"));
     assert_eq!(m.get("firmware_butterworth_order"), Some("2"));
     assert_eq!(m.get("firmware_cutoff_hz"), Some("50"));
     assert_eq!(

@@ -1,6 +1,6 @@
 //! Library errors as Python exceptions carrying the line `tactile` prints (without its
-//! `tactile: error:` prefix): the error and its causes joined by `: `, as `host::cli::report`
-//! does with an `anyhow` chain. The classes are defined in `tactile/_errors.py`.
+//! `tactile: error:` prefix): the error and its causes on one line ([`sysexit::one_line`], as
+//! `tactile::cli::report` prints an `anyhow` chain). The classes are defined in `tactile/_errors.py`.
 
 use std::error::Error;
 
@@ -9,16 +9,9 @@ use pyo3::PyErr;
 pyo3::import_exception!(tactile._errors, TactileDataError);
 pyo3::import_exception!(tactile._errors, TactileFileError);
 
-/// The message of `err` and of each of its sources, joined by `: `.
+/// The message of `err` and of each of its sources, on one line.
 fn chain(err: &(dyn Error + 'static)) -> String {
-    let mut line = err.to_string();
-    let mut cause = err.source();
-    while let Some(e) = cause {
-        line.push_str(": ");
-        line.push_str(&e.to_string());
-        cause = e.source();
-    }
-    line
+    sysexit::one_line(sysexit::causes(err))
 }
 
 /// Whether the operating system refused a file somewhere in `err`'s chain.

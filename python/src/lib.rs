@@ -125,8 +125,7 @@ fn diagnose_frame(
 /// `tactile chip --json`'s figures.
 #[pyfunction]
 fn chip_json() -> PyResult<String> {
-    let report =
-        diagnosis::chip_report::from_hardware(&hardware()?).map_err(|e| error::raise(None, &e))?;
+    let report = chip::report::from_hardware(&hardware()?).map_err(|e| error::raise(None, &e))?;
     serde_json::to_string(&report).map_err(|e| error::raise(None, &e))
 }
 

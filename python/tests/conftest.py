@@ -42,7 +42,7 @@ def cli() -> Cli:
     if given:
         return Cli(Path(given))
     subprocess.run(
-        ["cargo", "build", "-q", "-p", "host", "--bin", "tactile", "--locked"],
+        ["cargo", "build", "-q", "-p", "tactile", "--bin", "tactile", "--locked"],
         cwd=REPO,
         check=True,
     )

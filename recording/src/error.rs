@@ -288,3 +288,11 @@ impl RecordingError {
         }
     }
 }
+
+/// A file that could not be read is a missing or forbidden input; one that was read and
+/// refused is bad data.
+impl sysexit::ExitStatus for RecordingError {
+    fn exit_code(&self) -> u8 {
+        self.io_kind().map_or(sysexit::DATA, sysexit::of_input)
+    }
+}

@@ -111,6 +111,14 @@ impl MachineExportError {
     }
 }
 
+/// An export that could not be read is a missing or forbidden input; one that was read and
+/// refused is bad data.
+impl sysexit::ExitStatus for MachineExportError {
+    fn exit_code(&self) -> u8 {
+        self.io_kind().map_or(sysexit::DATA, sysexit::of_input)
+    }
+}
+
 /// The path as named in errors and the bytes of the file at `path`, refused when larger than
 /// [`Limits::DEFAULT`]`.max_bytes` (checked before reading).
 pub(crate) fn read_bounded(path: &Path) -> Result<(String, Vec<u8>), MachineExportError> {

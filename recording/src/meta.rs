@@ -30,6 +30,10 @@ pub struct Meta {
     pub other: Vec<(String, String)>,
 }
 
+/// The metadata key (this project's own; the format keeps unknown keys) that records the
+/// firmware smoother's alpha.
+pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
+
 /// Required numeric keys, in the order the writer emits them.
 pub(super) const REQUIRED_KEYS: [&str; 9] = [
     "sample_rate_hz",

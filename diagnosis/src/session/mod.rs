@@ -247,5 +247,18 @@ impl Outcome {
     }
 }
 
+/// A folder that cannot be listed or holds nothing is a missing input; clashing names are a
+/// usage error; an output that cannot be written, a failure to create.
+impl sysexit::ExitStatus for SessionError {
+    fn exit_code(&self) -> u8 {
+        match self {
+            SessionError::ListDir { source, .. } => sysexit::of_input(source.kind()),
+            SessionError::NoRecordings(_) => sysexit::NO_INPUT,
+            SessionError::SameStem { .. } => sysexit::USAGE,
+            SessionError::Write { .. } => sysexit::CANT_CREATE,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests;

@@ -52,10 +52,9 @@ pub enum DeviceError {
     },
 }
 
-impl DeviceError {
-    /// The sysexits code the CLI exits with.
-    pub fn exit_code(&self) -> u8 {
-        use crate::exit;
+impl sysexit::ExitStatus for DeviceError {
+    fn exit_code(&self) -> u8 {
+        use sysexit as exit;
         match self {
             Self::NotFound { .. } | Self::NoSuchSerial { .. } => exit::NO_INPUT,
             Self::PermissionDenied { .. } => exit::NO_PERM,

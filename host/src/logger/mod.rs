@@ -86,9 +86,11 @@ impl FileError {
             source,
         }
     }
+}
 
-    pub fn exit_code(&self) -> u8 {
-        use crate::exit;
+impl sysexit::ExitStatus for FileError {
+    fn exit_code(&self) -> u8 {
+        use sysexit as exit;
         match self {
             Self::Open { source, .. } => match source.kind() {
                 std::io::ErrorKind::NotFound => exit::NO_INPUT,
@@ -179,7 +181,7 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
         ("firmware", format!("{}.{}.{}", fw[0], fw[1], fw[2])),
         ("start_unix_s", unix_s(start).to_string()),
         (
-            diagnosis::baseline::SMOOTHER_KEY,
+            recording::SMOOTHER_KEY,
             decimal(f.smoother_alpha).to_string(),
         ),
         (

@@ -2,6 +2,7 @@
 //! material alone (time, rod, load; the sensor columns not measured).
 
 use std::path::PathBuf;
+use sysexit::ResultExt as _;
 
 use anyhow::Context;
 use diagnosis::baseline::FrontEnd;
@@ -75,10 +76,10 @@ pub enum Format {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let name = args.input.display().to_string();
-    let text = import::read_text(&args.input)?;
+    let text = import::read_text(&args.input).coded()?;
     let (export, what) = match args.format {
         Format::Mach1 => {
-            let blocks = mach1::parse(&text, &name)?;
+            let blocks = mach1::parse(&text, &name).coded()?;
             if args.list {
                 for b in &blocks {
                     println!(
@@ -92,12 +93,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 }
                 return Ok(());
             }
-            let b = choose(&blocks, &args, &name)?;
+            let b = choose(&blocks, &args, &name).coded()?;
             let what = format!("Mach-1 export {name}, block {} ({})", b.index, b.kind);
             (b.to_export(), what)
         }
         Format::Csv => {
-            let export = machine_csv::parse(&text, &name, &csv_options(&args.csv))?;
+            let export = machine_csv::parse(&text, &name, &csv_options(&args.csv)).coded()?;
             (export, format!("machine CSV {name}"))
         }
     };
@@ -147,8 +148,10 @@ fn csv_options(a: &CsvArgs) -> machine_csv::CsvOptions {
 /// Write the recording with the front end of `hardware/` and the radius asked for.
 fn write(args: &Args, export: &MachineExport, what: String) -> anyhow::Result<()> {
     let out = args.out.as_ref().context("--out is required")?;
-    let params = hardware::Params::load_default().context("loading hardware/")?;
-    let front_end = FrontEnd::from_hardware(&params)?;
+    let params = hardware::Params::load_default()
+        .coded()
+        .context("loading hardware/")?;
+    let front_end = FrontEnd::from_hardware(&params).coded()?;
     let (radius_mm, radius_note) = match args.radius_mm {
         Some(r) if r > 0.0 && r.is_finite() => (r, "indenter radius given"),
         Some(r) => anyhow::bail!("--radius-mm {r}: not a positive number"),
@@ -163,7 +166,7 @@ fn write(args: &Args, export: &MachineExport, what: String) -> anyhow::Result<()
         excitation_v: front_end.signal.excitation_v,
         source: format!("{what}; {radius_note}; sensor not measured"),
     };
-    let rec = import::to_recording(export, &meta, &args.input.display().to_string())?;
+    let rec = import::to_recording(export, &meta, &args.input.display().to_string()).coded()?;
     let file = std::fs::File::create(out).with_context(|| format!("creating {}", out.display()))?;
     rec.write_to(file)
         .with_context(|| format!("writing {}", out.display()))?;

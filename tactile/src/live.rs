@@ -19,7 +19,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Sparkline};
 use ratatui::{Frame as TermFrame, Terminal};
 
-use crate::device::{Counters, Event, GapKind, Scale};
+use host::device::{Counters, Event, GapKind, Scale};
 
 /// Points kept per sparkline.
 const HISTORY: usize = 600;

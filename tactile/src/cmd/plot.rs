@@ -1,6 +1,7 @@
 //! `tactile plot`: PNG and SVG of a recording.
 
 use std::path::PathBuf;
+use sysexit::ResultExt as _;
 
 use crate::plot::{plot, Format};
 
@@ -26,7 +27,7 @@ pub enum FormatArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rec = recording::read(&args.recording)?;
+    let rec = recording::read(&args.recording).coded()?;
     let prefix = args
         .out
         .unwrap_or_else(|| args.recording.with_extension(""));

@@ -6,7 +6,7 @@
 pub struct Args {}
 
 pub fn run(_args: Args) -> anyhow::Result<()> {
-    let ports = crate::device::list_ports();
+    let ports = host::device::list_ports();
     if ports.is_empty() {
         eprintln!("no serial ports found");
     }

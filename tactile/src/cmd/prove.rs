@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 use std::time::Instant;
+use sysexit::ResultExt as _;
 
 use anyhow::Context;
 
@@ -41,7 +42,9 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let hw = hardware::Params::load_default().context("loading hardware/")?;
+    let hw = hardware::Params::load_default()
+        .coded()
+        .context("loading hardware/")?;
     let plan = Plan {
         seed: args.seed,
         sample_rate_hz: args.rate,

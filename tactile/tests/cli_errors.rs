@@ -14,7 +14,7 @@ use std::time::Duration;
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
 use host::device::{Device, OpenOptions, PortSpec};
-use host::exit;
+use sysexit as exit;
 
 mod common;
 use common::{fails, tactile};

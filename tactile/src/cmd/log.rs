@@ -6,15 +6,16 @@ use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime};
+use sysexit::ResultExt as _;
 
 use anyhow::Context;
 
 use super::common::{finite, positive_seconds};
-use crate::device::{Device, Event, OpenOptions, PortSpec, Scale};
 use crate::live::{Dashboard, SensorView};
-use crate::logger::mcap_io::McapSink;
-use crate::logger::reference::{merge_file, Align};
-use crate::logger::{metadata, per_sensor_path, Recorder, Setup};
+use host::device::{Device, Event, OpenOptions, PortSpec, Scale};
+use host::logger::mcap_io::McapSink;
+use host::logger::reference::{merge_file, Align};
+use host::logger::{metadata, per_sensor_path, Recorder, Setup};
 
 /// Record sensors until --duration has passed or Ctrl-C: the recording CSV
 /// (`docs/recording-format.md`, plus seq, both timestamps, gap marks and loads) and an
@@ -136,12 +137,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             AlignArg::Start => Align::Start,
         };
         for path in csv_paths(&args) {
-            let off = merge_file(&path, reference, align)?;
+            let off = merge_file(&path, reference, align).coded()?;
             eprintln!("{}: reference merged (offset {off:.3} s)", path.display());
         }
     }
     match gone {
-        Some(e) => Err(e.into()),
+        Some(e) => Err(sysexit::Coded::new(e).into()),
         None => Ok(()),
     }
 }
@@ -188,7 +189,9 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
         queue: queue_per_sensor(args.port.len()),
         ..OpenOptions::default()
     };
-    let mut setup = Setup::from_hardware(String::new()).context("hardware parameters")?;
+    let mut setup = Setup::from_hardware(String::new())
+        .coded()
+        .context("hardware parameters")?;
     if let Some(a) = args.contact_angle_deg {
         setup.contact_angle_deg = a;
     }
@@ -199,11 +202,11 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
     let mut devices = Vec::new();
     for port in &args.port {
         let spec = PortSpec::parse(port);
-        let dev = Device::open(&spec, opts.clone())?;
+        let dev = Device::open(&spec, opts.clone()).coded()?;
         if let Some(hz) = args.rate {
-            dev.set_rate(hz)?;
+            dev.set_rate(hz).coded()?;
         }
-        let info = dev.get_info()?;
+        let info = dev.get_info().coded()?;
         devices.push((spec, dev, info));
     }
     let mcap = match (&args.mcap, args.no_mcap) {
@@ -213,18 +216,20 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
     };
     let mcap = mcap
         .map(|p| McapSink::create(&p))
-        .transpose()?
+        .transpose()
+        .coded()?
         .map(|m| Rc::new(RefCell::new(m)));
     let mut sensors = Vec::new();
     for ((spec, dev, info), csv) in devices.into_iter().zip(csv_paths(args)) {
         setup.source = format!("tactile log {}", dev.port().display());
-        let mut rec = Recorder::create(&csv, &info, &setup, start)?;
+        let mut rec = Recorder::create(&csv, &info, &setup, start).coded()?;
         if let Some(m) = &mcap {
             let ch = m
                 .borrow_mut()
-                .add_sensor(&spec.label(), &metadata(&info, &setup, start).pairs())?;
+                .add_sensor(&spec.label(), &metadata(&info, &setup, start).pairs())
+                .coded()?;
             rec = rec.with_mcap((m.clone(), ch));
-            rec.on_event(&Event::Info(info.clone()))?;
+            rec.on_event(&Event::Info(info.clone())).coded()?;
         }
         let view = SensorView::new(spec.label(), Scale::from_info(&info), info.sample_rate_hz);
         sensors.push(Sensor {
@@ -235,7 +240,7 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
         });
     }
     for s in &sensors {
-        s.dev.start()?;
+        s.dev.start().coded()?;
     }
     Ok((sensors, mcap))
 }
@@ -259,7 +264,7 @@ fn pump(
                     Ok(ev) => {
                         idle = false;
                         s.view.on_event(&ev);
-                        s.rec.on_event(&ev)?;
+                        s.rec.on_event(&ev).coded()?;
                     }
                     Err(std::sync::mpsc::TryRecvError::Empty) => break,
                     Err(std::sync::mpsc::TryRecvError::Disconnected) => {
@@ -268,7 +273,7 @@ fn pump(
                     }
                 }
             }
-            s.rec.maybe_flush()?;
+            s.rec.maybe_flush().coded()?;
         }
         let all_ended = sensors.iter().all(|s| s.ended);
         if stop.load(Ordering::Relaxed)
@@ -320,7 +325,7 @@ fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
 /// Flush every CSV and write the MCAP summary (the recorders let go of the writer first).
 fn finish_files(sensors: &mut [Sensor], mcap: Option<SharedSink>) -> anyhow::Result<()> {
     for s in sensors.iter_mut() {
-        s.rec.flush()?;
+        s.rec.flush().coded()?;
         s.rec.detach_mcap();
     }
     if let Some(m) = mcap {

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use host::exit;
+use sysexit as exit;
 
 mod common;
 use common::{fails, tactile};
@@ -165,4 +165,16 @@ fn broken_exports_exit_65_naming_line_and_field() {
         &["c.csv:1: field f: unknown unit"],
     );
     assert!(!out.exists());
+}
+
+#[test]
+fn a_missing_export_names_the_file_and_says_why_once() {
+    let out = tactile(&["import", "/nonexistent/export.txt", "-o", "/tmp/never.csv"]);
+    fails(&out, exit::NO_INPUT, &["/nonexistent/export.txt"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.matches("os error 2").count(),
+        1,
+        "the cause said twice: {err}"
+    );
 }

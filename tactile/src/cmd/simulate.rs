@@ -4,6 +4,7 @@
 //! package; `sim::forward`). This module parses the flags and writes the files.
 
 use std::path::PathBuf;
+use sysexit::ResultExt as _;
 
 use anyhow::Context;
 use diagnosis::standard_test::{simulate_standard_test, SimulateOptions};
@@ -76,7 +77,9 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let params = hardware::Params::load_default().context("loading hardware/")?;
+    let params = hardware::Params::load_default()
+        .coded()
+        .context("loading hardware/")?;
     let options = options(&args);
     if args.adc_stimulus.is_some() {
         let rate_hz = options.compression_test(&params.fingertip).sample_rate_hz;
@@ -90,7 +93,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             rate_hz
         );
     }
-    let rec = simulate_standard_test(&options, &params)?;
+    let rec = simulate_standard_test(&options, &params).coded()?;
     write_outputs(&args, &params, &rec)
 }
 

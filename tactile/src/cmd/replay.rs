@@ -3,11 +3,12 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
+use sysexit::ResultExt as _;
 
 use super::common::finite;
-use crate::logger::reference::{merge_file, Align};
-use crate::logger::replay::replay;
-use crate::logger::Setup;
+use host::logger::reference::{merge_file, Align};
+use host::logger::replay::replay;
+use host::logger::Setup;
 
 /// Re-decode an MCAP file written by `tactile log` (also one whose logger was killed: its
 /// complete chunks are recovered) or a raw byte capture of the serial line, through the same
@@ -38,6 +39,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mut setup = Setup::from_hardware(format!("tactile replay {}", args.input.display()))
+        .coded()
         .context("hardware parameters")?;
     if let Some(a) = args.contact_angle_deg {
         setup.contact_angle_deg = a;
@@ -50,7 +52,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         args.out.as_deref(),
         &setup,
         args.sensor.as_deref(),
-    )?;
+    )
+    .coded()?;
     eprintln!(
         "{}: {} frames, {} rows, {} gaps, {} CRC errors, {} malformed, {} overflows{}",
         args.input.display(),
@@ -69,7 +72,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Some(l) => Align::Xcorr { max_lag_s: l.abs() },
             None => Align::Time { offset_s: 0.0 },
         };
-        merge_file(out, reference, align)?;
+        merge_file(out, reference, align).coded()?;
     }
     Ok(())
 }

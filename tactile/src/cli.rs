@@ -1,12 +1,11 @@
 //! Top-level argument tree, and how an error ends the process: one line on stderr and the exit
-//! code of [`crate::exit`].
+//! code its error chose ([`sysexit`]).
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
 use crate::cmd;
-use crate::exit;
 
 /// Firmware and host toolkit for the MEMS force/moment sensor in a soft fingertip.
 #[derive(Debug, Parser)]
@@ -49,25 +48,21 @@ pub enum Command {
 }
 
 /// Print `err` as one line on stderr and choose the exit code. A broken pipe is success:
-/// `tactile replay x.mcap | head` must not fail.
+/// `tactile replay x.mcap | head` must not fail. An error the command already told the user
+/// about line by line ([`sysexit::Reported`]) only sets the code.
 pub fn report(err: &anyhow::Error) -> ExitCode {
     if is_broken_pipe(err) {
         return ExitCode::SUCCESS;
     }
-    if let Some(done) = err.downcast_ref::<exit::Reported>() {
-        return ExitCode::from(done.code);
+    let code = sysexit::code_of(err.chain()).unwrap_or(1);
+    if err.downcast_ref::<sysexit::Reported>().is_none() {
+        eprintln!("tactile: error: {}", sysexit::one_line(err.chain()));
     }
-    let line = err
-        .chain()
-        .map(|e| e.to_string())
-        .collect::<Vec<_>>()
-        .join(": ");
-    eprintln!("tactile: error: {line}");
-    ExitCode::from(exit_code(err))
+    ExitCode::from(code)
 }
 
 /// Print a clap outcome: `--help` and `--version` go to stdout with success; a bad flag or value
-/// goes to stderr with [`exit::USAGE`], like every other error of ours, not clap's own 2.
+/// goes to stderr with [`sysexit::USAGE`], like every other error of ours, not clap's own 2.
 pub fn report_usage(err: &clap::Error) -> ExitCode {
     if !err.use_stderr() {
         // Printing help into a closed pipe is not an error either.
@@ -82,7 +77,7 @@ pub fn report_usage(err: &clap::Error) -> ExitCode {
         .unwrap_or("invalid arguments");
     let line = line.trim_start_matches("error: ");
     eprintln!("tactile: error: {line} (see --help)");
-    ExitCode::from(exit::USAGE)
+    ExitCode::from(sysexit::USAGE)
 }
 
 fn is_broken_pipe(err: &anyhow::Error) -> bool {
@@ -90,20 +85,4 @@ fn is_broken_pipe(err: &anyhow::Error) -> bool {
         e.downcast_ref::<std::io::Error>()
             .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
     })
-}
-
-fn exit_code(err: &anyhow::Error) -> u8 {
-    for cause in err.chain() {
-        if let Some(code) = crate::cmd::exit_code_of(cause) {
-            return code;
-        }
-        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
-            return match io.kind() {
-                std::io::ErrorKind::NotFound => exit::NO_INPUT,
-                std::io::ErrorKind::PermissionDenied => exit::NO_PERM,
-                _ => exit::IO,
-            };
-        }
-    }
-    1
 }

@@ -5,12 +5,12 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
-    let cli = match host::cli::Cli::try_parse() {
+    let cli = match tactile::cli::Cli::try_parse() {
         Ok(cli) => cli,
-        Err(err) => return host::cli::report_usage(&err),
+        Err(err) => return tactile::cli::report_usage(&err),
     };
-    match host::cmd::run(cli.command) {
+    match tactile::cmd::run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(err) => host::cli::report(&err),
+        Err(err) => tactile::cli::report(&err),
     }
 }

@@ -9,11 +9,12 @@
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
+use sysexit::ResultExt as _;
 
 use anyhow::Context;
 use fingertip::{Config, Drive, Fingertip, Material, RodShape};
 
-use crate::exit::{self, ExitStatus};
+use sysexit::{self as exit, ExitStatus};
 
 /// Gel law on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -200,10 +201,14 @@ pub fn config(args: &Args, hw: &hardware::Fingertip) -> Result<(Config, f64), Fe
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let hw = hardware::Params::load_default().context("loading hardware/")?;
+    let hw = hardware::Params::load_default()
+        .coded()
+        .context("loading hardware/")?;
     let (config, peak) = config(&args, &hw.fingertip)?;
     let t0 = Instant::now();
-    let mut ft = Fingertip::new(config.clone()).context("building the fingertip model")?;
+    let mut ft = Fingertip::new(config.clone())
+        .coded()
+        .context("building the fingertip model")?;
     let curve = ft.compress_to_peak(peak).with_context(|| {
         if config.rod_radius_mm < 0.5 * config.radius_mm {
             format!(

@@ -1,12 +1,12 @@
 //! The chip's figures that `tactile chip` prints and the Python package's `tactile.chip()`
 //! returns: sensitivities, crosstalk, strength and stiffness for the geometry in
-//! `hardware/chip.toml`, next to the paper's Table I, and the frame-FE check of the model. Kept
-//! here beside the other JSON reports (serde_json) rather than in `chip`, whose core is no_std.
+//! `hardware/chip.toml`, next to the paper's Table I, and the frame-FE check of the model (std
+//! only: it builds JSON).
 
-use chip::frame_fe::{self, FrameError, FrameOptions};
-use chip::from_hardware::FromHardwareError;
-use chip::sensitivity::{crosstalk, inverse, sensitivity_matrix, Matrix3};
-use chip::{fz, moment, strength, stress, tolerance, ChipParams, Load};
+use crate::frame_fe::{self, FrameError, FrameOptions};
+use crate::from_hardware::FromHardwareError;
+use crate::sensitivity::{crosstalk, inverse, sensitivity_matrix, Matrix3};
+use crate::{fz, moment, strength, stress, tolerance, ChipParams, Load};
 use serde_json::{json, Value};
 
 /// Table I of the paper: S_Fz in V/N, S_Mx = S_My in V/(N·m), strengths in N and N·m.
@@ -29,6 +29,16 @@ pub enum ChipReportError {
     /// The frame FE check could not be solved.
     #[error(transparent)]
     Frame(#[from] FrameError),
+}
+
+/// A chip description the model cannot use is bad data; a failed check, the program's own.
+impl sysexit::ExitStatus for ChipReportError {
+    fn exit_code(&self) -> u8 {
+        match self {
+            Self::Params(_) => sysexit::DATA,
+            _ => sysexit::SOFTWARE,
+        }
+    }
 }
 
 /// The figures for the chip of `hw` (its `chip.toml`, with the resistor mask's misalignment as
@@ -91,7 +101,7 @@ fn full_scale_outputs(p: &ChipParams, strengths: [f64; 3]) -> Matrix3 {
         Load::new(0.0, strengths[1], 0.0),
         Load::new(0.0, 0.0, strengths[2]),
     ];
-    loads.map(|l| chip::bridge_outputs_v(p, l))
+    loads.map(|l| crate::bridge_outputs_v(p, l))
 }
 
 /// Largest relative difference between the shear-deformable frame FE and the analytical model

@@ -1,9 +1,10 @@
 //! `tactile chip`: the chip's sensitivities, crosstalk, strength and stiffness for the geometry
 //! in `hardware/chip.toml`, next to the paper's Table I, and the frame-FE check of the model
-//! (computed by `diagnosis::chip_report`, which the Python package shares).
+//! (computed by `chip::report`, which the Python package shares).
 
 use anyhow::Context;
 use serde_json::Value;
+use sysexit::ResultExt as _;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -13,8 +14,10 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let hw = hardware::Params::load_default().context("loading hardware/")?;
-    let report = diagnosis::chip_report::from_hardware(&hw)?;
+    let hw = hardware::Params::load_default()
+        .coded()
+        .context("loading hardware/")?;
+    let report = chip::report::from_hardware(&hw).coded()?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

@@ -7,7 +7,7 @@ use std::time::Duration;
 use hil::check::scratch;
 use hil::emu::{EmuConfig, Emulator};
 use host::device::{Device, Event, GapKind, OpenOptions, PortSpec};
-use host::exit;
+use sysexit as exit;
 
 fn tactile(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tactile"))

@@ -5,12 +5,13 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use sysexit::ResultExt as _;
 
 use anyhow::Context;
 
 use diagnosis::{diagnose, report, session, Options};
 
-use crate::exit::{self, ExitStatus};
+use sysexit::{self as exit, ExitStatus};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -93,7 +94,7 @@ impl Config {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let show = !args.quiet && std::io::stderr().is_terminal();
-    match Config::of(args)? {
+    match Config::of(args).coded()? {
         Config::Single {
             recording,
             json,
@@ -104,8 +105,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 fn options() -> anyhow::Result<Options> {
-    let hw = hardware::Params::load_default().context("loading hardware/")?;
-    Ok(Options::from_hardware(&hw)?)
+    let hw = hardware::Params::load_default()
+        .coded()
+        .context("loading hardware/")?;
+    Ok(Options::from_hardware(&hw).coded()?)
 }
 
 fn single(
@@ -114,7 +117,7 @@ fn single(
     report_path: Option<&std::path::Path>,
     show: bool,
 ) -> anyhow::Result<()> {
-    let rec = recording::read(recording)?;
+    let rec = recording::read(recording).coded()?;
     let mut opt = options()?;
     let bar = progress_bar(show, "fitting candidate models");
     let shown = bar.clone();
@@ -125,7 +128,7 @@ fn single(
     let name = recording.display().to_string();
     let diagnosed = diagnose(&rec, &name, &opt);
     bar.finish_and_clear();
-    let d = diagnosed.with_context(|| name.clone())?;
+    let d = diagnosed.coded().with_context(|| name.clone())?;
     let text = session::json_text(&d).context("encoding the diagnosis")?;
     std::fs::write(json, text).with_context(|| format!("writing {}", json.display()))?;
     if let Some(path) = report_path {
@@ -151,7 +154,7 @@ fn report_file(path: &Path) -> PathBuf {
 /// Every recording into `out_dir`; one stderr line per recording that could not be analysed,
 /// then [`exit::DATA`] if there was any.
 fn whole_session(inputs: &[PathBuf], out_dir: &std::path::Path, show: bool) -> anyhow::Result<()> {
-    let inputs = session::expand_inputs(inputs)?;
+    let inputs = session::expand_inputs(inputs).coded()?;
     let opt = options()?;
     let bar = progress_bar(show, "diagnosing recordings");
     bar.set_length(inputs.len() as u64);
@@ -159,7 +162,7 @@ fn whole_session(inputs: &[PathBuf], out_dir: &std::path::Path, show: bool) -> a
         bar.set_position(done as u64)
     });
     bar.finish_and_clear();
-    let rows = rows?;
+    let rows = rows.coded()?;
     let bad: Vec<&str> = rows
         .iter()
         .filter_map(|r| r.outcome.as_ref().err().map(String::as_str))

@@ -1,8 +1,9 @@
 //! Arguments and helpers shared by the device subcommands.
 
 use std::time::Duration;
+use sysexit::ResultExt as _;
 
-use crate::device::{Device, OpenOptions, PortSpec};
+use host::device::{Device, OpenOptions, PortSpec};
 
 /// `--port`: a device path or `serial:<USB serial number>`.
 #[derive(Debug, Clone, clap::Args)]
@@ -24,7 +25,7 @@ impl PortArg {
             command_timeout: Duration::from_secs_f64(self.timeout),
             ..OpenOptions::default()
         };
-        Ok(Device::open(&PortSpec::parse(&self.port), opts)?)
+        Ok(Device::open(&PortSpec::parse(&self.port), opts).coded()?)
     }
 }
 

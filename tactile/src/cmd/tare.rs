@@ -1,6 +1,7 @@
 //! `tactile tare`: explicit digital tare (the device never tares by itself).
 
 use std::time::Duration;
+use sysexit::ResultExt as _;
 
 use super::common::PortArg;
 
@@ -21,22 +22,22 @@ pub struct Args {
 pub fn run(args: Args) -> anyhow::Result<()> {
     let dev = args.port.open()?;
     if args.clear {
-        dev.clear_tare()?;
+        dev.clear_tare().coded()?;
     } else {
-        let info = dev.get_info()?;
+        let info = dev.get_info().coded()?;
         let was_streaming = info.streaming;
         if !was_streaming {
-            dev.start()?;
+            dev.start().coded()?;
         }
-        dev.tare(args.samples)?;
+        dev.tare(args.samples).coded()?;
         // The device averages the next `samples` samples before the tare applies.
         let wait_s = f64::from(args.samples) / f64::from(info.sample_rate_hz.max(1));
         std::thread::sleep(Duration::from_secs_f64(wait_s.min(70.0)));
         if !was_streaming {
-            dev.stop()?;
+            dev.stop().coded()?;
         }
     }
-    let info = dev.get_info()?;
+    let info = dev.get_info().coded()?;
     println!(
         "{}: tare {:?} codes (config epoch {})",
         dev.port().display(),

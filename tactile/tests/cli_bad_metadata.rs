@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use host::exit;
+use sysexit as exit;
 
 mod common;
 use common::{fails, tactile};

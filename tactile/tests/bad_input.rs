@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use hil::check::scratch;
-use host::exit;
+use sysexit as exit;
 
 mod common;
 use common::{fails, tactile};
@@ -163,7 +163,7 @@ fn files_over_the_limit_are_refused_by_size_naming_file_and_limit() {
     sparse(&reference, b"time_s,position_mm,force_N\n", HUGE_BYTES);
     let r = recording::machine::read(&reference).unwrap_err();
     assert!(r.to_string().contains("1073741824-byte limit"), "{r}");
-    assert_eq!(host::cmd::exit_code_of(&r), Some(exit::DATA));
+    assert_eq!(sysexit::ExitStatus::exit_code(&r), exit::DATA);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -1,6 +1,8 @@
 //! `tactile config`: change rate, filter, calibration, drift tracking; run the auto-null.
 
+use host::logger::FileError;
 use std::path::PathBuf;
+use sysexit::ResultExt as _;
 
 use protocol::FilterConfig;
 
@@ -45,8 +47,7 @@ fn alpha(s: &str) -> Result<f64, String> {
 }
 
 /// Read a 3×3 matrix file; errors name the line.
-pub fn read_matrix(path: &std::path::Path) -> anyhow::Result<[[f32; 3]; 3]> {
-    use crate::logger::FileError;
+pub fn read_matrix(path: &std::path::Path) -> Result<[[f32; 3]; 3], FileError> {
     let text = std::fs::read_to_string(path).map_err(|e| FileError::Open {
         path: path.into(),
         source: e,
@@ -67,8 +68,7 @@ pub fn read_matrix(path: &std::path::Path) -> anyhow::Result<[[f32; 3]; 3]> {
         return Err(bad(
             rows.last().map_or(1, |r| r.0),
             format!("{} rows, expected 3", rows.len()),
-        )
-        .into());
+        ));
     }
     let mut m = [[0f32; 3]; 3];
     for (r, (line, l)) in rows.iter().enumerate() {
@@ -77,7 +77,7 @@ pub fn read_matrix(path: &std::path::Path) -> anyhow::Result<[[f32; 3]; 3]> {
             .filter(|s| !s.is_empty())
             .collect();
         if vals.len() != 3 {
-            return Err(bad(*line, format!("{} numbers, expected 3", vals.len())).into());
+            return Err(bad(*line, format!("{} numbers, expected 3", vals.len())));
         }
         for (c, v) in vals.iter().enumerate() {
             m[r][c] = v
@@ -91,11 +91,16 @@ pub fn read_matrix(path: &std::path::Path) -> anyhow::Result<[[f32; 3]; 3]> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let calibration = args.calibration.as_deref().map(read_matrix).transpose()?;
+    let calibration = args
+        .calibration
+        .as_deref()
+        .map(read_matrix)
+        .transpose()
+        .coded()?;
     let dev = args.port.open()?;
-    let info = dev.get_info()?;
+    let info = dev.get_info().coded()?;
     if let Some(hz) = args.rate {
-        dev.set_rate(hz)?;
+        dev.set_rate(hz).coded()?;
     }
     if args.smoother_alpha.is_some() || args.butterworth_order.is_some() || args.cutoff_hz.is_some()
     {
@@ -111,14 +116,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         })?;
     }
     if let Some(m) = calibration {
-        dev.set_calibration(m)?;
+        dev.set_calibration(m).coded()?;
     }
     if let Some(d) = args.drift_tracking.as_deref() {
-        dev.set_drift_tracking(d == "on")?;
+        dev.set_drift_tracking(d == "on").coded()?;
     }
     if args.auto_null {
-        dev.auto_null()?;
+        dev.auto_null().coded()?;
     }
-    print_info(&dev.port().display().to_string(), &dev.get_info()?);
+    print_info(&dev.port().display().to_string(), &dev.get_info().coded()?);
     Ok(())
 }
