@@ -3,10 +3,10 @@
 
 use sim::effects::EffectKind;
 
-use crate::baseline::{Drive, Outputs};
 use crate::fit::{Fitted, Model, Setup, N_BASE};
 use crate::lm::Solution;
 use crate::specs::starts;
+use baseline::{Drive, Outputs};
 
 /// Minimum BIC decrease for an effect to count. A BIC difference approximates twice the log
 /// Bayes factor (Schwarz 1978); above 10 the evidence is "very strong" on the Kass & Raftery

@@ -46,10 +46,6 @@ impl Series {
     pub fn len(&self) -> usize {
         self.t_s.len()
     }
-
-    pub fn is_empty(&self) -> bool {
-        self.t_s.is_empty()
-    }
 }
 
 /// Both rates plus per-channel scales.
@@ -88,7 +84,7 @@ pub enum DataError {
     NoContact,
     /// The FE-backed fingertip response for the recording's angles and radius failed.
     #[error(transparent)]
-    Fingertip(#[from] super::fe_response::FeResponseError),
+    Fingertip(#[from] baseline::fe_response::FeResponseError),
 }
 
 impl Data {

@@ -11,10 +11,10 @@
 
 use sim::effects::{Chain, EffectKind};
 
-use super::baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
 use super::data::{Data, Series};
 use super::lm::{self, Problem, Solution};
 use super::specs::effect_specs;
+use baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
 
 /// Number of baseline parameters at the head of the vector.
 pub const N_BASE: usize = 19;
@@ -64,6 +64,8 @@ impl Setup<'_> {
 /// One parameter's coding: bounds, finite-difference step and starting values (internal units).
 #[derive(Debug, Clone)]
 pub struct ParamSpec {
+    /// The catalogue's name of the parameter, for debugging output.
+    #[allow(dead_code)]
     pub name: &'static str,
     pub lower: f64,
     pub upper: f64,
@@ -190,25 +192,6 @@ impl<'s, 'a> Model<'s, 'a> {
     /// The free parameters of a full vector, in the solver's order.
     pub fn free_of(&self, full: &[f64]) -> Vec<f64> {
         self.free_indices().iter().map(|&i| full[i]).collect()
-    }
-
-    /// Start effect number `effect` (in `kinds` order) from `values` (internal units), keeping
-    /// the catalogue default of its primary parameter as a second start.
-    pub fn seed(&mut self, effect: usize, values: &[f64]) {
-        let first = N_BASE
-            + self.kinds[..effect]
-                .iter()
-                .map(|k| k.param_names().len())
-                .sum::<usize>();
-        for (j, &v) in values.iter().enumerate() {
-            let s = &mut self.specs[first + j];
-            let default = s.starts[0];
-            s.starts = if j == 0 && (default - v).abs() > 1e-9 {
-                vec![v, default]
-            } else {
-                vec![v]
-            };
-        }
     }
 
     /// The starting values of parameter `j` of effect number `effect` (internal units).

@@ -1,44 +1,42 @@
 //! Mismatch diagnosis (its output and catalogue: `docs/diagnosis-format.md`): calibrate the
-//! baseline model of a compression test to a recording (`recording`), locate what remains, name
-//! the missing physics from the catalogue (`sim::effects`), fit it, and show the fit improve on
-//! a held-out stretch. A library: no command line and no serial code; `tactile diagnose`,
-//! `simulate` and `prove` are thin commands over [`diagnose`], [`synth::simulate`] and
-//! [`prove`].
+//! baseline model of a compression test (crate `baseline`) to a recording (`recording`), locate
+//! what remains, name the missing physics from the catalogue (`sim::effects`), fit it, and show
+//! the fit improve on a held-out stretch. A library: no command line; `tactile diagnose` is a
+//! thin command over [`diagnose`], and the proof (crate `prove`) scores it.
 //!
-//! The steps are modules: [`data`] (read and decimate) -> [`regimes`] -> [`baseline`] and
-//! [`fit`] (calibrate) -> [`pipeline`] (candidates, selection, full-rate evaluation, verdict) ->
-//! [`localise`], [`mains`] -> [`output`] (OUT.json) and [`report`] (HTML).
+//! The public API: [`diagnose`] with its [`Options`] gives a [`Diagnosis`]; [`output`] is its
+//! JSON (`tactile-diagnosis/1`), [`report::write`] its HTML page, [`session`] a batch of
+//! recordings with their summary.
+//!
+//! The steps are private modules, each importing only those before it:
+//! `stats` (tests and estimators) -> `data` (read, decimate; `noise`, `quantisation`) ->
+//! `regimes` -> `preconditions` -> `fit` (calibrate; `specs`, `lm`, `temperature`) ->
+//! `candidate` -> `params` -> `select` (the effects' selection) -> `localise`, `mains` ->
+//! `evidence` -> `pipeline` (candidates, selection, full-rate evaluation, verdict) -> [`output`]
+//! and [`report`].
 
-pub mod baseline;
-pub mod candidate;
-pub mod data;
-pub mod evidence;
-pub mod fe_cache;
-pub mod fe_response;
-pub mod fit;
-pub mod interp;
-pub mod lm;
-pub mod localise;
-pub mod mains;
-pub mod map_by_load;
-pub mod noise;
+mod candidate;
+mod data;
+mod evidence;
+mod fit;
+mod lm;
+mod localise;
+mod mains;
+mod noise;
 pub mod output;
-pub mod params;
-pub mod pipeline;
-pub mod preconditions;
-pub mod quantisation;
-pub mod regimes;
-pub mod response_table;
-pub mod select;
-pub mod specs;
-pub mod standard_test;
-pub mod static_shape;
-pub mod synth;
-pub mod temperature;
-pub mod undecided;
-
-pub mod prove;
+mod params;
+mod pipeline;
+mod preconditions;
+mod quantisation;
+mod regimes;
 pub mod report;
+mod select;
 pub mod session;
+mod specs;
+mod static_shape;
+mod temperature;
+mod undecided;
 
+pub use data::DataError;
 pub use pipeline::{diagnose, Diagnosis, Options, Progress};
+pub use preconditions::mains_visible;

@@ -24,7 +24,8 @@ pub struct Solution {
     pub n: usize,
     /// (JᵀJ)⁻¹ at the optimum (unscaled covariance), when JᵀJ is invertible.
     pub jtj_inv: Option<DMatrix<f64>>,
-    /// Iterations taken.
+    /// Iterations taken (debugging output).
+    #[allow(dead_code)]
     pub iterations: usize,
 }
 

@@ -267,7 +267,7 @@ mod tests {
 
     #[test]
     fn ljung_box_accepts_noise_and_rejects_a_ramp() {
-        let mut g = super::super::synth::Gaussian::new(11);
+        let mut g = baseline::synth::Gaussian::new(11);
         let noise: Vec<f64> = (0..5000).map(|_| g.normal()).collect();
         assert!(ljung_box(&noise, 20).1 > 0.01);
         let smooth: Vec<f64> = (0..5000)
@@ -281,7 +281,7 @@ mod tests {
     /// noise with a correlation of 0.3.
     #[test]
     fn ar_evidence_separates_white_from_structure() {
-        let mut g = super::super::synth::Gaussian::new(5);
+        let mut g = baseline::synth::Gaussian::new(5);
         let worst = (0..300)
             .map(|_| {
                 let white: Vec<f64> = (0..700).map(|_| g.normal()).collect();
@@ -324,7 +324,7 @@ mod tests {
 
     #[test]
     fn isolated_outliers_go_and_a_run_of_them_stays() {
-        let mut g = crate::synth::Gaussian::new(4);
+        let mut g = baseline::synth::Gaussian::new(4);
         let mut e: Vec<f64> = (0..800).map(|_| g.normal()).collect();
         let clean = e.clone();
         for (i, size) in [(100, 30.0), (300, -20.0), (555, 45.0)] {

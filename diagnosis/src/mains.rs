@@ -201,7 +201,7 @@ mod tests {
     #[test]
     fn finds_a_line_off_the_scan_grid() {
         let t: Vec<f64> = (0..60_000).map(|k| k as f64 * 1e-3).collect();
-        let mut g = super::super::synth::Gaussian::new(5);
+        let mut g = baseline::synth::Gaussian::new(5);
         let r: Vec<f64> = t
             .iter()
             .map(|t| 0.01 * (TAU * 59.93 * t + 0.4).sin() + 0.01 * g.normal())
@@ -216,9 +216,9 @@ mod tests {
     /// AR(1) noise, the line alone had inflated it about tenfold.
     #[test]
     fn the_noise_estimate_sees_through_a_line() {
-        use crate::noise::{correlation as noise_correlation, difference_noise};
+        use crate::noise::{ar1_rho as noise_correlation, difference_noise};
         let t: Vec<f64> = (0..70_000).map(|k| k as f64 * 2e-3).collect();
-        let mut g = super::super::synth::Gaussian::new(9);
+        let mut g = baseline::synth::Gaussian::new(9);
         let y: Vec<f64> = t
             .iter()
             .map(|t| (0.05 * t).sin() + 0.012 * (TAU * 60.0 * t).sin() + 0.003 * g.normal())

@@ -363,8 +363,10 @@ pub(crate) fn levinson_durbin(c: &[f64]) -> (Vec<f64>, Vec<f64>) {
 /// is smooth on the sample scale. For AR(1) noise (autocovariance sigma^2 rho^h) the lag-1
 /// correlation of `d[k] = e[k] - 2 e[k-1] + e[k-2]` is
 /// (-4 + 7 rho - 4 rho^2 + rho^3) / (6 - 8 rho + 2 rho^2), -2/3 for white noise, rising with
-/// rho; inverted by bisection. Clamped to [0, 0.99].
-pub fn correlation(x: &[f64]) -> f64 {
+/// rho; inverted by bisection. Clamped to [0, 0.99]. The noise model reads it from second
+/// differences it already has; the tests ask it of a series.
+#[cfg(test)]
+pub(crate) fn ar1_rho(x: &[f64]) -> f64 {
     let d = second_differences(x);
     let white = median_sd(&mut d.clone());
     difference_correlation(&d, white)
@@ -374,7 +376,7 @@ fn second_differences(x: &[f64]) -> Vec<f64> {
     x.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect()
 }
 
-/// [`correlation`] from the second differences `d`, whose white-noise level ([`median_sd`]) is
+/// The AR(1) lag-1 correlation from the second differences `d`, whose white-noise level ([`median_sd`]) is
 /// `white`.
 fn difference_correlation(d: &[f64], white: f64) -> f64 {
     if d.len() < 3 {
@@ -553,7 +555,7 @@ mod tests {
     /// worth the name.
     #[test]
     fn quantum_is_the_smallest_step() {
-        let mut g = crate::synth::Gaussian::new(3);
+        let mut g = baseline::synth::Gaussian::new(3);
         let steps: Vec<f64> = (0..500)
             .map(|k| 12.3 + 0.05 * ((k as f64 * 0.01).sin() * 10.0 + 0.4 * g.normal()).round())
             .collect();
@@ -641,7 +643,7 @@ mod tests {
         assert!((fast - direct).abs() < 1e-9 * direct, "{fast} vs {direct}");
     }
     use crate::localise::ljung_box;
-    use crate::synth::Gaussian;
+    use baseline::synth::Gaussian;
 
     /// White noise of deviation `white` plus AR(1) noise of deviation `slow` and correlation
     /// time `tau` samples.
@@ -664,7 +666,7 @@ mod tests {
             .collect();
         let s = difference_noise(&x);
         assert!((s / 0.01 - 1.0).abs() < 0.03, "{s}");
-        assert!(correlation(&x) < 0.02);
+        assert!(ar1_rho(&x) < 0.02);
     }
 
     #[test]
@@ -677,7 +679,7 @@ mod tests {
                 e
             })
             .collect();
-        assert!((correlation(&x) - 0.8).abs() < 0.02);
+        assert!((ar1_rho(&x) - 0.8).abs() < 0.02);
     }
 
     /// The closed forms against the double sum of sd^2 rho^|i - j|.
@@ -775,7 +777,7 @@ mod tests {
         // A load read to 0.05 N over 0.0192 N of noise at many levels: its deviation is
         // sqrt(0.0192^2 + 0.05^2 / 12) = 0.024 N. A plain median of the second differences takes
         // a lattice value and reads 0.030 N.
-        let mut g = crate::synth::Gaussian::new(3);
+        let mut g = baseline::synth::Gaussian::new(3);
         let (q, sigma) = (0.05, 0.0192);
         let x: Vec<f64> = (0..100_000)
             .map(|i| ((0.013 * (i / 2000) as f64 + sigma * g.normal()) / q).round() * q)
@@ -788,7 +790,7 @@ mod tests {
     /// read as correlated noise (white noise at 10 Hz with kinks had read as rho = 0.7).
     #[test]
     fn kinks_do_not_colour_white_noise() {
-        let mut g = crate::synth::Gaussian::new(8);
+        let mut g = baseline::synth::Gaussian::new(8);
         let n = 3000;
         let mut slope = 0.0;
         let mut level = 0.0;

@@ -13,10 +13,8 @@ use recording::{Meta, Recording};
 use sim::effects::EffectKind;
 use sim::forward::SignalPath;
 
-use crate::baseline::{Drive, FrontEnd, Outputs};
 use crate::candidate::{heldout_needed, Candidate, MIN_BIC_GAIN};
 use crate::data::{Data, DataError, CHANNELS};
-use crate::fe_response::{AngleBlend, FeSource};
 use crate::fit::Setup;
 use crate::localise::{self, ChannelLocalisation, Mismatch};
 use crate::mains::{self, Line};
@@ -25,6 +23,8 @@ use crate::preconditions::Protocol;
 use crate::regimes::{self, Segment};
 use crate::select::select;
 use crate::{evidence, noise, params, undecided};
+use baseline::fe_response::{AngleBlend, FeSource};
+use baseline::{Drive, FrontEnd, Outputs};
 
 /// Told after each candidate model is fitted: (candidates fitted so far, candidates in all).
 pub type Progress = dyn Fn(usize, usize) + Send + Sync;
@@ -264,7 +264,7 @@ fn front_end(meta: &Meta, opt: &Options) -> FrontEnd {
             .iter()
             .find(|(k, _)| k == recording::SMOOTHER_KEY)
             .and_then(|(_, v)| v.trim().parse::<f64>().ok())
-            .and_then(|alpha| crate::baseline::smoother_tau_s(alpha, meta.sample_rate_hz)),
+            .and_then(|alpha| baseline::smoother_tau_s(alpha, meta.sample_rate_hz)),
     }
 }
 

@@ -161,7 +161,7 @@ fn sinc(z: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::synth::Gaussian;
+    use baseline::synth::Gaussian;
 
     #[test]
     fn a_lattice_is_found_only_where_the_values_sit_on_one() {

@@ -16,8 +16,8 @@
 
 use sim::effects::EffectKind;
 
-use crate::baseline::Drive;
 use crate::data::peak_to_peak;
+use baseline::Drive;
 
 /// The samples the span is taken over: loaded to at least this share of the largest load (the
 /// range over which `calibration.toml` quotes the FE's departure from linear).

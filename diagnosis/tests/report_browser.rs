@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use diagnosis::baseline::{BaselineParams, FrontEnd};
-use diagnosis::synth::{simulate, Noise, SimSpec};
+use baseline::synth::{simulate, Noise, SimSpec};
+use baseline::{BaselineParams, FrontEnd};
 use sim::effects::Effect;
 
 const CHROMIUM: &str = "/usr/bin/chromium";

@@ -3,9 +3,9 @@
 //! nothing is reported on the departures that are not catalogue effects at all.
 //! Run: `cargo test --release -p diagnosis --test robustness -- --ignored --nocapture`.
 
-use diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
-use diagnosis::fe_response::AngleBlend;
-use diagnosis::synth::{simulate, Gaussian, Noise, SimSpec};
+use baseline::fe_response::AngleBlend;
+use baseline::synth::{simulate, Gaussian, Noise, SimSpec};
+use baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
 use recording::Recording;
 use sim::effects::Effect;
 

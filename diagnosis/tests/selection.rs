@@ -1,11 +1,11 @@
 //! The selection cannot do worse than the baseline, names only what the recording can show, and
 //! reports unresolved parameters as bounds. Recordings from the project's simulator
-//! (`diagnosis::synth`) with the catalogue's own operators.
+//! (`baseline::synth`) with the catalogue's own operators.
 //! About 20 s in the debug build (250 Hz recordings, FE tables cached).
 
-use diagnosis::baseline::{BaselineParams, FrontEnd};
+use baseline::synth::{simulate, Noise, SimSpec};
+use baseline::{BaselineParams, FrontEnd};
 use diagnosis::output::{Report, Verdict};
-use diagnosis::synth::{simulate, Noise, SimSpec};
 use recording::Recording;
 use sim::compression::CompressionTest;
 use sim::effects::Effect;

@@ -5,9 +5,9 @@
 
 use std::time::Instant;
 
-use diagnosis::baseline::{BaselineParams, FrontEnd};
-use diagnosis::fe_cache;
-use diagnosis::synth::{simulate, Noise, SimSpec};
+use baseline::synth::{simulate, Noise, SimSpec};
+use baseline::{BaselineParams, FrontEnd};
+use fingertip::cache;
 use sim::effects::Effect;
 
 /// Issue #16: 300 s at 1 kHz diagnosed in at most this, FE tables cached.
@@ -19,7 +19,7 @@ fn read_and_diagnose_300_s_at_1_khz() {
     // A private, empty disk cache: the first diagnosis below runs the FE (cold cache).
     let cache = std::env::temp_dir().join(format!("tactile-speed-cache-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&cache);
-    std::env::set_var(fe_cache::CACHE_DIR_ENV, &cache);
+    std::env::set_var(cache::CACHE_DIR_ENV, &cache);
     let hw = hardware::Params::load_default().unwrap();
     let opt = diagnosis::Options::from_hardware(&hw).unwrap();
     let fingertip = opt.fe.response(20.0, 20.0, 60.0).unwrap();
@@ -60,11 +60,11 @@ fn read_and_diagnose_300_s_at_1_khz() {
     let read_s = t.elapsed().as_secs_f64();
     // Cold: no table on disk or in memory; warm: on disk (a second run of `tactile diagnose`).
     let _ = std::fs::remove_dir_all(&cache);
-    fe_cache::forget_in_memory();
+    cache::forget_in_memory();
     let t = Instant::now();
     diagnosis::diagnose(&back, "speed", &opt).unwrap();
     let cold_s = t.elapsed().as_secs_f64();
-    fe_cache::forget_in_memory();
+    cache::forget_in_memory();
     let t = Instant::now();
     let d = diagnosis::diagnose(&back, "speed", &opt).unwrap();
     let diag_s = t.elapsed().as_secs_f64();

@@ -2,8 +2,8 @@
 //! a swinging ambient is no exponential, yet it is named and its amplitude recovered, because
 //! the model follows the measured temperature.
 
-use diagnosis::baseline::{BaselineParams, FrontEnd};
-use diagnosis::synth::{simulate, Noise, SimSpec};
+use baseline::synth::{simulate, Noise, SimSpec};
+use baseline::{BaselineParams, FrontEnd};
 use sim::effects::Effect;
 
 #[test]

@@ -53,6 +53,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod cache;
 pub mod contact;
 mod fingertip;
 pub mod haptic;

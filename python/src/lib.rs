@@ -8,7 +8,7 @@ mod error;
 
 use std::path::PathBuf;
 
-use diagnosis::standard_test::{simulate_standard_test, SimulateOptions};
+use baseline::standard_test::{simulate_standard_test, SimulateOptions};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

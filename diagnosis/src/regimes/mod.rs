@@ -18,7 +18,9 @@ mod protocol;
 use serde::Serialize;
 
 use motion::{Motion, Piece};
-pub use protocol::{heldout, heldout_window, protocol, HeldoutKind, Protocol};
+pub use protocol::heldout_window;
+#[cfg(test)]
+pub use protocol::{protocol, HeldoutKind, Protocol};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -54,6 +56,7 @@ pub struct Segment {
 
 /// The regime of every sample of `rod_mm` on `t_s`, and the runs. The rod alone cannot tell a
 /// preloaded start from a free one: a still start is rest; see [`detect_with_load`].
+#[cfg(test)]
 pub fn detect(t_s: &[f64], rod_mm: &[f64]) -> (Vec<Regime>, Vec<Segment>) {
     detect_with_load(t_s, rod_mm, None)
 }
@@ -201,6 +204,11 @@ fn label(rod: &[f64], pieces: &[Piece]) -> Vec<Segment> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests_mach1;
+#[cfg(test)]
+mod tests_rigs;
 
 #[cfg(test)]
 mod tests {

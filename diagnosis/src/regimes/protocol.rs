@@ -8,6 +8,7 @@ use super::{Regime, Segment};
 /// travel over duration is good to a sample at each end, a few per cent on any move worth a
 /// segment; a viscoelastic response differs visibly only when the rate changes by a good
 /// factor (the loss follows the logarithm of the rate for a spread of relaxation times).
+#[cfg(test)]
 const RATE_RATIO: f64 = 2.0;
 /// The held-out stretch leaves at least half of the record to the calibration...
 const MAX_HELDOUT_SHARE: f64 = 0.5;
@@ -36,8 +37,11 @@ pub enum HeldoutKind {
     EndOfRecord,
 }
 
-/// What the regimes of a recording contain: the preconditions of the effects a diagnosis may
+/// What the regimes of a recording contain (the regime tests read it; the diagnosis reads the
+/// held-out stretch alone, [`heldout`], and its preconditions from [`crate::preconditions`]):
+/// the preconditions of the effects a diagnosis may
 /// name (no hysteresis without an unloading, no relaxation without a hold or a rate change).
+#[cfg(test)]
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Protocol {
     /// Compression cycles (a loading followed later by a release; a staircase is one).
@@ -64,6 +68,7 @@ pub struct Protocol {
 
 /// The protocol of `segments` found on `t_s`, `rod_mm` (and `load`, which alone can tell a
 /// start in contact).
+#[cfg(test)]
 pub fn protocol(
     t_s: &[f64],
     rod_mm: &[f64],
@@ -100,6 +105,7 @@ pub fn protocol(
 /// Speed of a move, mm/s: 80 % of its travel over the time from 10 % to 90 % of it, so that a
 /// still start or a settling end inside the move does not slow it down (a sinusoid's half and
 /// quarter swings then differ by 10 %, not by the factor a mean over the whole leg gives).
+#[cfg(test)]
 fn speed(t_s: &[f64], rod_mm: &[f64], s: &Segment) -> Option<f64> {
     let last = s.end.min(t_s.len()).min(rod_mm.len()).checked_sub(1)?;
     let (x0, x1) = (rod_mm[s.start], rod_mm[last]);

@@ -30,8 +30,14 @@ pub fn blocks(name: &str) -> Vec<mach1::Block> {
 /// `block` of `name` as a recording, as `tactile import` and `tactile prove --mach1` write it.
 pub fn recording(block: &mach1::Block, name: &str) -> Recording {
     let hw = hardware::Params::load_default().expect("hardware");
-    let front_end = diagnosis::baseline::FrontEnd::from_hardware(&hw).expect("front end");
-    diagnosis::prove::real::mach1_recording(block, name, &front_end, hw.fingertip.radius_mm)
+    let front_end = baseline::FrontEnd::from_hardware(&hw).expect("front end");
+    let meta = recording::import::ImportMeta {
+        fingertip_radius_mm: hw.fingertip.radius_mm,
+        gain: front_end.signal.gain,
+        excitation_v: front_end.signal.excitation_v,
+        source: format!("Mach-1 export {name}, block {}", block.index),
+    };
+    recording::import::to_recording(&block.to_export(), &meta, name)
         .unwrap_or_else(|e| panic!("{e}"))
 }
 

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use sysexit::ResultExt as _;
 
 use anyhow::Context;
-use diagnosis::baseline::FrontEnd;
+use baseline::FrontEnd;
 use recording::import::{self, mach1, machine_csv, ImportMeta};
 use recording::machine::{MachineExport, MachineExportError};
 

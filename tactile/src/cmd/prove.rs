@@ -7,9 +7,9 @@ use sysexit::ResultExt as _;
 
 use anyhow::Context;
 
-use diagnosis::baseline::FrontEnd;
-use diagnosis::prove::{categories, csv, markdown, real, run as score, summary_svg, Plan, Summary};
+use baseline::FrontEnd;
 use diagnosis::Options;
+use prove::{categories, csv, markdown, real, run as score, summary_svg, Plan, Summary};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -85,7 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// Each generated recording as `prove-NN.csv` in `out`.
-fn write_recordings(cases: &[diagnosis::prove::Case], out: &std::path::Path) -> anyhow::Result<()> {
+fn write_recordings(cases: &[prove::Case], out: &std::path::Path) -> anyhow::Result<()> {
     for c in cases {
         let path = out.join(format!("prove-{:02}.csv", c.id));
         let file =

@@ -1,13 +1,13 @@
 //! `tactile simulate`: the baseline model's recording of the standard compression test
 //! (`docs/diagnosis-format.md`), optionally with catalogue effects and noise, through the same
-//! forward model as the emulated sensor (`diagnosis::standard_test`, shared with the Python
+//! forward model as the emulated sensor (`baseline::standard_test`, shared with the Python
 //! package; `sim::forward`). This module parses the flags and writes the files.
 
 use std::path::PathBuf;
 use sysexit::ResultExt as _;
 
 use anyhow::Context;
-use diagnosis::standard_test::{simulate_standard_test, SimulateOptions};
+use baseline::standard_test::{simulate_standard_test, SimulateOptions};
 use recording::machine::MachineExport;
 use recording::Recording;
 

@@ -2,7 +2,7 @@
 
 use recording::Recording;
 
-use crate::synth::Noise;
+use baseline::synth::Noise;
 
 /// One nuisance applied to a finished recording.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,7 +1,7 @@
 //! A tabulated fingertip response (from the FE model or any other source): force and chip
 //! loads per unit modulus at a rising list of rod travels, interpolated between them.
 
-use crate::baseline::{FingertipResponse, UnitResponse};
+use crate::response::{FingertipResponse, UnitResponse};
 
 /// A tabulated response (from the FE model or any other source), zero at and before the first
 /// point (no contact). Between points the force is interpolated as ln F against ln(travel), and
@@ -50,7 +50,7 @@ impl ResponseTable {
                 })
                 .collect()
         });
-        let slopes = std::array::from_fn(|k| super::interp::slopes(&ln_rod, &values[k]));
+        let slopes = std::array::from_fn(|k| crate::interp::slopes(&ln_rod, &values[k]));
         Self {
             rod_mm,
             ln_rod,
@@ -113,7 +113,7 @@ impl ResponseTable {
         } else if l > x[last] {
             end(last, last.saturating_sub(1))
         } else {
-            super::interp::eval(x, y, d, l)
+            crate::interp::eval(x, y, d, l)
         }
     }
 }
@@ -135,7 +135,7 @@ impl FingertipResponse for ResponseTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::baseline::Linear;
+    use crate::response::Linear;
 
     #[test]
     fn table_interpolates_and_is_zero_before_contact() {

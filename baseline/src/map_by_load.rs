@@ -13,7 +13,7 @@
 //! modulus moved the load alone (another law's load per pascal). Bounds and reasons:
 //! `hardware/calibration.toml`.
 
-use crate::baseline::FingertipResponse;
+use crate::response::FingertipResponse;
 
 /// Travels of the table, as shares of the largest travel: from 0.5 % to three times it, even in
 /// ln(travel). Below, the maps are held (the warp stops at 1 %); above, a load no model reaches.
@@ -119,7 +119,7 @@ impl MapByLoad {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::baseline::UnitResponse;
+    use crate::response::UnitResponse;
 
     /// A fingertip whose force is d^2 and whose first output's ratio to it is d (a moment arm
     /// growing with the travel): r = d / d_max, so ln r = (ln F - ln F_max) / 2.

@@ -5,7 +5,8 @@
 use sim::compression::{rod_at_load, CompressionTest, RodHistory};
 use sim::effects::{Chain, Effect, ThermalDrift, ThermalReference};
 
-use super::baseline::{evaluate, BaselineParams, Drive, FingertipResponse, FrontEnd};
+use crate::model::{evaluate, BaselineParams, Drive, FrontEnd};
+use crate::response::FingertipResponse;
 use recording::{Channels, Meta, Recording};
 
 /// Standard deviations of white measurement noise.

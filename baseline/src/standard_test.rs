@@ -9,8 +9,9 @@ use recording::Recording;
 use sim::compression::CompressionTest;
 use sim::effects::Effect;
 
-use crate::baseline::{smoother_tau_s, BaselineParams, FingertipResponse, FrontEnd};
 use crate::fe_response::{FeResponseError, FeSource};
+use crate::model::{smoother_tau_s, BaselineParams, FrontEnd};
+use crate::response::FingertipResponse;
 use crate::synth::{simulate, Noise, SimSpec};
 use recording::SMOOTHER_KEY;
 

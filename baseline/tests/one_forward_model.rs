@@ -1,5 +1,5 @@
 //! `tactile simulate` and the emulated sensor produce the same volts for the same load history,
-//! through the same code: the simulator (`diagnosis::synth::simulate`, also the proof's
+//! through the same code: the simulator (`baseline::synth::simulate`, also the proof's
 //! generator and, with the calibrated parameters, the diagnosis's baseline) and the emulator
 //! (`sim::chain::Chain`, what the firmware reads in the HIL tests) both turn chip loads into volts
 //! with `sim::forward::SignalPath`. One load history drives both, with two catalogue effects on
@@ -7,8 +7,8 @@
 //! (`Chain::truth_v`: through its circuit, before noise and quantisation) must equal the
 //! simulated recording's to rounding.
 
-use diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
-use diagnosis::synth::{simulate, Noise, SimSpec};
+use baseline::synth::{simulate, Noise, SimSpec};
+use baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
 use sim::chain::Chain;
 use sim::compression::CompressionTest;
 use sim::effects::Effect;

@@ -12,21 +12,7 @@ use sim::effects::Chain;
 use sim::forward::SignalPath;
 
 use crate::map_by_load::MapByLoad;
-pub use crate::response_table::ResponseTable;
-
-/// Probe force and chip loads per pascal of gel modulus at one rod travel.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct UnitResponse {
-    /// Force along the rod axis, N/Pa.
-    pub force_n: f64,
-    /// Chip loads [Fz (N), Mx (N·m), My (N·m)] per Pa.
-    pub chip: [f64; 3],
-}
-
-/// A fingertip model: the quasi-static response to rod travel at unit modulus.
-pub trait FingertipResponse: Sync {
-    fn unit_response(&self, rod_mm: f64) -> UnitResponse;
-}
+use crate::response::{FingertipResponse, UnitResponse};
 
 /// From chip loads to the volts at the ADC inputs: the emulated sensor's signal path (the one
 /// forward model, [`SignalPath`]) with the recording's gains and excitation, and the firmware's
@@ -534,24 +520,10 @@ pub fn evaluate(
     }
 }
 
-/// A fingertip whose force and chip loads grow linearly with the travel: the tests' fixture.
-#[cfg(test)]
-pub(crate) struct Linear;
-
-#[cfg(test)]
-impl FingertipResponse for Linear {
-    fn unit_response(&self, rod_mm: f64) -> UnitResponse {
-        let d = rod_mm.max(0.0);
-        UnitResponse {
-            force_n: d,
-            chip: [d, -d, 0.5 * d],
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::response::Linear;
 
     /// The recursive smoother and its continuous equivalent agree on a step.
     #[test]

@@ -11,12 +11,12 @@ use rayon::prelude::*;
 use sim::compression::CompressionTest;
 use sim::effects::{Effect, EffectKind};
 
-use super::baseline::{BaselineParams, Drive, FingertipResponse};
-use super::fe_response::{AngleBlend, FeResponseError};
-use super::output::Report;
-use super::pipeline::{diagnose, Options};
-use super::synth::{simulate, simulate_path, Gaussian, Noise, SimSpec};
+use baseline::fe_response::{AngleBlend, FeResponseError};
+use baseline::synth::{simulate, simulate_path, Gaussian, Noise, SimSpec};
+use baseline::{BaselineParams, Drive, FingertipResponse};
 use categories::{Nuisance, OtherFingertip, Protocol};
+use diagnosis::output::Report;
+use diagnosis::{diagnose, Options};
 use recording::Recording;
 
 /// One generated recording and what is hidden in it.
@@ -79,7 +79,7 @@ pub struct Plan {
     /// The project's model parameters (the diagnosis gets them too; the recording carries the
     /// gains and excitation in its metadata).
     pub options: Options,
-    pub front_end: super::baseline::FrontEnd,
+    pub front_end: baseline::FrontEnd,
 }
 
 /// Contact angles of the generated recordings, deg.
@@ -316,11 +316,11 @@ fn truth_baseline(modulus_pa: f64, u: &mut impl FnMut(f64, f64) -> f64) -> Basel
 /// The largest output magnitude of the noise-free baseline at `peak` (to place a rail).
 fn peak_output_v(
     fingertip: &AngleBlend,
-    front_end: &super::baseline::FrontEnd,
+    front_end: &baseline::FrontEnd,
     base: &BaselineParams,
     peak: f64,
 ) -> f64 {
-    use super::baseline::FingertipResponse;
+    use baseline::FingertipResponse;
     let e = base.youngs_modulus_pa;
     let rod = sim::compression::rod_at_load(|d| fingertip.unit_response(d).force_n * e, peak, 60.0);
     let drive = Drive::new(fingertip, vec![0.0], &[rod]);
@@ -374,7 +374,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
     // Nyquist rate has aliased into a slow wave (listed as `unseen`, not required).
     let visible = |e: &&Effect| {
         e.kind() != sim::effects::EffectKind::MainsInterference
-            || crate::preconditions::mains_visible(case.recording.meta.sample_rate_hz)
+            || diagnosis::mains_visible(case.recording.meta.sample_rate_hz)
     };
     let name = |e: &Effect| e.kind().name().to_string();
     let truth: Vec<String> = case.truth.iter().filter(visible).map(name).collect();
@@ -442,7 +442,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
         found,
         undecided,
         correct: a == b,
-        quiet: r.verdict == crate::output::Verdict::NoSignificantMismatch,
+        quiet: r.verdict == diagnosis::output::Verdict::NoSignificantMismatch,
         low_snr: case.low_snr,
         primary_errors,
         heldout_before: r.fit.heldout.rmse_before,

@@ -1,6 +1,6 @@
 //! Rod paths a user runs besides the standard test.
 
-use crate::synth::{rod_at, SimSpec};
+use baseline::synth::{rod_at, SimSpec};
 
 /// The rod path of a recording.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

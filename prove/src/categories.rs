@@ -25,8 +25,8 @@ pub use family::OtherFingertip;
 pub use nuisances::Nuisance;
 pub use protocols::Protocol;
 
-use super::{Case, CaseSpec, Plan, Score, Summary};
-use crate::fe_response::FeResponseError;
+use crate::{Case, CaseSpec, Plan, Score, Summary};
+use baseline::fe_response::FeResponseError;
 
 /// A group of recordings scored together.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

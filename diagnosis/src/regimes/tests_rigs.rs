@@ -2,8 +2,8 @@
 //! triangles, sinusoids over a preload, starts in contact, no rest), read by rods with noise,
 //! quantisation, encoder back-steps and servo overshoot, at 10 Hz to 5 kHz.
 
-use diagnosis::regimes::{self, HeldoutKind, Protocol, Regime, Segment};
-use diagnosis::synth::Gaussian;
+use crate::regimes::{self, HeldoutKind, Protocol, Regime, Segment};
+use baseline::synth::Gaussian;
 
 const RATES_HZ: [f64; 4] = [10.0, 100.0, 1000.0, 5000.0];
 

@@ -1,7 +1,7 @@
 //! A fingertip from another plausible model of the same test: the proof's independent baseline
 //! family.
 
-use crate::baseline::{FingertipResponse, UnitResponse};
+use baseline::{FingertipResponse, UnitResponse};
 
 /// The fingertip of another plausible model of the same test: a power-law contact
 /// F = F_ref (d / d_ref)^n instead of the FE's, agreeing with the FE at `d_ref` (the nominal

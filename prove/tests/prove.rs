@@ -1,7 +1,7 @@
 //! The proof as a test: 44 generated recordings with concealed effects, diagnosed
 //! blind, must meet the acceptance figures. About a minute of CPU on 2 cores (500 Hz recordings).
 
-use diagnosis::prove::{markdown, run, Plan, Summary};
+use prove::{markdown, run, Plan, Summary};
 
 #[test]
 fn concealed_effects_are_found_blind() {
@@ -13,7 +13,7 @@ fn concealed_effects_are_found_blind() {
         per_effect: 3,
         radius_mm: hw.fingertip.radius_mm,
         options: diagnosis::Options::from_hardware(&hw).unwrap(),
-        front_end: diagnosis::baseline::FrontEnd::from_hardware(&hw).unwrap(),
+        front_end: baseline::FrontEnd::from_hardware(&hw).unwrap(),
     };
     let cases = plan.generate().expect("FE tables");
     assert!(cases.len() >= 40);

@@ -3,11 +3,11 @@
 //! holds, Dynamic's sinusoids over a large preload. Both at the full rate with the load and on
 //! the decimated series the diagnosis fits. Run with `--nocapture` to see the segments.
 
-#[path = "support/mach1_zip.rs"]
+#[path = "../../tests/support/mach1_zip.rs"]
 mod mach1_zip;
 
-use diagnosis::data::Data;
-use diagnosis::regimes::{self, HeldoutKind, Protocol, Regime, Segment};
+use crate::data::Data;
+use crate::regimes::{self, HeldoutKind, Protocol, Regime, Segment};
 use mach1_zip::{blocks, recording};
 use recording::Recording;
 

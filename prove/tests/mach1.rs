@@ -8,8 +8,8 @@
 mod mach1_zip;
 
 use diagnosis::output::Report;
-use diagnosis::prove::real::{self, MACH1};
 use mach1_zip::import;
+use prove::real::{self, MACH1};
 use recording::Recording;
 
 fn diagnose(rec: &Recording, label: &str) -> Report {
@@ -44,7 +44,7 @@ fn diagnose(rec: &Recording, label: &str) -> Report {
 }
 
 /// The real test `i` of the proof's Mach-1 category, diagnosed and scored by the category's
-/// own rule (`diagnosis::prove::real`): the expected effect set exactly; for the relaxation
+/// own rule (`prove::real`): the expected effect set exactly; for the relaxation
 /// tests no parameter at a bound and the held-out misfit at least halved, else falling.
 fn answered_right(i: usize) {
     let test = &MACH1[i];

@@ -10,10 +10,10 @@ use recording::import::{self, mach1, ImportMeta};
 use recording::Recording;
 use sim::effects::EffectKind;
 
-use super::Plan;
-use crate::baseline::FrontEnd;
-use crate::output::Report;
-use crate::pipeline::diagnose;
+use crate::Plan;
+use baseline::FrontEnd;
+use diagnosis::diagnose;
+use diagnosis::output::Report;
 
 /// One real test and what must be found in it.
 pub struct RealTest {

@@ -1,4 +1,5 @@
-//! Disk and in-process cache of FE compression curves.
+//! Disk and in-process cache of FE compression curves: a curve is the FE run's output for a
+//! [`Config`], so it is stored beside the model that computes it.
 //!
 //! A curve costs seconds of FE; a diagnosis needs one or two, the proof a dozen, each many
 //! times. Curves live in `$TACTILE_CACHE_DIR`, else `$XDG_CACHE_HOME/tactile`, else
@@ -15,7 +16,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use super::fe_response::FeResponseError;
+use crate::Config;
 
 /// Bump when the meaning of a stored curve changes without a change of its inputs (the FE's
 /// chip-load extraction, the stepping). 3: the FE's chip loads count the package top only, and
@@ -93,7 +94,7 @@ pub fn cache_dir() -> Option<PathBuf> {
 }
 
 /// The key of one FE run: every input, the crate version and the revision.
-pub fn key(config: &fingertip::Config, reach_n: f64, step_fraction: f64) -> String {
+pub fn key(config: &Config, reach_n: f64, step_fraction: f64) -> String {
     format!(
         "rev {CURVE_REVISION}; host {}; reach_n {reach_n:e}; step {step_fraction:e}; {}",
         env!("CARGO_PKG_VERSION"),
@@ -140,13 +141,23 @@ fn store(dir: &std::path::Path, key: &str, curve: &RawCurve) {
     }
 }
 
+/// Why a curve is not there: `compute` failed now, or an earlier attempt at the same key in
+/// this process failed (its message: the error itself went to that caller).
+#[derive(Debug)]
+pub enum Failed<E> {
+    /// This call's computation failed.
+    Now(E),
+    /// An earlier call's computation of the same key failed.
+    Earlier(String),
+}
+
 /// The curve for these inputs: from this process's memory, the disk cache, or `compute`.
-pub fn get_or_compute(
-    config: &fingertip::Config,
+pub fn get_or_compute<E: std::fmt::Display>(
+    config: &Config,
     reach_n: f64,
     step_fraction: f64,
-    compute: impl FnOnce() -> Result<RawCurve, FeResponseError>,
-) -> Result<Arc<RawCurve>, FeResponseError> {
+    compute: impl FnOnce() -> Result<RawCurve, E>,
+) -> Result<Arc<RawCurve>, Failed<E>> {
     let key = key(config, reach_n, step_fraction);
     let slot = memo()
         .lock()
@@ -176,8 +187,8 @@ pub fn get_or_compute(
     });
     match (result, error) {
         (Ok(c), _) => Ok(c.clone()),
-        (Err(_), Some(e)) => Err(e),
-        (Err(text), None) => Err(FeResponseError::Cached(text.clone())),
+        (Err(_), Some(e)) => Err(Failed::Now(e)),
+        (Err(text), None) => Err(Failed::Earlier(text.clone())),
     }
 }
 
@@ -243,11 +254,7 @@ mod tests {
     /// The key changes with every input.
     #[test]
     fn key_covers_the_inputs() {
-        let src = super::super::fe_response::FeSource::from_hardware(
-            &hardware::Params::load_default().unwrap(),
-        )
-        .unwrap();
-        let a = src.config(20.0, 20.0, 60.0);
+        let a = Config::from_hardware(&hardware::Params::load_default().unwrap().fingertip, 2.0);
         let mut b = a.clone();
         b.poisson = 0.48;
         assert_ne!(key(&a, 75.0, 0.04), key(&b, 75.0, 0.04));

@@ -3,10 +3,10 @@
 //! `cargo test --release -p diagnosis --test prove_categories -- --ignored --nocapture`
 //! (the same as `tactile prove --categories`).
 
-use diagnosis::baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
-use diagnosis::prove::categories::{self, Nuisance, OtherFingertip, Protocol};
-use diagnosis::prove::{run, Plan};
-use diagnosis::synth::{simulate, Noise, SimSpec};
+use baseline::synth::{simulate, Noise, SimSpec};
+use baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
+use prove::categories::{self, Nuisance, OtherFingertip, Protocol};
+use prove::{run, Plan};
 use recording::Recording;
 
 /// A fingertip with a closed form: F = 1e-6 N/Pa (d / mm)^2, chip loads in proportion.
@@ -102,8 +102,8 @@ fn clean() -> Recording {
 
 fn nuisance(n: Nuisance) -> Recording {
     let mut rec = clean();
-    let mut g = diagnosis::synth::Gaussian::new(11);
-    let mut z = diagnosis::synth::Gaussian::new(12);
+    let mut g = baseline::synth::Gaussian::new(11);
+    let mut z = baseline::synth::Gaussian::new(12);
     let mut u = |a: f64, b: f64| a + (b - a) * g.uniform();
     n.apply(&mut rec, &mut u, &mut || z.normal(), &NOISE);
     rec

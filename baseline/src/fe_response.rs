@@ -11,12 +11,13 @@
 //! The package resultant becomes the chip's load through `sim::pillar` (mean traction on the
 //! package top times the pillar area, lateral traction at the pillar tip), the same path the
 //! emulated sensor takes: [`chip_load`] is the only place that knows what the FE's loads mean.
-//! FE curves are cached on disk ([`super::fe_cache`]).
+//! FE curves are cached on disk beside the FE (`fingertip::cache`).
 
 use fingertip::{Config, Fingertip};
 
-use super::baseline::{FingertipResponse, ResponseTable, UnitResponse};
-use super::fe_cache::{self, RawCurve};
+use crate::response::{FingertipResponse, UnitResponse};
+use crate::response_table::ResponseTable;
+use fingertip::cache::{self, RawCurve};
 
 /// Mesh size as a fraction of R: 5 mm on the 20 mm fingertip, the mesh of the FE crate's own
 /// figures (`fingertip/figures/summary.txt`). An 8 mm mesh costs nearly as much (the Newton
@@ -112,8 +113,12 @@ impl FeSource {
     ) -> Result<ResponseTable, FeResponseError> {
         let config = self.config(radius_mm, theta_deg, phi_deg);
         let reach_n = self.reach_n();
-        let raw = fe_cache::get_or_compute(&config, reach_n, STEP_FRACTION_OF_RADIUS, || {
+        let raw = cache::get_or_compute(&config, reach_n, STEP_FRACTION_OF_RADIUS, || {
             run_fe(&config, reach_n)
+        })
+        .map_err(|failed| match failed {
+            cache::Failed::Now(e) => e,
+            cache::Failed::Earlier(text) => FeResponseError::Cached(text),
         })?;
         let package_radius_m = self.fingertip.inclusion_radius_mm * 1e-3;
         let points = raw.points().map(|(rod_mm, force_n, loads)| {
