@@ -17,6 +17,9 @@ bash scripts/setup.sh
 echo "== firmware: host tests, release binaries, QEMU on-target tests"
 bash scripts/test-firmware.sh
 
+echo "== structure: no import circle between the modules of any crate"
+python3 scripts/check-module-cycles.py
+
 echo "== host workspace: style (rustfmt, clippy, rustdoc), warnings are errors"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --locked -- -D warnings

@@ -201,7 +201,7 @@ fn channel_noise(full: &Series, segments: &[Segment], rate: f64, range: &[f64; 4
         // assumed (a load cell read to 0.05 N over 0.02 N of noise had weighed the load 400
         // times over the outputs). Read on the raw channel: a fitted mains line takes the
         // values off the lattice.
-        let q = crate::noise::quantum(&full.y[k]);
+        let q = crate::quantisation::quantum(&full.y[k]);
         n.sample.sd = n
             .sample
             .sd
@@ -302,6 +302,39 @@ pub fn peak_to_peak(values: impl IntoIterator<Item = f64>) -> f64 {
         hi - lo
     } else {
         0.0
+    }
+}
+
+impl Data {
+    /// Channel `c`'s residual against the model's `model` on the decimated series, less the
+    /// rounding bias where the channel is quantised coarser than its noise ([`Data::lattice`]).
+    pub fn residual_without_rounding_bias(&self, c: usize, model: &[f64]) -> Vec<f64> {
+        let fit = &self.fit;
+        let r: Vec<f64> = fit.y[c].iter().zip(model).map(|(y, m)| y - m).collect();
+        let Some(lattice) = self.lattice[c] else {
+            return r;
+        };
+        let noise = &self.noise[c];
+        let bin = fit.count.iter().copied().max().unwrap_or(1);
+        let bins = fit.count.iter().sum::<usize>() / bin.max(1);
+        let sigma = lattice.noise_before_rounding(noise.sd());
+        let harmonics = lattice.harmonics(sigma, noise.mean_sd(bin), bins);
+        let rate = self.rate_hz;
+        // Each block's sweep: the model's slope there (from its neighbours) over the block's time.
+        let sweep: Vec<f64> = (0..model.len())
+            .map(|i| {
+                let (a, b) = (i.saturating_sub(1), (i + 1).min(model.len() - 1));
+                let dt = fit.t_s[b] - fit.t_s[a];
+                let slope = if dt > 0.0 {
+                    (model[b] - model[a]) / dt
+                } else {
+                    0.0
+                };
+                slope.abs() * fit.count[i] as f64 / rate
+            })
+            .collect();
+        let weight: Vec<f64> = fit.count.iter().map(|&n| n as f64).collect();
+        crate::quantisation::without_rounding_bias(&r, model, &sweep, &weight, &lattice, harmonics)
     }
 }
 

@@ -13,7 +13,7 @@ use sim::effects::{Chain, EffectKind};
 
 use super::data::{Data, Series};
 use super::lm::{self, Problem, Solution};
-use super::specs::effect_specs;
+use super::specs::{effect_specs, spec, ParamSpec};
 use baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
 
 /// Number of baseline parameters at the head of the vector.
@@ -58,39 +58,6 @@ impl Setup<'_> {
     /// starts in contact start from it.
     pub fn initial_baseline(&self) -> &[f64] {
         self.initial.get_or_init(|| initial_baseline(self))
-    }
-}
-
-/// One parameter's coding: bounds, finite-difference step and starting values (internal units).
-#[derive(Debug, Clone)]
-pub struct ParamSpec {
-    /// The catalogue's name of the parameter, for debugging output.
-    #[allow(dead_code)]
-    pub name: &'static str,
-    pub lower: f64,
-    pub upper: f64,
-    pub step: f64,
-    pub starts: Vec<f64>,
-    /// Internal value is ln of the physical one.
-    pub log: bool,
-}
-
-/// A parameter's coding; shared with the effects' codings in [`super::specs`].
-pub(crate) fn spec(
-    name: &'static str,
-    lower: f64,
-    upper: f64,
-    step: f64,
-    starts: &[f64],
-    log: bool,
-) -> ParamSpec {
-    ParamSpec {
-        name,
-        lower,
-        upper,
-        step,
-        starts: starts.to_vec(),
-        log,
     }
 }
 

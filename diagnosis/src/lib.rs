@@ -34,6 +34,7 @@ mod select;
 pub mod session;
 mod specs;
 mod static_shape;
+mod stats;
 mod temperature;
 mod undecided;
 

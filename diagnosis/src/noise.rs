@@ -11,7 +11,7 @@
 //! Mistaking slow noise for white makes every block mean look several times surer than it is,
 //! and its residual fail the whiteness test though nothing is missing.
 
-use crate::localise::erfc;
+use crate::stats::{erfc, levinson_durbin};
 
 /// Fewest samples of a free stretch to look for slow noise in: the autocovariances then have a
 /// standard error of a tenth of the variance or less.
@@ -333,32 +333,6 @@ pub fn prewhitened(r: &[f64], noise: &Noise, m: usize, order: usize) -> Vec<f64>
         .collect()
 }
 
-/// Coefficients a_1..a_p of the best linear predictor x_k ~ sum_j a_j x_(k-j) for a stationary
-/// series with autocovariances `c` (c_0..c_p), and the prediction error's variance at each order
-/// 0..=p (fewer where the recursion stops on a singular series). Written out: a dozen lines, no
-/// crate for it.
-pub(crate) fn levinson_durbin(c: &[f64]) -> (Vec<f64>, Vec<f64>) {
-    let p = c.len().saturating_sub(1);
-    let mut a: Vec<f64> = Vec::with_capacity(p);
-    let mut err = c.first().copied().unwrap_or(0.0);
-    let mut errors = vec![err];
-    for k in 1..=p {
-        if err <= 0.0 {
-            break;
-        }
-        let acc: f64 = a.iter().enumerate().map(|(j, aj)| aj * c[k - 1 - j]).sum();
-        let kappa = (c[k] - acc) / err;
-        let prev = a.clone();
-        for (j, aj) in a.iter_mut().enumerate() {
-            *aj -= kappa * prev[k - 2 - j];
-        }
-        a.push(kappa);
-        err *= 1.0 - kappa * kappa;
-        errors.push(err);
-    }
-    (a, errors)
-}
-
 /// Lag-1 correlation rho of AR(1) noise from second differences, which cancel any signal that
 /// is smooth on the sample scale. For AR(1) noise (autocovariance sigma^2 rho^h) the lag-1
 /// correlation of `d[k] = e[k] - 2 e[k-1] + e[k-2]` is
@@ -437,32 +411,6 @@ pub fn difference_noise(x: &[f64]) -> f64 {
     median_sd(&mut second_differences(x))
 }
 
-/// Differences in `x` below this are floating-point rounding of its values, not steps.
-pub fn rounding(x: &[f64]) -> f64 {
-    let (lo, hi) = x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-            (l.min(v), h.max(v))
-        });
-    1e-9 * (hi - lo).max(hi.abs()).max(lo.abs())
-}
-
-/// The quantum of a series: the smallest step between neighbouring samples beyond rounding
-/// (an encoder's count, an ADC's LSB, a machine export's last digit); 0 without a step.
-pub fn quantum(x: &[f64]) -> f64 {
-    let floor = rounding(x);
-    let q = x
-        .windows(2)
-        .map(|w| (w[1] - w[0]).abs())
-        .filter(|&d| d > floor)
-        .fold(f64::INFINITY, f64::min);
-    if q.is_finite() {
-        q
-    } else {
-        0.0
-    }
-}
-
 /// The deviation of normal values `d` from their median absolute value, over sqrt(6): the
 /// white-noise level behind second differences. Takes `d` as scratch (made absolute, reordered).
 fn median_sd(d: &mut [f64]) -> f64 {
@@ -504,6 +452,7 @@ fn grouped_median(a: &mut [f64], q: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::quantisation::quantum;
 
     /// The slow part read from 2000 samples at tau = 50 is known to sqrt(2 * 50 / 2000) = 0.22
     /// in ln: the plausible noises span e^(+-0.45) in its deviation and time, the middle one
@@ -642,7 +591,7 @@ mod tests {
         let fast = noise.block_means_variance(&blocks, &c);
         assert!((fast - direct).abs() < 1e-9 * direct, "{fast} vs {direct}");
     }
-    use crate::localise::ljung_box;
+    use crate::stats::ljung_box;
     use baseline::synth::Gaussian;
 
     /// White noise of deviation `white` plus AR(1) noise of deviation `slow` and correlation

@@ -6,12 +6,13 @@ use sim::effects::EffectKind;
 
 use crate::candidate::Candidate;
 use crate::data::Data;
-use crate::fit::{physical, stderr, Model, ParamSpec, BLEND_AT, N_BASE, OFFSET_AT, SCALE_AT};
-use crate::localise;
+use crate::fit::{physical, stderr, Model, BLEND_AT, N_BASE, OFFSET_AT, SCALE_AT};
 use crate::output::ParamDetail;
 use crate::preconditions::Protocol;
 use crate::specs::unit;
+use crate::specs::ParamSpec;
 use crate::static_shape::Span;
+use crate::stats;
 
 /// A value within this share of its range from a bound sits on it (LM clamps at the bound, so
 /// a resolved optimum is never this close by chance).
@@ -45,7 +46,7 @@ fn residual_rho(c: &Candidate) -> f64 {
     let mut r = Vec::new();
     c.model
         .weighted(&c.fitted.full, &c.model.setup.fit_mask, &mut r);
-    localise::lag1(&r)
+    stats::lag1(&r)
 }
 
 /// Duration of the recording, s.

@@ -22,12 +22,11 @@ use crate::output::*;
 use crate::preconditions::Protocol;
 use crate::regimes::{self, Segment};
 use crate::select::select;
-use crate::{evidence, noise, params, undecided};
+use crate::{evidence, noise, params, stats, undecided};
 use baseline::fe_response::{AngleBlend, FeSource};
 use baseline::{Drive, FrontEnd, Outputs};
 
-/// Told after each candidate model is fitted: (candidates fitted so far, candidates in all).
-pub type Progress = dyn Fn(usize, usize) + Send + Sync;
+pub use crate::select::Progress;
 
 /// Knobs of a run and the project's model parameters the recording does not carry.
 #[derive(Clone)]
@@ -367,7 +366,7 @@ fn localise_residual(
     // Each compared channel's residual, with the noise's own colour taken out (coloured noise is
     // not a mismatch), is structured where it fails both of two tests: a portmanteau test at a
     // family-wise LB_P over the channels (Bonferroni), and the evidence an effect needs for an
-    // autoregression of it (`localise::ar_evidence`). The first alone took a model's
+    // autoregression of it (`stats::ar_evidence`). The first alone took a model's
     // approximations at a ten-thousandth of the range, spread over many lags, for a mismatch; the
     // second alone, a lag-1 correlation that whitening with a slightly wrong slow noise leaves.
     // And it must fail them under every noise the free stretch allows (`Noise::plausible`):
@@ -379,12 +378,12 @@ fn localise_residual(
     let compared = setup.used.iter().filter(|u| **u).count().max(1);
     let bin = data.fit.count.iter().copied().max().unwrap_or(1);
     let white_after = (0..4).filter(|&c| setup.used[c]).all(|c| {
-        let r = crate::quantisation::residual_without_rounding_bias(data, c, chosen_dec.channel(c));
+        let r = data.residual_without_rounding_bias(c, chosen_dec.channel(c));
         let r = localise::without_isolated_outliers(&weighted(data, c, &r), LB_P);
         !data.noise[c].plausible().iter().all(|noise| {
             let e = noise::prewhitened(&r, noise, bin, LB_LAGS);
-            let significant = localise::ljung_box(&e, LB_LAGS).1 <= LB_P / compared as f64;
-            significant && localise::ar_evidence(&e, LB_LAGS).0 > crate::candidate::MIN_BIC_GAIN
+            let significant = stats::ljung_box(&e, LB_LAGS).1 <= LB_P / compared as f64;
+            significant && stats::ar_evidence(&e, LB_LAGS).0 > crate::candidate::MIN_BIC_GAIN
         })
     });
     Localised {
@@ -544,24 +543,19 @@ fn channel_localisation(
         .filter(|&c| data.compared(c))
         .map(|c| {
             let r = &residual[c];
-            let (q, p) = localise::ljung_box(&weighted(data, c, r), LB_LAGS);
+            let (q, p) = stats::ljung_box(&weighted(data, c, r), LB_LAGS);
             ChannelLocalisation {
                 channel: CHANNELS[c],
                 ljung_box_q: q,
                 ljung_box_p: p,
                 white: p > LB_P,
-                corr_load: localise::correlation(r, load),
-                corr_load_squared: localise::correlation(r, &load2),
-                corr_dload_dt: localise::correlation(r, &dload),
-                corr_temperature: d.temp_c.as_ref().map(|t| localise::correlation(r, t)),
+                corr_load: stats::pearson(r, load),
+                corr_load_squared: stats::pearson(r, &load2),
+                corr_dload_dt: stats::pearson(r, &dload),
+                corr_temperature: d.temp_c.as_ref().map(|t| stats::pearson(r, t)),
                 corr_other_residuals: (0..4)
                     .filter(|&o| o != c)
-                    .map(|o| {
-                        (
-                            CHANNELS[o].to_string(),
-                            localise::correlation(r, &residual[o]),
-                        )
-                    })
+                    .map(|o| (CHANNELS[o].to_string(), stats::pearson(r, &residual[o])))
                     .collect(),
                 lag_estimate_s: localise::lag_estimate(&d.t_s, base.channel(c), r),
             }

@@ -14,8 +14,6 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::data::Data;
-
 /// A value is on the lattice where it is within this share of a quantum of a lattice point
 /// (decimal exports print 0.15 as 0.15000000000000002).
 const ON_LATTICE: f64 = 1e-6;
@@ -23,6 +21,32 @@ const ON_LATTICE: f64 = 1e-6;
 const LATTICE_SHARE: f64 = 0.99;
 /// Most harmonics taken: a noise-free sawtooth's tenth is a tenth of its first.
 const MAX_HARMONICS: usize = 10;
+
+/// Differences in `x` below this are floating-point rounding of its values, not steps.
+pub fn rounding(x: &[f64]) -> f64 {
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    1e-9 * (hi - lo).max(hi.abs()).max(lo.abs())
+}
+
+/// The quantum of a series: the smallest step between neighbouring samples beyond rounding
+/// (an encoder's count, an ADC's LSB, a machine export's last digit); 0 without a step.
+pub fn quantum(x: &[f64]) -> f64 {
+    let floor = rounding(x);
+    let q = x
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|&d| d > floor)
+        .fold(f64::INFINITY, f64::min);
+    if q.is_finite() {
+        q
+    } else {
+        0.0
+    }
+}
 
 /// The lattice a channel's values sit on: `origin + n quantum`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,9 +57,9 @@ pub struct Lattice {
 
 impl Lattice {
     /// The lattice of `x`, if nearly all its values sit on one whose quantum is the smallest
-    /// step between neighbours ([`crate::noise::quantum`]); `None` for a channel of real values.
+    /// step between neighbours ([`crate::quantisation::quantum`]); `None` for a channel of real values.
     pub fn of(x: &[f64]) -> Option<Self> {
-        let quantum = crate::noise::quantum(x);
+        let quantum = quantum(x);
         let first = *x.first()?;
         if quantum <= 0.0 || !quantum.is_finite() {
             return None;
@@ -115,37 +139,6 @@ pub fn without_rounding_bias(
         .zip(fitted.iter())
         .map(|((v, w), f)| v - f / w.sqrt().max(f64::MIN_POSITIVE))
         .collect()
-}
-
-/// Channel `c`'s residual against the model's `model` on the decimated series, less the
-/// rounding bias where the channel is quantised coarser than its noise ([`Data::lattice`]).
-pub fn residual_without_rounding_bias(data: &Data, c: usize, model: &[f64]) -> Vec<f64> {
-    let fit = &data.fit;
-    let r: Vec<f64> = fit.y[c].iter().zip(model).map(|(y, m)| y - m).collect();
-    let Some(lattice) = data.lattice[c] else {
-        return r;
-    };
-    let noise = &data.noise[c];
-    let bin = fit.count.iter().copied().max().unwrap_or(1);
-    let bins = fit.count.iter().sum::<usize>() / bin.max(1);
-    let sigma = lattice.noise_before_rounding(noise.sd());
-    let harmonics = lattice.harmonics(sigma, noise.mean_sd(bin), bins);
-    let rate = data.rate_hz;
-    // Each block's sweep: the model's slope there (from its neighbours) over the block's time.
-    let sweep: Vec<f64> = (0..model.len())
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(model.len() - 1));
-            let dt = fit.t_s[b] - fit.t_s[a];
-            let slope = if dt > 0.0 {
-                (model[b] - model[a]) / dt
-            } else {
-                0.0
-            };
-            slope.abs() * fit.count[i] as f64 / rate
-        })
-        .collect();
-    let weight: Vec<f64> = fit.count.iter().map(|&n| n as f64).collect();
-    without_rounding_bias(&r, model, &sweep, &weight, &lattice, harmonics)
 }
 
 /// sin(pi z) / (pi z), the mean of a unit harmonic over a sweep of z periods.

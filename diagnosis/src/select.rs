@@ -30,8 +30,10 @@ use crate::candidate::{key_of, label_of, Candidate, Comparison};
 use crate::fit::{Model, Setup, N_BASE};
 use crate::output::CandidateReport;
 use crate::params::{absorbed_static_shape, at_bounds, resolved};
-use crate::pipeline::Progress;
 use crate::preconditions::Protocol;
+
+/// Told after each candidate model is fitted: (candidates fitted so far, candidates in all).
+pub type Progress = dyn Fn(usize, usize) + Send + Sync;
 
 /// LM iteration caps: the baseline from the linear start, an effect from the nested solution.
 const BASE_ITERATIONS: usize = 80;

@@ -1,4 +1,4 @@
-//! How each catalogue effect's parameters are coded for the fits: bounds (each with the physical
+//! How parameters are coded for the fits ([`ParamSpec`]), and each catalogue effect's coding: bounds (each with the physical
 //! reason beside it), finite-difference steps, starting values, units, and the neutral values at
 //! which the effect is the identity (where every candidate starts, so that adding an effect can
 //! never fit worse than the model without it).
@@ -9,7 +9,38 @@
 
 use sim::effects::EffectKind;
 
-use crate::fit::{spec, ParamSpec};
+/// One parameter's coding: bounds, finite-difference step and starting values (internal units).
+#[derive(Debug, Clone)]
+pub struct ParamSpec {
+    /// The catalogue's name of the parameter, for debugging output.
+    #[allow(dead_code)]
+    pub name: &'static str,
+    pub lower: f64,
+    pub upper: f64,
+    pub step: f64,
+    pub starts: Vec<f64>,
+    /// Internal value is ln of the physical one.
+    pub log: bool,
+}
+
+/// A parameter's coding; the baseline's are made in [`crate::fit`], the effects' here.
+pub(crate) fn spec(
+    name: &'static str,
+    lower: f64,
+    upper: f64,
+    step: f64,
+    starts: &[f64],
+    log: bool,
+) -> ParamSpec {
+    ParamSpec {
+        name,
+        lower,
+        upper,
+        step,
+        starts: starts.to_vec(),
+        log,
+    }
+}
 
 /// Longest relaxation time a fit may report: real elastomers relax over 1e2 to 1e5 s.
 pub const MAX_RELAXATION_TAU_S: f64 = 1e5;

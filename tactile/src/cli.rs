@@ -47,6 +47,28 @@ pub enum Command {
     Import(cmd::import::Args),
 }
 
+impl Command {
+    /// Run the subcommand.
+    pub fn run(self) -> anyhow::Result<()> {
+        match self {
+            Self::List(a) => cmd::list::run(a),
+            Self::Info(a) => cmd::info::run(a),
+            Self::Log(a) => cmd::log::run(a),
+            Self::Tare(a) => cmd::tare::run(a),
+            Self::Config(a) => cmd::config::run(a),
+            Self::Replay(a) => cmd::replay::run(a),
+            Self::Plot(a) => cmd::plot::run(a),
+            Self::Chip(a) => cmd::chip::run(a),
+            Self::Fe(a) => cmd::fe::run(a),
+            Self::Observations(a) => cmd::observations::run(a),
+            Self::Simulate(a) => cmd::simulate::run(a),
+            Self::Diagnose(a) => cmd::diagnose::run(a),
+            Self::Prove(a) => cmd::prove::run(a),
+            Self::Import(a) => cmd::import::run(a),
+        }
+    }
+}
+
 /// Print `err` as one line on stderr and choose the exit code. A broken pipe is success:
 /// `tactile replay x.mcap | head` must not fail. An error the command already told the user
 /// about line by line ([`sysexit::Reported`]) only sets the code.

@@ -14,7 +14,8 @@
 //! 5. `legs`: each remaining move is split at reversals larger than [`SMALL_MOVE`] of its own
 //!    extent (overshoot and back-steps stay in the leg they interrupt).
 
-use crate::noise::{difference_noise, quantum, rounding};
+use crate::noise::difference_noise;
+use crate::quantisation::{quantum, rounding};
 
 /// A still run is a hold when it lasts at least this share of the motion between the holds
 /// around it. Why a twentieth: a ramp read in N quanta dwells on each level 1/N of its

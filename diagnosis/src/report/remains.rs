@@ -3,8 +3,9 @@
 //! where most of it sits. The pipeline's localisation describes the *baseline's* residual; a
 //! reader of a partial explanation needs the same for what is left.
 
-use crate::localise::{correlation, lag1, mismatches, Mismatch};
+use crate::localise::{mismatches, Mismatch};
 use crate::pipeline::PlotData;
+use crate::stats::{lag1, pearson};
 
 /// A straight-line trend of a residual against time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -194,9 +195,9 @@ pub fn analyse(p: &PlotData) -> Vec<Remains> {
                 corr_load: if c == 0 {
                     0.0
                 } else {
-                    correlation(r, &p.recorded[0])
+                    pearson(r, &p.recorded[0])
                 },
-                corr_rate: correlation(r, &load_rate),
+                corr_rate: pearson(r, &load_rate),
                 worst: windows
                     .iter()
                     .find(|m| m.channel == crate::data::CHANNELS[c])
