@@ -18,6 +18,6 @@ pub mod response_table;
 pub mod standard_test;
 pub mod synth;
 
-pub use model::{evaluate, smoother_tau_s, BaselineParams, Drive, FrontEnd, Outputs};
+pub use model::{evaluate, smoother_tau_s, BaselineParams, Drive, Outputs, Readout};
 pub use response::{FingertipResponse, UnitResponse};
 pub use response_table::ResponseTable;

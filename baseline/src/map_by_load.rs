@@ -11,7 +11,7 @@
 //! law's, ln F* = ln F_FE(d) + g (ln F(d) - ln F_FE(d)) + c, with g from 0 (the outputs follow
 //! the travel) to 1 (they follow the load), and c the level of the load they follow where the
 //! modulus moved the load alone (another law's load per pascal). Bounds and reasons:
-//! `hardware/calibration.toml`.
+//! `hardware/fit-bounds.toml`.
 
 use crate::response::FingertipResponse;
 

@@ -3,12 +3,12 @@
 //! rod travel -> [`FingertipResponse`] (probe force and chip loads per unit gel modulus; the
 //! neo-Hookean response scales linearly with E at fixed geometry) -> x E, force-law warp,
 //! azimuth correction -> chip loads -> volts at the ADC inputs through the emulated sensor's own
-//! signal path (`sim::forward`, inside [`FrontEnd`]) -> x the calibrated sensitivity scales,
+//! signal path (`sim::forward`, inside [`Readout`]) -> x the calibrated sensitivity scales,
 //! plus offsets. The calibrated parameters ([`BaselineParams`]) are adjustments around that one
 //! forward model; the catalogue effects of `sim::effects` slot in between (mechanical on loads,
 //! electrical on volts); see [`evaluate`].
 
-use sim::effects::Chain;
+use sim::effects::EffectSet;
 use sim::forward::SignalPath;
 
 use crate::map_by_load::MapByLoad;
@@ -18,7 +18,7 @@ use crate::response::{FingertipResponse, UnitResponse};
 /// forward model, [`SignalPath`]) with the recording's gains and excitation, and the firmware's
 /// smoother when the recording says it was on.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrontEnd {
+pub struct Readout {
     /// Chip loads to volts at the ADC inputs.
     pub signal: SignalPath,
     /// Time constant of the firmware's first-order smoother y += alpha (x - y), if it is on:
@@ -32,7 +32,7 @@ pub fn smoother_tau_s(alpha: f64, sample_rate_hz: f64) -> Option<f64> {
     (alpha > 0.0 && alpha < 1.0).then(|| 1.0 / sample_rate_hz / (1.0 / (1.0 - alpha)).ln())
 }
 
-impl FrontEnd {
+impl Readout {
     /// The chip of `hardware/chip.toml` (its sensitivity matrix per volt of its excitation);
     /// gains and excitation as given (the recording's metadata when diagnosing).
     pub fn from_chip(
@@ -72,7 +72,7 @@ impl FrontEnd {
 }
 
 /// The baseline's free parameters, calibrated by the diagnosis within the bounds of
-/// `hardware/calibration.toml`.
+/// `hardware/fit-bounds.toml`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BaselineParams {
     pub youngs_modulus_pa: f64,
@@ -469,9 +469,9 @@ pub type RailHook<'h> = &'h mut dyn FnMut(&mut [Vec<f64>; 3]);
 /// offsets and before saturation (the simulator adds its noise there).
 pub fn evaluate(
     drive: &Drive,
-    front_end: &FrontEnd,
+    readout: &Readout,
     p: &BaselineParams,
-    chain: &Chain,
+    chain: &EffectSet,
     contact_angle_deg: f64,
     before_rails: Option<RailHook>,
 ) -> Outputs {
@@ -493,7 +493,7 @@ pub fn evaluate(
     let mut volts: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let [fz, mx, my] = &chip;
     for ((&a, &b), &c) in fz.iter().zip(mx).zip(my) {
-        let v = front_end.scaled_volts([a, b, c], p);
+        let v = readout.scaled_volts([a, b, c], p);
         volts.iter_mut().zip(v).for_each(|(out, v)| out.push(v));
     }
     chain.apply_electrical_at(&drive.t_s, drive.temp_c.as_deref(), &mut volts);
@@ -505,7 +505,7 @@ pub fn evaluate(
         f(&mut volts);
     }
     chain.apply_saturation(&mut volts);
-    if let Some(tau_s) = front_end.smoother_tau_s {
+    if let Some(tau_s) = readout.smoother_tau_s {
         // Low-pass = input minus its high-pass, integrated exactly on any time base.
         let hp = sim::effects::HighpassCoupling { tau_s };
         for v in volts.iter_mut() {
@@ -539,7 +539,7 @@ mod tests {
 
     #[test]
     fn outputs_scale_linearly_with_modulus() {
-        let fe = FrontEnd {
+        let fe = Readout {
             signal: SignalPath {
                 sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
                 gain: [2.0, 3.0, 3.0],
@@ -548,7 +548,7 @@ mod tests {
             smoother_tau_s: None,
         };
         let drive = Drive::new(&Linear, vec![0.0, 1.0, 2.0], &[0.0, 1.0, 2.0]);
-        let chain = Chain::default();
+        let chain = EffectSet::default();
         let a = evaluate(
             &drive,
             &fe,

@@ -6,11 +6,11 @@
 
 use chip::from_hardware::FromHardwareError;
 use recording::Recording;
-use sim::compression::CompressionTest;
+use sim::compression::RodSchedule;
 use sim::effects::Effect;
 
 use crate::fe_response::{FeResponseError, FeSource};
-use crate::model::{smoother_tau_s, BaselineParams, FrontEnd};
+use crate::model::{smoother_tau_s, BaselineParams, Readout};
 use crate::response::FingertipResponse;
 use crate::synth::{simulate, Noise, SimSpec};
 use recording::SMOOTHER_KEY;
@@ -76,8 +76,8 @@ impl SimulateOptions {
     }
 
     /// The standard test of `fingertip.toml`, at [`SimulateOptions::rate_hz`] if given.
-    pub fn compression_test(&self, tip: &hardware::Fingertip) -> CompressionTest {
-        CompressionTest {
+    pub fn compression_test(&self, tip: &hardware::Fingertip) -> RodSchedule {
+        RodSchedule {
             sample_rate_hz: self.rate_hz.unwrap_or(tip.test.sample_rate_hz),
             speed_mm_per_min: tip.test.rod_speed_mm_per_min,
             hold_s: tip.test.hold_s,
@@ -166,13 +166,13 @@ pub fn simulate_standard_test(
         .collect::<Result<Vec<_>, _>>()?;
     opt.check()?;
     let test = opt.compression_test(&params.fingertip);
-    let front_end = front_end(opt, params, test.sample_rate_hz)?;
+    let readout = readout(opt, params, test.sample_rate_hz)?;
     let fingertip = FeSource::from_hardware(params)?.response(
         params.fingertip.radius_mm,
         opt.contact_angle_deg,
         opt.azimuth_deg,
     )?;
-    let spec = spec(opt, params, &fingertip, front_end, test, effects);
+    let spec = spec(opt, params, &fingertip, readout, test, effects);
     let mut rec = simulate(&spec);
     if let Some(alpha) = opt.smoother_alpha {
         rec.meta
@@ -183,19 +183,19 @@ pub fn simulate_standard_test(
 }
 
 /// The emulated sensor's front end, with the options' gains, excitation and smoother.
-fn front_end(
+fn readout(
     opt: &SimulateOptions,
     params: &hardware::Params,
     sample_rate_hz: f64,
-) -> Result<FrontEnd, FromHardwareError> {
-    let nominal = FrontEnd::from_hardware(params)?;
+) -> Result<Readout, FromHardwareError> {
+    let nominal = Readout::from_hardware(params)?;
     let gain = opt.gain.unwrap_or(nominal.signal.gain);
     let excitation_v = opt.excitation_v.unwrap_or(nominal.signal.excitation_v);
-    let mut front_end = FrontEnd::from_chip(params, gain, excitation_v)?;
-    front_end.smoother_tau_s = opt
+    let mut readout = Readout::from_chip(params, gain, excitation_v)?;
+    readout.smoother_tau_s = opt
         .smoother_alpha
         .and_then(|alpha| smoother_tau_s(alpha, sample_rate_hz));
-    Ok(front_end)
+    Ok(readout)
 }
 
 /// The simulation: the nominal baseline at the given modulus, the lab's temperature of
@@ -204,15 +204,15 @@ fn spec<'a>(
     opt: &SimulateOptions,
     params: &hardware::Params,
     fingertip: &'a dyn FingertipResponse,
-    front_end: FrontEnd,
-    test: CompressionTest,
+    readout: Readout,
+    test: RodSchedule,
     effects: Vec<Effect>,
 ) -> SimSpec<'a> {
     let tip = &params.fingertip;
     let names: Vec<&str> = effects.iter().map(|e| e.kind().name()).collect();
     SimSpec {
         fingertip,
-        front_end,
+        readout,
         baseline: BaselineParams::nominal(opt.modulus_pa.unwrap_or(tip.youngs_modulus_pa)),
         contact_angle_deg: opt.contact_angle_deg,
         azimuth_deg: opt.azimuth_deg,

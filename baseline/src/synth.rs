@@ -2,10 +2,10 @@
 //! effects and noise, written as a recording (`docs/recording-format.md`). `tactile simulate` and the proof
 //! generator (`tactile prove`) both use this.
 
-use sim::compression::{rod_at_load, CompressionTest, RodHistory};
-use sim::effects::{Chain, Effect, ThermalDrift, ThermalReference};
+use sim::compression::{rod_at_load, RodHistory, RodSchedule};
+use sim::effects::{Effect, EffectSet, ThermalDrift, ThermalReference};
 
-use crate::model::{evaluate, BaselineParams, Drive, FrontEnd};
+use crate::model::{evaluate, BaselineParams, Drive, Readout};
 use crate::response::FingertipResponse;
 use recording::{Channels, Meta, Recording};
 
@@ -21,14 +21,14 @@ pub struct Noise {
 /// Everything one synthetic recording needs.
 pub struct SimSpec<'a> {
     pub fingertip: &'a dyn FingertipResponse,
-    pub front_end: FrontEnd,
+    pub readout: Readout,
     /// The truth's baseline: modulus, and the deviations from the nominal model (exponent,
     /// sensitivities, azimuth, offsets) that a real sensor has and the diagnosis must calibrate.
     pub baseline: BaselineParams,
     pub contact_angle_deg: f64,
     pub azimuth_deg: f64,
     pub radius_mm: f64,
-    pub test: CompressionTest,
+    pub test: RodSchedule,
     /// One compression cycle per peak load.
     pub peak_loads_n: Vec<f64>,
     pub effects: Vec<Effect>,
@@ -64,7 +64,7 @@ pub fn simulate_path(spec: &SimSpec, history: RodHistory) -> Recording {
     let true_temp_c = true_temperature_c(spec, &history.t_s, warm_up, rise_c);
     let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm)
         .with_temperature(Some(true_temp_c.clone()));
-    let mut chain = Chain::new(spec.effects.clone());
+    let mut chain = EffectSet::new(spec.effects.clone());
     if rise_c != 0.0 {
         chain.thermal_reference = Some(ThermalReference {
             t0_c: spec.ambient_c,
@@ -81,7 +81,7 @@ pub fn simulate_path(spec: &SimSpec, history: RodHistory) -> Recording {
     };
     let out = evaluate(
         &drive,
-        &spec.front_end,
+        &spec.readout,
         &spec.baseline,
         &chain,
         spec.contact_angle_deg,
@@ -146,7 +146,7 @@ fn true_temperature_c(
 /// The recording's metadata: the test's rate and speed, the jig's angles, the front end's
 /// gains and excitation.
 fn meta(spec: &SimSpec) -> Meta {
-    let signal = &spec.front_end.signal;
+    let signal = &spec.readout.signal;
     Meta {
         sample_rate_hz: spec.test.sample_rate_hz,
         contact_angle_deg: spec.contact_angle_deg,

@@ -8,9 +8,9 @@
 //! simulated recording's to rounding.
 
 use baseline::synth::{simulate, Noise, SimSpec};
-use baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
+use baseline::{BaselineParams, FingertipResponse, Readout, UnitResponse};
 use sim::chain::Chain;
-use sim::compression::CompressionTest;
+use sim::compression::RodSchedule;
 use sim::effects::Effect;
 use sim::load::{Contact, Table};
 use sim::pillar::{Pillar, Traction};
@@ -79,12 +79,12 @@ fn simulate_and_the_emulator_give_the_same_volts() {
     let rate_hz = 100.0;
     let spec = SimSpec {
         fingertip: &tip,
-        front_end: FrontEnd::from_hardware(&hw).unwrap(),
+        readout: Readout::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(YOUNGS_MODULUS_PA),
         contact_angle_deg: CONTACT_ANGLE_DEG,
         azimuth_deg: AZIMUTH_DEG,
         radius_mm: hw.fingertip.radius_mm,
-        test: CompressionTest {
+        test: RodSchedule {
             sample_rate_hz: rate_hz,
             ..Default::default()
         },
@@ -117,7 +117,7 @@ fn simulate_and_the_emulator_give_the_same_volts() {
     let mut chain = Chain::from_params(&hw, Table::new(rows)).unwrap();
     chain.dac_codes = chain.front_end.null_codes();
     let chain = chain.with_effects(
-        &sim::effects::Chain::new(effects),
+        &sim::effects::EffectSet::new(effects),
         CONTACT_ANGLE_DEG,
         duration_s,
         1.0 / rate_hz,

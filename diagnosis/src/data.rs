@@ -352,7 +352,7 @@ mod tests {
     /// Blocks over the standard test at `rate_hz`: the bounds, the full-rate segments and the
     /// segments carried onto the blocks.
     fn blocked(rate_hz: f64) -> (Vec<(usize, usize)>, Vec<Segment>, Vec<Segment>) {
-        let h = sim::compression::CompressionTest {
+        let h = sim::compression::RodSchedule {
             sample_rate_hz: rate_hz,
             ..Default::default()
         }

@@ -5,16 +5,16 @@
 //! offsets, exponent curvature, the force warp's three knots, the three outputs' map blends,
 //! the force-law blend, where the outputs' maps are read (load share, level),
 //! then each effect's parameters (time constants as ln tau). The baseline's bounds are
-//! `hardware/calibration.toml`.
+//! `hardware/fit-bounds.toml`.
 //! Residuals are (recorded - model) / noise level, per channel, so the sum of squares is a
 //! chi-square in noise units and channels of any unit mix.
 
-use sim::effects::{Chain, EffectKind};
+use sim::effects::{EffectKind, EffectSet};
 
 use super::data::{Data, Series};
 use super::lm::{self, Problem, Solution};
 use super::specs::{effect_specs, spec, ParamSpec};
-use baseline::{evaluate, BaselineParams, Drive, FrontEnd, Outputs};
+use baseline::{evaluate, BaselineParams, Drive, Outputs, Readout};
 
 /// Number of baseline parameters at the head of the vector.
 pub const N_BASE: usize = 19;
@@ -36,7 +36,7 @@ pub const MAP_LOAD_AT: usize = 17;
 pub struct Setup<'a> {
     pub data: &'a Data,
     pub drive: Drive,
-    pub front_end: FrontEnd,
+    pub readout: Readout,
     pub contact_angle_deg: f64,
     /// Samples of the decimated series in the fitting stretch / in the held-out stretch.
     pub fit_mask: Vec<bool>,
@@ -46,8 +46,8 @@ pub struct Setup<'a> {
     /// A usable measured temperature: `thermal_drift` is then regressed on it, with the
     /// warm-up time constant the temperature shows (see [`super::temperature`]).
     pub thermal: Option<super::temperature::ThermalFit>,
-    /// How far the baseline may be calibrated (`hardware/calibration.toml`).
-    pub calibration: hardware::Calibration,
+    /// How far the baseline may be calibrated (`hardware/fit-bounds.toml`).
+    pub fit_bounds: hardware::FitBounds,
     /// [`initial_baseline`], worked out once ([`Setup::initial_baseline`]).
     pub initial: std::sync::OnceLock<Vec<f64>>,
 }
@@ -82,7 +82,7 @@ impl<'s, 'a> Model<'s, 'a> {
             specs.extend(effect_specs(k, chip_peak));
         }
         // A parameter whose bounds coincide (a calibration switched off in
-        // `hardware/calibration.toml`) is held there, not fitted.
+        // `hardware/fit-bounds.toml`) is held there, not fitted.
         let mut fixed: Vec<Option<f64>> = specs
             .iter()
             .map(|s| (s.lower == s.upper).then_some(s.lower))
@@ -190,7 +190,7 @@ impl<'s, 'a> Model<'s, 'a> {
     }
 
     /// Baseline parameters and effect chain of a full parameter vector.
-    pub fn decode(&self, full: &[f64]) -> (BaselineParams, Chain) {
+    pub fn decode(&self, full: &[f64]) -> (BaselineParams, EffectSet) {
         let at = |i: usize| -> [f64; 3] { [full[i], full[i + 1], full[i + 2]] };
         let base = BaselineParams {
             youngs_modulus_pa: full[0].exp(),
@@ -227,7 +227,7 @@ impl<'s, 'a> Model<'s, 'a> {
             }
             i += n;
         }
-        let mut chain = Chain::new(effects);
+        let mut chain = EffectSet::new(effects);
         chain.thermal_reference = self.setup.thermal.map(|t| t.reference);
         (base, chain)
     }
@@ -236,7 +236,7 @@ impl<'s, 'a> Model<'s, 'a> {
         let (base, chain) = self.decode(full);
         evaluate(
             series_drive,
-            &self.setup.front_end,
+            &self.setup.readout,
             &base,
             &chain,
             self.setup.contact_angle_deg,
@@ -362,9 +362,9 @@ pub struct Fitted {
 }
 
 /// Baseline coding; `base` gives the starting values (from [`initial_baseline`] or a previous
-/// fit). The bounds and their reasons are `hardware/calibration.toml`.
+/// fit). The bounds and their reasons are `hardware/fit-bounds.toml`.
 fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
-    let (r, cal) = (setup.data.range, &setup.calibration);
+    let (r, cal) = (setup.data.range, &setup.fit_bounds);
     let scale = |name, c: usize| {
         let v = base[SCALE_AT + c];
         let step = 1e-6 * v.abs().max(1e-3);
@@ -444,9 +444,9 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
     let e = ls(&|k| drive.unit[k].force_n, &d.y[0]).max(1.0);
     let nominal = evaluate(
         drive,
-        &setup.front_end,
+        &setup.readout,
         &BaselineParams::nominal(e),
-        &Chain::default(),
+        &EffectSet::default(),
         setup.contact_angle_deg,
         None,
     );
@@ -481,7 +481,7 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
 /// another model's law (another exponent) left the fit in a far local minimum with a knot at its
 /// bound. [ln E, shift, curvature, knots, blend], or `None` with too few loaded samples.
 fn contact_law_start(setup: &Setup, offset: f64) -> Option<[f64; 7]> {
-    let (load, drive, cal) = (&setup.data.fit.y[0], &setup.drive, &setup.calibration);
+    let (load, drive, cal) = (&setup.data.fit.y[0], &setup.drive, &setup.fit_bounds);
     let peak = load.iter().map(|f| f - offset).fold(0.0, f64::max);
     let rows: Vec<([f64; 7], f64, f64)> = (0..load.len())
         .filter(|&k| setup.fit_mask[k] && load[k] - offset > 0.05 * peak)

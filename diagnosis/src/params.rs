@@ -8,7 +8,7 @@ use crate::candidate::Candidate;
 use crate::data::Data;
 use crate::fit::{physical, stderr, Model, BLEND_AT, N_BASE, OFFSET_AT, SCALE_AT};
 use crate::output::ParamDetail;
-use crate::preconditions::Protocol;
+use crate::preconditions::Features;
 use crate::specs::unit;
 use crate::specs::ParamSpec;
 use crate::static_shape::Span;
@@ -183,7 +183,7 @@ pub fn effects(c: &Candidate, data: &Data) -> Vec<(EffectKind, Vec<ParamDetail>)
 ///
 /// And a static-shape effect (`stiffening`, `bridge_nonlinearity`) is named only where it bends
 /// an output beyond what the calibration's map may take ([`absorbed_static_shape`]).
-pub fn resolved(c: &Candidate, protocol: &Protocol) -> Result<(), String> {
+pub fn resolved(c: &Candidate, protocol: &Features) -> Result<(), String> {
     at_bounds(c, protocol)?;
     match absorbed_static_shape(c) {
         Some((_, why)) => Err(why),
@@ -195,7 +195,7 @@ pub fn resolved(c: &Candidate, protocol: &Protocol) -> Result<(), String> {
 /// before its bend is judged: the two of a 95 % interval.
 const STRENGTH_Z: f64 = 2.0;
 
-/// The documented threshold of the static-shape effects (`hardware/calibration.toml`,
+/// The documented threshold of the static-shape effects (`hardware/fit-bounds.toml`,
 /// [`crate::static_shape`]): of the static-shape effects of `c` that, at their strength moved
 /// two (`STRENGTH_Z`) standard errors towards the identity, bend no compared output beyond the
 /// calibration's span, the one closest to the identity (in standard errors): its index in
@@ -269,7 +269,7 @@ fn within_calibration(c: &Candidate, span: &Span, kind: EffectKind, sure: f64) -
     }
     let (bend, allowed) = largest?;
     Some(format!(
-        "two standard errors towards none it bends the outputs by at most {:.1} % over 5-100 % of full load, within the {:.1} % the calibration's map from the load may take there (hardware/calibration.toml)",
+        "two standard errors towards none it bends the outputs by at most {:.1} % over 5-100 % of full load, within the {:.1} % the calibration's map from the load may take there (hardware/fit-bounds.toml)",
         100.0 * bend.exp_m1(),
         100.0 * allowed.exp_m1()
     ))
@@ -302,7 +302,7 @@ fn vanished(c: &Candidate, first: usize, kind: EffectKind) -> Result<(), String>
 /// The primary parameters' bounds: see [`resolved`]. The search's forward step asks only
 /// this: while other effects are missing, the residual's structure inflates every standard
 /// error, and the strength test waits for the search's last model.
-pub fn at_bounds(c: &Candidate, protocol: &Protocol) -> Result<(), String> {
+pub fn at_bounds(c: &Candidate, protocol: &Features) -> Result<(), String> {
     let data = c.model.setup.data;
     let mut at = N_BASE;
     for &kind in &c.kinds {

@@ -19,12 +19,12 @@ use crate::fit::Setup;
 use crate::localise::{self, ChannelLocalisation, Mismatch};
 use crate::mains::{self, Line};
 use crate::output::*;
-use crate::preconditions::Protocol;
+use crate::preconditions::Features;
 use crate::regimes::{self, Segment};
 use crate::select::select;
 use crate::{evidence, noise, params, stats, undecided};
 use baseline::fe_response::{AngleBlend, FeSource};
-use baseline::{Drive, FrontEnd, Outputs};
+use baseline::{Drive, Outputs, Readout};
 
 pub use crate::select::Progress;
 
@@ -35,8 +35,8 @@ pub struct Options {
     pub fe: FeSource,
     /// The chip's bridge output per volt of excitation per unit load (the `chip` crate).
     pub sensitivity_per_v: [[f64; 3]; 3],
-    /// How far the baseline may be calibrated (`hardware/calibration.toml`).
-    pub calibration: hardware::Calibration,
+    /// How far the baseline may be calibrated (`hardware/fit-bounds.toml`).
+    pub fit_bounds: hardware::FitBounds,
     /// Called as the candidate models are fitted (a progress bar, say).
     pub progress: Option<Arc<Progress>>,
 }
@@ -56,11 +56,11 @@ impl Options {
     pub fn from_hardware(
         hw: &hardware::Params,
     ) -> Result<Self, chip::from_hardware::FromHardwareError> {
-        let fe = FrontEnd::from_chip(hw, [1.0; 3], hw.chip.excitation_v)?;
+        let fe = Readout::from_chip(hw, [1.0; 3], hw.chip.excitation_v)?;
         Ok(Self {
             fe: FeSource::from_hardware(hw)?,
             sensitivity_per_v: fe.signal.sensitivity_per_v,
-            calibration: hw.calibration.clone(),
+            fit_bounds: hw.fit_bounds.clone(),
             progress: None,
         })
     }
@@ -112,13 +112,13 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     // The baseline's moment direction: whether the moment scales can turn it (a precondition
     // of crosstalk) and, after the search, what a turn they made would mean.
     let moment_phi = moment_direction(&setup.drive);
-    let protocol = Protocol::of(
+    let protocol = Features::of(
         &data,
         &stretches.segments,
         setup.used,
         setup.thermal.is_some(),
     )
-    .with_moment_direction(moment_phi, setup.calibration.jig_azimuth_tolerance_deg);
+    .with_moment_direction(moment_phi, setup.fit_bounds.jig_azimuth_tolerance_deg);
     let mains_allowed = protocol.allows(EffectKind::MainsInterference).is_ok();
     let sel = select(&setup, protocol, opt.progress.as_deref());
     let (base, chosen) = (sel.base(), sel.chosen());
@@ -141,7 +141,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         .filter(|_| setup.used[2] && setup.used[3] && !named(&effects, EffectKind::Crosstalk))
         .and_then(|phi| {
             let details = params::baseline(chosen, &data);
-            undecided::crosstalk_or_gains(&details, phi, &setup.calibration)
+            undecided::crosstalk_or_gains(&details, phi, &setup.fit_bounds)
         });
     let report = Report {
         format: FORMAT,
@@ -238,21 +238,21 @@ fn calibration_setup<'a>(
             &data.bounds,
         )
         .with_temperature(thermal.and(data.fit.temp_c.clone())),
-        front_end: front_end(meta, opt),
+        readout: readout(meta, opt),
         contact_angle_deg: meta.contact_angle_deg,
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,
         used: std::array::from_fn(|c| data.compared(c)),
         thermal,
-        calibration: opt.calibration.clone(),
+        fit_bounds: opt.fit_bounds.clone(),
         initial: Default::default(),
     }
 }
 
 /// The front end the recording describes: the chip's sensitivities with the metadata's gains,
 /// excitation and firmware smoother.
-fn front_end(meta: &Meta, opt: &Options) -> FrontEnd {
-    FrontEnd {
+fn readout(meta: &Meta, opt: &Options) -> Readout {
+    Readout {
         signal: SignalPath {
             sensitivity_per_v: opt.sensitivity_per_v,
             gain: [meta.gain_fz, meta.gain_mx, meta.gain_my],

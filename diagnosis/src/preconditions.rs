@@ -20,7 +20,7 @@ pub fn mains_visible(sample_rate_hz: f64) -> bool {
 
 /// The features of a recording that catalogue signatures need.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Protocol {
+pub struct Features {
     /// A stretch where the rod stays still in contact (a relaxation decays there).
     pub hold: bool,
     /// An unloading path covering a real share of the loading path (a loop needs both).
@@ -41,7 +41,7 @@ pub struct Protocol {
     pub moment_scales_turn: bool,
 }
 
-impl Protocol {
+impl Features {
     /// Read the protocol from the regimes detected on the fitting series.
     pub fn of(data: &Data, segments: &[Segment], used: [bool; 4], temperature: bool) -> Self {
         let t = &data.fit.t_s;

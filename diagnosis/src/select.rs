@@ -1,7 +1,7 @@
 //! Model selection: a forward–backward stepwise search over the catalogue effects, starting at
 //! the calibrated baseline.
 //!
-//! Forward: every effect the protocol can show ([`Protocol::allows`]) is added to the current
+//! Forward: every effect the protocol can show ([`Features::allows`]) is added to the current
 //! model in turn (fitted in parallel, each from the current model's solution, see
 //! [`Candidate::extend`]); of those that beat the current model and the baseline on the
 //! criterion ([`Comparison::admits`](crate::candidate::Comparison::admits)) and whose primary
@@ -30,7 +30,7 @@ use crate::candidate::{key_of, label_of, Candidate, Comparison};
 use crate::fit::{Model, Setup, N_BASE};
 use crate::output::CandidateReport;
 use crate::params::{absorbed_static_shape, at_bounds, resolved};
-use crate::preconditions::Protocol;
+use crate::preconditions::Features;
 
 /// Told after each candidate model is fitted: (candidates fitted so far, candidates in all).
 pub type Progress = dyn Fn(usize, usize) + Send + Sync;
@@ -71,7 +71,7 @@ pub struct Selection<'s, 'a> {
     parents: Vec<Option<usize>>,
     /// Effects never fitted because the recording cannot show them, with the reason.
     pub excluded: Vec<(EffectKind, String)>,
-    protocol: Protocol,
+    protocol: Features,
 }
 
 /// Index in the full vector of the first parameter of the first `kind` among `kinds`.
@@ -87,7 +87,7 @@ fn first_param(kinds: &[EffectKind], kind: EffectKind) -> usize {
 /// Calibrate the baseline and run the search.
 pub fn select<'s, 'a>(
     setup: &'s Setup<'a>,
-    protocol: Protocol,
+    protocol: Features,
     progress: Option<&Progress>,
 ) -> Selection<'s, 'a> {
     let slow: Vec<EffectKind> = EffectKind::ALL

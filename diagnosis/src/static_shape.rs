@@ -1,4 +1,4 @@
-//! The documented threshold of the static-shape effects (`hardware/calibration.toml`,
+//! The documented threshold of the static-shape effects (`hardware/fit-bounds.toml`,
 //! `[outputs]`): `stiffening` and `bridge_nonlinearity` are named only where they bend an output
 //! beyond what the calibration's map from the load may bend it.
 //!
@@ -20,7 +20,7 @@ use crate::data::peak_to_peak;
 use baseline::Drive;
 
 /// The samples the span is taken over: loaded to at least this share of the largest load (the
-/// range over which `calibration.toml` quotes the FE's departure from linear).
+/// range over which `fit-bounds.toml` quotes the FE's departure from linear).
 const LOADED_SHARE: f64 = 0.05;
 
 /// Each output's signed level u = x / max|x| (FE chip loads) on the loaded samples, and the

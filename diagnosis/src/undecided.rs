@@ -7,7 +7,7 @@
 //! calibrated moment scales do, and what wrong gains in the metadata do. With the scales
 //! s_mx, s_my the calibrated vector points along phi' = atan2(s_my sin phi, s_mx cos phi); the
 //! equivalent rotation is phi' - phi. Where it exceeds what identical moment chains and the
-//! jig's mounting accuracy allow (`hardware/calibration.toml`), the recording shows one of the
+//! jig's mounting accuracy allow (`hardware/fit-bounds.toml`), the recording shows one of the
 //! two, and this says which two rather than guess.
 
 use crate::output::{Numbers, ParamDetail, Undecided};
@@ -24,7 +24,7 @@ fn value(details: &[ParamDetail], name: &str) -> Option<(f64, f64)> {
 pub fn crosstalk_or_gains(
     details: &[ParamDetail],
     phi_rad: f64,
-    cal: &hardware::Calibration,
+    cal: &hardware::FitBounds,
 ) -> Option<Undecided> {
     let (sx, ex) = value(details, "scale_mx")?;
     let (sy, ey) = value(details, "scale_my")?;
@@ -89,8 +89,8 @@ mod tests {
         }
     }
 
-    fn cal() -> hardware::Calibration {
-        hardware::Params::load_default().unwrap().calibration
+    fn cal() -> hardware::FitBounds {
+        hardware::Params::load_default().unwrap().fit_bounds
     }
 
     /// A rotation of the moment vector by 10 deg at azimuth 60 deg, seen as two scales, is

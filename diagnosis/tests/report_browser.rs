@@ -12,7 +12,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use baseline::synth::{simulate, Noise, SimSpec};
-use baseline::{BaselineParams, FrontEnd};
+use baseline::{BaselineParams, Readout};
 use sim::effects::Effect;
 
 const CHROMIUM: &str = "/usr/bin/chromium";
@@ -52,12 +52,12 @@ fn diagnosed() -> diagnosis::Diagnosis {
     ];
     let spec = SimSpec {
         fingertip: &fingertip,
-        front_end: FrontEnd::from_hardware(&hw).unwrap(),
+        readout: Readout::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(1.1e5),
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
         radius_mm: 20.0,
-        test: sim::compression::CompressionTest {
+        test: sim::compression::RodSchedule {
             sample_rate_hz: 100.0,
             ..Default::default()
         },

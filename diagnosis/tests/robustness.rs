@@ -5,7 +5,7 @@
 
 use baseline::fe_response::AngleBlend;
 use baseline::synth::{simulate, Gaussian, Noise, SimSpec};
-use baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
+use baseline::{BaselineParams, FingertipResponse, Readout, UnitResponse};
 use recording::Recording;
 use sim::effects::Effect;
 
@@ -42,12 +42,12 @@ fn recording_with(
     let fingertip: &dyn FingertipResponse = if thick { &thick_tip } else { &fe };
     let mut spec = SimSpec {
         fingertip,
-        front_end: FrontEnd::from_hardware(&hw).unwrap(),
+        readout: Readout::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(1.0e5),
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
         radius_mm: 20.0,
-        test: sim::compression::CompressionTest {
+        test: sim::compression::RodSchedule {
             sample_rate_hz: 500.0,
             recovery_s: 45.0,
             ..Default::default()
@@ -119,7 +119,7 @@ fn coloured_noise(rec: &mut Recording, rho: f64, sigma: f64) {
 #[test]
 #[ignore = "study: run with --release --ignored --nocapture"]
 fn departures_from_the_models() {
-    let (rec, opt) = recording(&[], |s| s.front_end.signal.sensitivity_per_v[1][1] *= 1.1);
+    let (rec, opt) = recording(&[], |s| s.readout.signal.sensitivity_per_v[1][1] *= 1.1);
     let mismatched_gain = found(&rec, &opt, "Mx sensitivity 10 % above My (no effect)");
     let (rec, opt) = recording(&[], |s| s.baseline.exponent_shift = 0.25);
     let exponent = found(&rec, &opt, "force exponent 1.75 instead of 1.5 (no effect)");

@@ -4,22 +4,22 @@
 //! About 20 s in the debug build (250 Hz recordings, FE tables cached).
 
 use baseline::synth::{simulate, Noise, SimSpec};
-use baseline::{BaselineParams, FrontEnd};
+use baseline::{BaselineParams, Readout};
 use diagnosis::output::{Report, Verdict};
 use recording::Recording;
-use sim::compression::CompressionTest;
+use sim::compression::RodSchedule;
 use sim::effects::Effect;
 
 /// A two-cycle standard test at 250 Hz with `effects`, `test` changed by `tweak`.
 fn recording(
     effects: &[&str],
     seed: u64,
-    tweak: impl Fn(&mut CompressionTest),
+    tweak: impl Fn(&mut RodSchedule),
 ) -> (Recording, diagnosis::Options) {
     let hw = hardware::Params::load_default().unwrap();
     let opt = diagnosis::Options::from_hardware(&hw).unwrap();
     let fingertip = opt.fe.response(20.0, 20.0, 60.0).unwrap();
-    let mut test = CompressionTest {
+    let mut test = RodSchedule {
         sample_rate_hz: 250.0,
         recovery_s: 45.0,
         ..Default::default()
@@ -27,7 +27,7 @@ fn recording(
     tweak(&mut test);
     let spec = SimSpec {
         fingertip: &fingertip,
-        front_end: FrontEnd::from_hardware(&hw).unwrap(),
+        readout: Readout::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(1.0e5),
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
@@ -241,7 +241,7 @@ fn friction_with_relaxation_is_not_a_time_offset() {
     );
 }
 
-/// The documented threshold of the static shapes (`hardware/calibration.toml`): a quadratic
+/// The documented threshold of the static shapes (`hardware/fit-bounds.toml`): a quadratic
 /// well inside the span of the calibration's map from the load is not named, however low its
 /// noise makes the criterion; one well beyond it is.
 #[test]

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use baseline::synth::{simulate, Noise, SimSpec};
-use baseline::{BaselineParams, FrontEnd};
+use baseline::{BaselineParams, Readout};
 use fingertip::cache;
 use sim::effects::Effect;
 
@@ -25,12 +25,12 @@ fn read_and_diagnose_300_s_at_1_khz() {
     let fingertip = opt.fe.response(20.0, 20.0, 60.0).unwrap();
     let spec = SimSpec {
         fingertip: &fingertip,
-        front_end: FrontEnd::from_hardware(&hw).unwrap(),
+        readout: Readout::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(1.0e5),
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
         radius_mm: 20.0,
-        test: sim::compression::CompressionTest {
+        test: sim::compression::RodSchedule {
             // Three cycles to 60, 45 and 30 N with this recovery make ~300 s.
             recovery_s: 69.0,
             ..Default::default()

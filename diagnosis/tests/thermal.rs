@@ -3,7 +3,7 @@
 //! the model follows the measured temperature.
 
 use baseline::synth::{simulate, Noise, SimSpec};
-use baseline::{BaselineParams, FrontEnd};
+use baseline::{BaselineParams, Readout};
 use sim::effects::Effect;
 
 #[test]
@@ -14,12 +14,12 @@ fn drift_following_a_swinging_ambient_is_found_through_temp_c() {
     let amplitude_v = 0.06;
     let spec = SimSpec {
         fingertip: &fingertip,
-        front_end: FrontEnd::from_hardware(&hw).unwrap(),
+        readout: Readout::from_hardware(&hw).unwrap(),
         baseline: BaselineParams::nominal(1.1e5),
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
         radius_mm: 20.0,
-        test: sim::compression::CompressionTest {
+        test: sim::compression::RodSchedule {
             sample_rate_hz: 250.0,
             recovery_s: 45.0,
             ..Default::default()

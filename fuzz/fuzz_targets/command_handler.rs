@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 
 use firmware::ads131m04::{Osr, Pga};
-use firmware::device::{Device, DeviceConfig, Frontend, HardwareError, RX_BYTES};
+use firmware::device::{Device, DeviceConfig, BoardControl, HardwareError, RX_BYTES};
 use firmware::offset::{DriftSettings, NullTiming};
 use firmware::stream::RawSample;
 use libfuzzer_sys::fuzz_target;
@@ -59,7 +59,7 @@ struct Hardware {
     fail_adc: bool,
 }
 
-impl Frontend for Hardware {
+impl BoardControl for Hardware {
     fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
         assert!(
             codes.iter().all(|&c| c <= DAC_FULL_SCALE),

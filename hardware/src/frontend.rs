@@ -11,7 +11,7 @@ pub const BRIDGES: usize = 3;
 
 /// The analog front end between the chip and the ADC.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Frontend {
+pub struct FrontEnd {
     /// The single analog rail (AVDD) that feeds bridges, DAC, amplifiers and ADC.
     pub supply_v: f64,
     /// MCP4728 channel D code that makes VMID, the common reference.
@@ -97,7 +97,7 @@ pub struct TempSensor {
     pub slope_v_per_c: f64,
 }
 
-impl Frontend {
+impl FrontEnd {
     pub(crate) fn load(file: &Path) -> Result<Self, Vec<ParamError>> {
         let mut r = Reader::open(file).map_err(|e| vec![e])?;
         let fe = Self::read(&mut r);

@@ -1,5 +1,5 @@
 //! The one loader for every parameter of the sensor: `hardware/*.toml` (fingertip and gel, chip,
-//! front end, ADC, board, the diagnosis's calibration bounds), read and validated here and
+//! front end, ADC, board, the bounds of the diagnosis's baseline fit), read and validated here and
 //! nowhere else.
 //!
 //! Each file is read strictly: a missing key, a key nobody reads (usually a typo), a value of the
@@ -13,9 +13,9 @@
 
 mod adc;
 mod board;
-mod calibration;
 mod chip;
 mod fingertip;
+mod fit_bounds;
 mod frontend;
 pub mod reader;
 mod sim;
@@ -25,10 +25,10 @@ use std::path::{Path, PathBuf};
 
 pub use adc::{Adc, Crc, NOISE_TABLE_GAINS, NOISE_TABLE_OSR};
 pub use board::{Board, ClockSource};
-pub use calibration::Calibration;
 pub use chip::{Bridge as ChipBridge, Chip, Resistor as ChipResistor, ARM_NAMES, BRIDGE_NAMES};
 pub use fingertip::{CompressionTest, Fingertip};
-pub use frontend::{AntiAlias, Bridge, Frontend, GainStage, InAmp, TempSensor, Trim, BRIDGES};
+pub use fit_bounds::FitBounds;
+pub use frontend::{AntiAlias, Bridge, FrontEnd, GainStage, InAmp, TempSensor, Trim, BRIDGES};
 pub use reader::Reader;
 pub use sim::Sim;
 
@@ -41,7 +41,7 @@ pub struct Params {
     /// The silicon cross-beam chip, its piezoresistors and bridges.
     pub chip: Chip,
     /// Bridges' mismatch, trim DAC, amplifiers, anti-alias RC, temperature sensor.
-    pub frontend: Frontend,
+    pub frontend: FrontEnd,
     /// The ADS131M04's configuration and datasheet figures.
     pub adc: Adc,
     /// The NUCLEO-F411RE pin map.
@@ -49,7 +49,7 @@ pub struct Params {
     /// The emulated sensor's own parameters (pillar, temperature warm-up).
     pub sim: Sim,
     /// How far the diagnosis may calibrate the baseline model to a recording.
-    pub calibration: Calibration,
+    pub fit_bounds: FitBounds,
 }
 
 impl Params {
@@ -71,15 +71,12 @@ impl Params {
         let mut errors = Vec::new();
         let fingertip = collect(Fingertip::load(&dir.join("fingertip.toml")), &mut errors);
         let chip = collect(Chip::load(&dir.join("chip.toml")), &mut errors);
-        let frontend = collect(Frontend::load(&dir.join("frontend.toml")), &mut errors);
+        let frontend = collect(FrontEnd::load(&dir.join("frontend.toml")), &mut errors);
         let adc = collect(Adc::load(&dir.join("adc.toml")), &mut errors);
         let board = collect(Board::load(&dir.join("board.toml")), &mut errors);
         let sim = collect(Sim::load(&dir.join("sim.toml")), &mut errors);
-        let calibration = collect(
-            Calibration::load(&dir.join("calibration.toml")),
-            &mut errors,
-        );
-        match (fingertip, chip, frontend, adc, board, sim, calibration) {
+        let fit_bounds = collect(FitBounds::load(&dir.join("fit-bounds.toml")), &mut errors);
+        match (fingertip, chip, frontend, adc, board, sim, fit_bounds) {
             (
                 Some(fingertip),
                 Some(chip),
@@ -87,7 +84,7 @@ impl Params {
                 Some(adc),
                 Some(board),
                 Some(sim),
-                Some(calibration),
+                Some(fit_bounds),
             ) if errors.is_empty() => Ok(Self {
                 fingertip,
                 chip,
@@ -95,7 +92,7 @@ impl Params {
                 adc,
                 board,
                 sim,
-                calibration,
+                fit_bounds,
             }),
             _ => Err(LoadError(errors)),
         }

@@ -19,19 +19,19 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use firmware::ads131m04::{Ads131m04 as Driver, Config, Osr, Pga, WordLength};
-use firmware::device::{Device, DeviceConfig, Frontend, HardwareError};
+use firmware::device::{BoardControl, Device, DeviceConfig, HardwareError};
 use firmware::mcp4728::{Mcp4728, DEFAULT_ADDRESS};
 use firmware::offset::{DriftSettings, NullTiming};
 use firmware::stream::{Acquirer, Overruns, RawSample, SampleQueue};
 use sim::ads131m04::trim_dac::TrimDac;
 use sim::ads131m04::{handles, AdcParams, Ads131m04 as Emu, DrdyHandle, SpiHandle};
 use sim::chain::Chain;
-use sim::load::StandardTest;
+use sim::load::ForceSchedule;
 
 use crate::pty::{read_master, write_master, Pty};
 
 /// The emulated sensor under test.
-pub type SensorChain = Chain<StandardTest>;
+pub type SensorChain = Chain<ForceSchedule>;
 
 /// What the emulated sensor does.
 #[derive(Debug, Clone, Copy)]
@@ -51,7 +51,7 @@ impl NativeConfig {
     pub fn chain(&self) -> io::Result<SensorChain> {
         let mut p = hardware::Params::load_default().map_err(io::Error::other)?;
         p.fingertip.test.peak_load_n = self.peak_load_n;
-        let test = StandardTest::from_params(&p, self.load_start_s, self.speed_factor);
+        let test = ForceSchedule::from_params(&p, self.load_start_s, self.speed_factor);
         let chain = Chain::from_params(&p, test).map_err(io::Error::other)?;
         Ok(match self.noise_seed {
             Some(seed) => chain.with_noise(seed),
@@ -160,7 +160,7 @@ struct Bench<'a> {
     dac: Mcp4728<TrimDac<'a, SensorChain>>,
 }
 
-impl Frontend for Bench<'_> {
+impl BoardControl for Bench<'_> {
     fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
         // Channel D holds the mid-rail reference and is never written (firmware::mcp4728).
         self.dac

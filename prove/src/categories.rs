@@ -23,7 +23,7 @@ use sim::effects::EffectKind;
 
 pub use family::OtherFingertip;
 pub use nuisances::Nuisance;
-pub use protocols::Protocol;
+pub use protocols::TestShape;
 
 use crate::{Case, CaseSpec, Plan, Score, Summary};
 use baseline::fe_response::FeResponseError;
@@ -124,7 +124,7 @@ impl Plan {
 /// What each category's recordings hide and vary, in a fixed order.
 fn category_specs() -> Vec<(Category, String, CaseSpec)> {
     let mut out = Vec::new();
-    for protocol in Protocol::ALL {
+    for protocol in TestShape::ALL {
         let mut truths: Vec<&[EffectKind]> = PROTOCOL_TRUTHS.to_vec();
         if protocol.unloads_slowly() {
             truths.push(&[Hysteresis]);

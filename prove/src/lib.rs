@@ -8,13 +8,13 @@ pub mod real;
 use std::fmt::Write as _;
 
 use rayon::prelude::*;
-use sim::compression::CompressionTest;
+use sim::compression::RodSchedule;
 use sim::effects::{Effect, EffectKind};
 
 use baseline::fe_response::{AngleBlend, FeResponseError};
 use baseline::synth::{simulate, simulate_path, Gaussian, Noise, SimSpec};
 use baseline::{BaselineParams, Drive, FingertipResponse};
-use categories::{Nuisance, OtherFingertip, Protocol};
+use categories::{Nuisance, OtherFingertip, TestShape};
 use diagnosis::output::Report;
 use diagnosis::{diagnose, Options};
 use recording::Recording;
@@ -79,7 +79,7 @@ pub struct Plan {
     /// The project's model parameters (the diagnosis gets them too; the recording carries the
     /// gains and excitation in its metadata).
     pub options: Options,
-    pub front_end: baseline::FrontEnd,
+    pub readout: baseline::Readout,
 }
 
 /// Contact angles of the generated recordings, deg.
@@ -141,7 +141,7 @@ impl Plan {
                 .response(self.radius_mm, jig.contact_angle_deg, jig.azimuth_deg)?;
         let baseline = truth_baseline(jig.modulus_pa, &mut u);
         // A rail must clip in both cycles to be seen in the held-out one.
-        let second_peak_output = peak_output_v(&fe, &self.front_end, &baseline, jig.second_peak_n);
+        let second_peak_output = peak_output_v(&fe, &self.readout, &baseline, jig.second_peak_n);
         let truth: Vec<Effect> = cs
             .kinds
             .iter()
@@ -169,12 +169,12 @@ impl Plan {
         };
         let spec = SimSpec {
             fingertip,
-            front_end: self.front_end,
+            readout: self.readout,
             baseline,
             contact_angle_deg: jig.contact_angle_deg,
             azimuth_deg: jig.azimuth_deg,
             radius_mm: self.radius_mm,
-            test: CompressionTest {
+            test: RodSchedule {
                 sample_rate_hz: cs.protocol.sample_rate_hz().unwrap_or(self.sample_rate_hz),
                 recovery_s: 45.0,
                 ..Default::default()
@@ -220,7 +220,7 @@ fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> Recording {
 #[derive(Debug, Clone)]
 pub struct CaseSpec {
     pub kinds: Vec<EffectKind>,
-    pub protocol: Protocol,
+    pub protocol: TestShape,
     /// Another model's fingertip: `Some(linear_outputs)`.
     pub other_family: Option<bool>,
     pub nuisance: Option<Nuisance>,
@@ -231,7 +231,7 @@ impl CaseSpec {
     pub fn new(kinds: &[EffectKind]) -> Self {
         CaseSpec {
             kinds: kinds.to_vec(),
-            protocol: Protocol::Standard,
+            protocol: TestShape::Standard,
             other_family: None,
             nuisance: None,
         }
@@ -285,7 +285,7 @@ impl Jig {
 
 /// The truth's baseline: the drawn modulus, and the deviations from the nominal model
 /// (exponent, sensitivities, output shapes, azimuth, offsets) a real sensor has and the diagnosis
-/// calibrates: well inside `hardware/calibration.toml`'s bounds. The two moment chains are
+/// calibrates: well inside `hardware/fit-bounds.toml`'s bounds. The two moment chains are
 /// identical, their gains equal within 1 %.
 fn truth_baseline(modulus_pa: f64, u: &mut impl FnMut(f64, f64) -> f64) -> BaselineParams {
     let moment = u(0.85, 1.15);
@@ -316,7 +316,7 @@ fn truth_baseline(modulus_pa: f64, u: &mut impl FnMut(f64, f64) -> f64) -> Basel
 /// The largest output magnitude of the noise-free baseline at `peak` (to place a rail).
 fn peak_output_v(
     fingertip: &AngleBlend,
-    front_end: &baseline::FrontEnd,
+    readout: &baseline::Readout,
     base: &BaselineParams,
     peak: f64,
 ) -> f64 {
@@ -324,7 +324,7 @@ fn peak_output_v(
     let e = base.youngs_modulus_pa;
     let rod = sim::compression::rod_at_load(|d| fingertip.unit_response(d).force_n * e, peak, 60.0);
     let drive = Drive::new(fingertip, vec![0.0], &[rod]);
-    let v = front_end.scaled_volts(drive.unit[0].chip.map(|c| c * e), base);
+    let v = readout.scaled_volts(drive.unit[0].chip.map(|c| c * e), base);
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
@@ -350,7 +350,7 @@ fn random_params(
             if u(0.0, 1.0) < 0.5 { 50.0 } else { 60.0 } + u(-0.1, 0.1),
             u(3e-3, 15e-3),
         ],
-        // Beyond what the calibration's map blend absorbs (`hardware/calibration.toml`:
+        // Beyond what the calibration's map blend absorbs (`hardware/fit-bounds.toml`:
         // 0.1 on Fz, the documented threshold of the static-shape effects): 1.5 to 3 times it.
         BridgeNonlinearity => vec![sign(u) * u(0.15, 0.3)],
         ContactFriction => vec![u(0.04, 0.12)],

@@ -11,7 +11,7 @@ use recording::Recording;
 use sim::effects::EffectKind;
 
 use crate::Plan;
-use baseline::FrontEnd;
+use baseline::Readout;
 use diagnosis::diagnose;
 use diagnosis::output::Report;
 
@@ -74,13 +74,13 @@ pub struct RealScore {
 pub fn mach1_recording(
     block: &mach1::Block,
     name: &str,
-    front_end: &FrontEnd,
+    readout: &Readout,
     radius_mm: f64,
 ) -> Result<Recording, String> {
     let meta = ImportMeta {
         fingertip_radius_mm: radius_mm,
-        gain: front_end.signal.gain,
-        excitation_v: front_end.signal.excitation_v,
+        gain: readout.signal.gain,
+        excitation_v: readout.signal.excitation_v,
         source: format!("Mach-1 export {name}, block {}", block.index),
     };
     import::to_recording(&block.to_export(), &meta, name).map_err(|e| e.to_string())
@@ -132,7 +132,7 @@ pub fn run_mach1(
                 .iter()
                 .find(|b| (test.pick)(b))
                 .ok_or_else(|| format!("{}: no block of the expected test", test.file))?;
-            let rec = mach1_recording(block, test.file, &plan.front_end, plan.radius_mm)?;
+            let rec = mach1_recording(block, test.file, &plan.readout, plan.radius_mm)?;
             let d = diagnose(&rec, test.file, &plan.options)
                 .map_err(|e| format!("{}: {e}", test.file))?;
             Ok(score(test, &d.report))

@@ -13,7 +13,7 @@ fn concealed_effects_are_found_blind() {
         per_effect: 3,
         radius_mm: hw.fingertip.radius_mm,
         options: diagnosis::Options::from_hardware(&hw).unwrap(),
-        front_end: baseline::FrontEnd::from_hardware(&hw).unwrap(),
+        readout: baseline::Readout::from_hardware(&hw).unwrap(),
     };
     let cases = plan.generate().expect("FE tables");
     assert!(cases.len() >= 40);

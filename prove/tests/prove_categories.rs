@@ -4,8 +4,8 @@
 //! (the same as `tactile prove --categories`).
 
 use baseline::synth::{simulate, Noise, SimSpec};
-use baseline::{BaselineParams, FingertipResponse, FrontEnd, UnitResponse};
-use prove::categories::{self, Nuisance, OtherFingertip, Protocol};
+use baseline::{BaselineParams, FingertipResponse, Readout, UnitResponse};
+use prove::categories::{self, Nuisance, OtherFingertip, TestShape};
 use prove::{run, Plan};
 use recording::Recording;
 
@@ -32,12 +32,12 @@ fn spec(fingertip: &dyn FingertipResponse) -> SimSpec<'_> {
     let hw = hardware::Params::load_default().expect("hardware");
     SimSpec {
         fingertip,
-        front_end: FrontEnd::from_hardware(&hw).expect("front end"),
+        readout: Readout::from_hardware(&hw).expect("front end"),
         baseline: BaselineParams::nominal(1.0e5),
         contact_angle_deg: 20.0,
         azimuth_deg: 60.0,
         radius_mm: 20.0,
-        test: sim::compression::CompressionTest {
+        test: sim::compression::RodSchedule {
             sample_rate_hz: 100.0,
             ..Default::default()
         },
@@ -69,31 +69,31 @@ fn peaks(w: &[(f64, f64)]) -> usize {
 fn protocol_paths_are_what_their_names_say() {
     let tip = Square;
     let s = spec(&tip);
-    let p = |protocol: Protocol| protocol.waypoints(&s, [60.0, 40.0]).expect("own path");
+    let p = |protocol: TestShape| protocol.waypoints(&s, [60.0, 40.0]).expect("own path");
     // 60 N at 1e-6 N/Pa * 1e5 Pa * d^2 -> d = sqrt(600) mm.
     let peak = 600f64.sqrt();
-    let stairs = p(Protocol::Staircase);
+    let stairs = p(TestShape::Staircase);
     let rising = stairs.windows(2).filter(|w| w[1].1 > w[0].1).count();
     let holds = stairs
         .windows(2)
         .filter(|w| w[1].1 == w[0].1 && w[0].1 > 0.0)
         .count();
     assert_eq!((rising, holds, peaks(&stairs)), (3, 3, 1), "{stairs:?}");
-    assert_eq!(peaks(&p(Protocol::Triangles)), 3);
-    let end = *p(Protocol::HoldToEnd).last().unwrap();
+    assert_eq!(peaks(&p(TestShape::Triangles)), 3);
+    let end = *p(TestShape::HoldToEnd).last().unwrap();
     assert!((end.1 - peak).abs() < 1e-6, "held at the peak to the end");
-    let contact = p(Protocol::StartInContact);
+    let contact = p(TestShape::StartInContact);
     assert!(contact[0].1 > 0.0 && contact.iter().all(|w| w.1 > 0.0));
     assert_eq!(peaks(&contact), 2);
-    let decade = p(Protocol::SpeedDecade);
+    let decade = p(TestShape::SpeedDecade);
     let speeds: Vec<f64> = decade
         .windows(2)
         .filter(|w| w[1].1 > w[0].1)
         .map(|w| (w[1].1 - w[0].1) / (w[1].0 - w[0].0))
         .collect();
     assert!((speeds[1] / speeds[0] - 10.0).abs() < 1e-9, "{speeds:?}");
-    assert!(Protocol::Standard.waypoints(&s, [60.0, 40.0]).is_none());
-    assert_eq!(Protocol::Rate20Hz.sample_rate_hz(), Some(20.0));
+    assert!(TestShape::Standard.waypoints(&s, [60.0, 40.0]).is_none());
+    assert_eq!(TestShape::Rate20Hz.sample_rate_hz(), Some(20.0));
 }
 
 fn clean() -> Recording {
@@ -204,7 +204,7 @@ fn every_category_passes_blind() {
         per_effect: 0,
         radius_mm: hw.fingertip.radius_mm,
         options: diagnosis::Options::from_hardware(&hw).expect("options"),
-        front_end: FrontEnd::from_hardware(&hw).expect("front end"),
+        readout: Readout::from_hardware(&hw).expect("front end"),
     };
     let (labels, cases) = plan.generate_categories().expect("FE tables");
     let scores = run(&cases, &plan.options);

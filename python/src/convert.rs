@@ -41,43 +41,10 @@ pub fn writer_order(rec: &Recording) -> Vec<String> {
         .collect()
 }
 
-/// The metadata keys [`Meta`] types as numbers, in the writer's order.
-const TYPED_KEYS: [&str; 9] = [
-    "sample_rate_hz",
-    "contact_angle_deg",
-    "azimuth_deg",
-    "fingertip_radius_mm",
-    "gain_fz",
-    "gain_mx",
-    "gain_my",
-    "excitation_V",
-    "rod_speed_mm_per_min",
-];
-
-/// The typed metadata keys and their values (the optional rod speed where given).
-fn numbers(m: &Meta) -> Vec<(&'static str, f64)> {
-    let values = [
-        Some(m.sample_rate_hz),
-        Some(m.contact_angle_deg),
-        Some(m.azimuth_deg),
-        Some(m.fingertip_radius_mm),
-        Some(m.gain_fz),
-        Some(m.gain_mx),
-        Some(m.gain_my),
-        Some(m.excitation_v),
-        m.rod_speed_mm_per_min,
-    ];
-    TYPED_KEYS
-        .into_iter()
-        .zip(values)
-        .filter_map(|(k, v)| v.map(|v| (k, v)))
-        .collect()
-}
-
 /// The metadata as a dict in the writer's order: the typed keys as floats, the rest as text.
 pub fn attrs_out<'py>(py: Python<'py>, meta: &Meta) -> PyResult<Bound<'py, PyDict>> {
     let attrs = PyDict::new(py);
-    let numbers = numbers(meta);
+    let numbers = meta.numbers();
     for (key, text) in meta.pairs() {
         match numbers.iter().find(|(k, _)| *k == key) {
             Some((_, v)) => attrs.set_item(key, *v)?,
@@ -96,15 +63,6 @@ fn number(attrs: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<f64>> {
         error::data(format!(
             "DataFrame attrs, key `{key}`: {} is not a number",
             value.repr().map_or_else(|_| "?".into(), |r| r.to_string())
-        ))
-    })
-}
-
-/// A required typed key of `attrs`.
-fn required(attrs: &Bound<'_, PyDict>, key: &str) -> PyResult<f64> {
-    number(attrs, key)?.ok_or_else(|| {
-        error::data(format!(
-            "DataFrame attrs: required metadata key `{key}` missing"
         ))
     })
 }
@@ -141,23 +99,20 @@ pub fn meta_in(attrs: &Bound<'_, PyDict>) -> PyResult<Meta> {
             }
             "format" => {}
             "source" => source = Some(value?),
-            k if TYPED_KEYS.contains(&k) => {}
+            k if recording::NUMBER_KEYS.contains(&k) => {}
             _ => other.push((key, value?)),
         }
     }
-    Ok(Meta {
-        sample_rate_hz: required(attrs, "sample_rate_hz")?,
-        contact_angle_deg: required(attrs, "contact_angle_deg")?,
-        azimuth_deg: required(attrs, "azimuth_deg")?,
-        fingertip_radius_mm: required(attrs, "fingertip_radius_mm")?,
-        gain_fz: required(attrs, "gain_fz")?,
-        gain_mx: required(attrs, "gain_mx")?,
-        gain_my: required(attrs, "gain_my")?,
-        excitation_v: required(attrs, "excitation_V")?,
-        rod_speed_mm_per_min: number(attrs, "rod_speed_mm_per_min")?,
+    Meta::from_numbers(
+        |key| number(attrs, key),
+        |key| {
+            error::data(format!(
+                "DataFrame attrs: required metadata key `{key}` missing"
+            ))
+        },
         source,
         other,
-    })
+    )
 }
 
 /// The `f64`s of one column's bytes.

@@ -18,7 +18,7 @@ mod reader;
 mod writer;
 
 pub use error::RecordingError;
-pub use meta::{Meta, SMOOTHER_KEY};
+pub use meta::{Meta, NUMBER_KEYS, SMOOTHER_KEY};
 pub use reader::{read, read_from, read_from_with, read_with, read_with_columns, Limits};
 pub use writer::RecordingWriter;
 

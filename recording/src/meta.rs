@@ -34,8 +34,10 @@ pub struct Meta {
 /// firmware smoother's alpha.
 pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
 
-/// Required numeric keys, in the order the writer emits them.
-pub(super) const REQUIRED_KEYS: [&str; 9] = [
+/// The metadata keys [`Meta`] types as numbers, in the order the writer emits them; every one
+/// but the last (`rod_speed_mm_per_min`) is required. One list for every reader and writer of
+/// the format (the file's, the Python package's DataFrame attributes).
+pub const NUMBER_KEYS: [&str; 9] = [
     "sample_rate_hz",
     "contact_angle_deg",
     "azimuth_deg",
@@ -44,7 +46,7 @@ pub(super) const REQUIRED_KEYS: [&str; 9] = [
     "gain_mx",
     "gain_my",
     "excitation_V",
-    "format",
+    "rod_speed_mm_per_min",
 ];
 
 /// Keys whose value must be a positive finite number.
@@ -81,23 +83,58 @@ impl Meta {
             .map(|(_, v)| v.as_str())
     }
 
+    /// The typed numbers under their keys ([`NUMBER_KEYS`] order), the rod speed where given.
+    pub fn numbers(&self) -> Vec<(&'static str, f64)> {
+        let values = [
+            Some(self.sample_rate_hz),
+            Some(self.contact_angle_deg),
+            Some(self.azimuth_deg),
+            Some(self.fingertip_radius_mm),
+            Some(self.gain_fz),
+            Some(self.gain_mx),
+            Some(self.gain_my),
+            Some(self.excitation_v),
+            self.rod_speed_mm_per_min,
+        ];
+        NUMBER_KEYS
+            .into_iter()
+            .zip(values)
+            .filter_map(|(k, v)| v.map(|v| (k, v)))
+            .collect()
+    }
+
+    /// Typed metadata from `number` (a key's value, `None` where absent), `missing` (the error
+    /// for an absent required key), the source and the untyped pairs.
+    pub fn from_numbers<E>(
+        mut number: impl FnMut(&'static str) -> Result<Option<f64>, E>,
+        missing: impl Fn(&'static str) -> E,
+        source: Option<String>,
+        other: Vec<(String, String)>,
+    ) -> Result<Self, E> {
+        let mut required = |key| number(key)?.ok_or_else(|| missing(key));
+        Ok(Meta {
+            sample_rate_hz: required("sample_rate_hz")?,
+            contact_angle_deg: required("contact_angle_deg")?,
+            azimuth_deg: required("azimuth_deg")?,
+            fingertip_radius_mm: required("fingertip_radius_mm")?,
+            gain_fz: required("gain_fz")?,
+            gain_mx: required("gain_mx")?,
+            gain_my: required("gain_my")?,
+            excitation_v: required("excitation_V")?,
+            rod_speed_mm_per_min: number("rod_speed_mm_per_min")?,
+            source,
+            other,
+        })
+    }
+
     /// The `key = value` pairs to write, required keys first.
     pub fn pairs(&self) -> Vec<(String, String)> {
         let mut p = vec![("format".to_string(), super::FORMAT.to_string())];
-        let nums = [
-            ("sample_rate_hz", self.sample_rate_hz),
-            ("contact_angle_deg", self.contact_angle_deg),
-            ("azimuth_deg", self.azimuth_deg),
-            ("fingertip_radius_mm", self.fingertip_radius_mm),
-            ("gain_fz", self.gain_fz),
-            ("gain_mx", self.gain_mx),
-            ("gain_my", self.gain_my),
-            ("excitation_V", self.excitation_v),
-        ];
-        p.extend(nums.iter().map(|(k, v)| (k.to_string(), v.to_string())));
-        if let Some(v) = self.rod_speed_mm_per_min {
-            p.push(("rod_speed_mm_per_min".into(), v.to_string()));
-        }
+        p.extend(
+            self.numbers()
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string())),
+        );
         if let Some(s) = &self.source {
             p.push(("source".into(), s.clone()));
         }
@@ -112,12 +149,21 @@ impl Meta {
         header_line: usize,
     ) -> Result<Self, RecordingError> {
         refuse_repeated_keys(&pairs)?;
-        let find = |key: &'static str| pairs.iter().rev().find(|(_, k, _)| k == key);
-        let num = |key: &'static str| -> Result<f64, RecordingError> {
-            let (line, _, value) = find(key).ok_or(RecordingError::MissingKey {
-                line: header_line,
-                key,
-            })?;
+        let find = |key: &str| pairs.iter().rev().find(|(_, k, _)| k == key);
+        let (fline, _, fvalue) = find("format").ok_or(RecordingError::MissingKey {
+            line: header_line,
+            key: "format",
+        })?;
+        if fvalue != super::FORMAT {
+            return Err(RecordingError::WrongFormat {
+                line: *fline,
+                value: fvalue.clone(),
+            });
+        }
+        let number = |key: &'static str| -> Result<Option<f64>, RecordingError> {
+            let Some((line, _, value)) = find(key) else {
+                return Ok(None);
+            };
             let v = parse_number(value).ok_or_else(|| RecordingError::BadMetaValue {
                 line: *line,
                 key: key.to_string(),
@@ -130,45 +176,21 @@ impl Meta {
                     value: value.clone(),
                 });
             }
-            Ok(v)
+            Ok(Some(v))
         };
-        let (fline, _, fvalue) = find("format").ok_or(RecordingError::MissingKey {
+        let missing = |key| RecordingError::MissingKey {
             line: header_line,
-            key: "format",
-        })?;
-        if fvalue != super::FORMAT {
-            return Err(RecordingError::WrongFormat {
-                line: *fline,
-                value: fvalue.clone(),
-            });
-        }
-        let rod_speed_mm_per_min = if find("rod_speed_mm_per_min").is_some() {
-            Some(num("rod_speed_mm_per_min")?)
-        } else {
-            None
+            key,
         };
-        let meta = Meta {
-            sample_rate_hz: num("sample_rate_hz")?,
-            contact_angle_deg: num("contact_angle_deg")?,
-            azimuth_deg: num("azimuth_deg")?,
-            fingertip_radius_mm: num("fingertip_radius_mm")?,
-            gain_fz: num("gain_fz")?,
-            gain_mx: num("gain_mx")?,
-            gain_my: num("gain_my")?,
-            excitation_v: num("excitation_V")?,
-            rod_speed_mm_per_min,
-            source: find("source").map(|(_, _, v)| v.clone()),
-            other: pairs
-                .iter()
-                .filter(|(_, k, _)| {
-                    !REQUIRED_KEYS.contains(&k.as_str())
-                        && k != "rod_speed_mm_per_min"
-                        && k != "source"
-                })
-                .map(|(_, k, v)| (k.clone(), v.clone()))
-                .collect(),
-        };
-        Ok(meta)
+        let other = pairs
+            .iter()
+            .filter(|(_, k, _)| {
+                k != "format" && k != "source" && !NUMBER_KEYS.contains(&k.as_str())
+            })
+            .map(|(_, k, v)| (k.clone(), v.clone()))
+            .collect();
+        let source = find("source").map(|(_, _, v)| v.clone());
+        Meta::from_numbers(number, missing, source, other)
     }
 }
 

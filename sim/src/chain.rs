@@ -170,7 +170,7 @@ impl<H: LoadHistory> Chain<H> {
     /// depend on them (the front end is linear around its operating point).
     pub fn with_effects(
         mut self,
-        effects: &crate::effects::Chain,
+        effects: &crate::effects::EffectSet,
         contact_angle_deg: f64,
         duration_s: f64,
         dt_s: f64,

@@ -4,7 +4,7 @@
 
 /// The test protocol. Speeds in mm/min as the micro-tester is set.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CompressionTest {
+pub struct RodSchedule {
     pub sample_rate_hz: f64,
     /// Rod travel at the start, negative: the rod starts clear of the fingertip.
     pub start_rod_mm: f64,
@@ -16,7 +16,7 @@ pub struct CompressionTest {
     pub recovery_s: f64,
 }
 
-impl Default for CompressionTest {
+impl Default for RodSchedule {
     /// The standard test of the contract.
     fn default() -> Self {
         Self {
@@ -78,7 +78,7 @@ impl RodHistory {
     }
 }
 
-impl CompressionTest {
+impl RodSchedule {
     /// The rod path for one cycle per entry of `turn_rod_mm` (the travel at which the load
     /// reaches each cycle's peak), sampled at `sample_rate_hz`.
     pub fn rod_history(&self, turn_rod_mm: &[f64]) -> RodHistory {
@@ -139,7 +139,7 @@ mod tests {
 
     #[test]
     fn standard_test_timeline() {
-        let test = CompressionTest::default();
+        let test = RodSchedule::default();
         let h = test.rod_history(&[10.0]);
         // 2 s rest, 10.5 mm at 20 mm/min = 31.5 s, 2 s hold, 1.05 s return, 60 s recovery.
         let end = 2.0 + 31.5 + 2.0 + 1.05 + 60.0;

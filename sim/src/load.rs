@@ -109,7 +109,7 @@ impl Hertz {
 /// the return, then rest again. The force rises as the Hertz law gives it for a rod moving at
 /// constant speed (`P ∝ t^(3/2)`), and falls along it on the return.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StandardTest {
+pub struct ForceSchedule {
     pub force: ContactForce,
     pub hertz: Hertz,
     /// Time before the rod touches.
@@ -120,7 +120,7 @@ pub struct StandardTest {
     pub return_speed_m_per_s: f64,
 }
 
-impl StandardTest {
+impl ForceSchedule {
     /// Travel at the peak.
     pub fn peak_travel_m(&self) -> f64 {
         self.hertz.travel_m(self.peak_load_n)
@@ -149,7 +149,7 @@ impl StandardTest {
     }
 }
 
-impl LoadHistory for StandardTest {
+impl LoadHistory for ForceSchedule {
     fn contact(&self, t_s: f64) -> Contact {
         let d = self.travel_m(t_s);
         let load_n = self.hertz.force_n(d).min(self.peak_load_n);
@@ -240,7 +240,7 @@ mod table {
 }
 
 #[cfg(feature = "std")]
-impl StandardTest {
+impl ForceSchedule {
     /// The standard test of `hardware/fingertip.toml` (contact angle, azimuth, peak load, hold,
     /// rod speeds; Hertz from the gel and radius; Boussinesq depth = radius - package height),
     /// starting `start_s` after power-up, every speed multiplied by `speed_factor` (a HIL run

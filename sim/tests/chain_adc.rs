@@ -9,15 +9,15 @@ use protocol::codes::volts_to_code;
 use sim::ads131m04::trim_dac::{TrimDac, ADDRESS};
 use sim::ads131m04::{AdcParams, Ads131m04};
 use sim::chain::Chain;
-use sim::load::StandardTest;
+use sim::load::ForceSchedule;
 
-fn chain() -> Chain<StandardTest> {
+fn chain() -> Chain<ForceSchedule> {
     let p = hardware::Params::load_default().unwrap();
-    Chain::from_params(&p, StandardTest::from_params(&p, 0.5, 20.0)).unwrap()
+    Chain::from_params(&p, ForceSchedule::from_params(&p, 0.5, 20.0)).unwrap()
 }
 
 /// The chain, and the emulated chip converting it with `adc.toml`'s reference and clock.
-fn emulated() -> (RefCell<Ads131m04<Chain<StandardTest>>>, AdcParams) {
+fn emulated() -> (RefCell<Ads131m04<Chain<ForceSchedule>>>, AdcParams) {
     let adc = AdcParams::from_hardware(&hardware::Params::load_default().unwrap().adc);
     (RefCell::new(Ads131m04::new(chain(), adc)), adc)
 }

@@ -4,26 +4,26 @@
 
 use sim::chain::Chain;
 use sim::effects::{self, Effect, Stiffening, ThermalDrift, ViscoelasticRelaxation};
-use sim::load::StandardTest;
+use sim::load::ForceSchedule;
 
-fn chain() -> Chain<StandardTest> {
+fn chain() -> Chain<ForceSchedule> {
     let p = hardware::Params::load_default().unwrap();
     // 45 N at 20 deg (inside the ADC range), sped up 40x: the run is over in about 1.7 s.
     let mut p45 = p.clone();
     p45.fingertip.test.peak_load_n = 45.0;
-    let mut c = Chain::from_params(&p45, StandardTest::from_params(&p45, 0.5, 40.0)).unwrap();
+    let mut c = Chain::from_params(&p45, ForceSchedule::from_params(&p45, 0.5, 40.0)).unwrap();
     c.dac_codes = c.front_end.null_codes();
     c
 }
 
-fn with(effect: Effect) -> Chain<StandardTest> {
-    chain().with_effects(&effects::Chain::new(vec![effect]), 20.0, 4.0, 1.0e-3)
+fn with(effect: Effect) -> Chain<ForceSchedule> {
+    chain().with_effects(&effects::EffectSet::new(vec![effect]), 20.0, 4.0, 1.0e-3)
 }
 
 #[test]
 fn no_effect_leaves_the_chain_unchanged() {
     let plain = chain();
-    let none = chain().with_effects(&effects::Chain::default(), 20.0, 4.0, 1.0e-3);
+    let none = chain().with_effects(&effects::EffectSet::default(), 20.0, 4.0, 1.0e-3);
     for t in [0.3, 1.0, 1.5, 2.0, 3.0] {
         let (a, b) = (plain.truth_v(t), none.truth_v(t));
         for ch in 0..3 {

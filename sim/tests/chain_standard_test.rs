@@ -4,19 +4,19 @@
 //! of moment at the chip), and where each channel sits against the ADC's +-1.2 V at the peak.
 
 use sim::chain::Chain;
-use sim::load::{LoadHistory, StandardTest};
+use sim::load::{ForceSchedule, LoadHistory};
 
-fn chain(contact_angle_deg: f64) -> Chain<StandardTest> {
+fn chain(contact_angle_deg: f64) -> Chain<ForceSchedule> {
     let mut p = hardware::Params::load_default().unwrap();
     p.fingertip.test.contact_angle_deg = contact_angle_deg;
-    let test = StandardTest::from_params(&p, 1.0, 1.0);
+    let test = ForceSchedule::from_params(&p, 1.0, 1.0);
     let mut chain = Chain::from_params(&p, test).unwrap();
     chain.dac_codes = chain.front_end.null_codes();
     chain
 }
 
 /// Time of the peak (middle of the hold).
-fn peak_s(c: &Chain<StandardTest>) -> f64 {
+fn peak_s(c: &Chain<ForceSchedule>) -> f64 {
     let h = &c.history;
     h.start_s + h.peak_travel_m() / h.rod_speed_m_per_s + h.hold_s / 2.0
 }

@@ -216,7 +216,7 @@ mod tests {
 
     #[test]
     fn standard_test_regimes_in_order() {
-        let h = sim::compression::CompressionTest {
+        let h = sim::compression::RodSchedule {
             sample_rate_hz: 50.0,
             ..Default::default()
         }

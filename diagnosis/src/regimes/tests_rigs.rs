@@ -353,7 +353,7 @@ fn sinusoids_at_two_frequencies_are_a_rate_change() {
 #[test]
 fn the_standard_simulated_test_at_every_rate() {
     for rate in RATES_HZ {
-        let h = sim::compression::CompressionTest {
+        let h = sim::compression::RodSchedule {
             sample_rate_hz: rate,
             ..Default::default()
         }

@@ -30,11 +30,11 @@ pub fn blocks(name: &str) -> Vec<mach1::Block> {
 /// `block` of `name` as a recording, as `tactile import` and `tactile prove --mach1` write it.
 pub fn recording(block: &mach1::Block, name: &str) -> Recording {
     let hw = hardware::Params::load_default().expect("hardware");
-    let front_end = baseline::FrontEnd::from_hardware(&hw).expect("front end");
+    let readout = baseline::Readout::from_hardware(&hw).expect("front end");
     let meta = recording::import::ImportMeta {
         fingertip_radius_mm: hw.fingertip.radius_mm,
-        gain: front_end.signal.gain,
-        excitation_v: front_end.signal.excitation_v,
+        gain: readout.signal.gain,
+        excitation_v: readout.signal.excitation_v,
         source: format!("Mach-1 export {name}, block {}", block.index),
     };
     recording::import::to_recording(&block.to_export(), &meta, name)

@@ -17,7 +17,7 @@ pub mod measures;
 pub mod runs;
 mod scorecard;
 
-pub use runs::{StandardTest, TestSeries};
+pub use runs::{FeSchedule, TestSeries};
 pub use scorecard::score;
 
 use crate::{Config, CurvePoint};
@@ -29,7 +29,7 @@ pub type OutputFilter = dyn Fn(&[f64], &mut [f64]) + Sync;
 pub struct Setup<'a> {
     /// The model at the paper's inclined test (theta_p = 20°, phi = 60°).
     pub config: Config,
-    pub test: StandardTest,
+    pub test: FeSchedule,
     /// Inclinations of the sweep, degrees, ascending from 0 (the reference) to the largest
     /// (observation 6); the test's inclination is run as part of the standard test.
     pub sweep_deg: Vec<f64>,
@@ -54,7 +54,7 @@ impl<'a> Setup<'a> {
     ) -> Self {
         Setup {
             config,
-            test: StandardTest {
+            test: FeSchedule {
                 peak_load_n: hw.test.peak_load_n,
                 hold_s: hw.test.hold_s,
                 return_speed_mm_per_s: hw.test.return_speed_mm_per_min / 60.0,

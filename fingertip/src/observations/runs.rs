@@ -5,7 +5,7 @@ use crate::{Config, CurvePoint, Error, Fingertip};
 
 /// The standard test of the paper's rig (`hardware/fingertip.toml`, `[test]`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct StandardTest {
+pub struct FeSchedule {
     /// The machine stops when its load cell reads this, N.
     pub peak_load_n: f64,
     /// Hold at the peak before "Return", s.
@@ -56,7 +56,7 @@ pub fn inclination_sweep(
 
 /// Run the standard test on `config`: press to the peak at the configured rod speed, hold,
 /// return at the return speed, record the recovery.
-pub fn standard_test(config: &Config, test: &StandardTest) -> Result<TestSeries, Error> {
+pub fn standard_test(config: &Config, test: &FeSchedule) -> Result<TestSeries, Error> {
     let mut ft = Fingertip::new(config.clone())?;
     let loading = ft.compress_to_peak(test.peak_load_n)?;
     let mut points = loading.points;

@@ -26,7 +26,7 @@ mod target {
     use embedded_hal_nb::serial::{Read, Write};
     use firmware::ads131m04::{Ads131m04, Config, Osr};
     use firmware::board::nucleo_f411re as board;
-    use firmware::device::{Device, DeviceConfig, Frontend, HardwareError};
+    use firmware::device::{BoardControl, Device, DeviceConfig, HardwareError};
     use firmware::mcp4728::{trim_writes, Mcp4728};
     use firmware::params;
     use firmware::stream::{Acquirer, Drain, Overruns, SampleQueue, Sampler};
@@ -60,11 +60,11 @@ mod target {
         });
     }
 
-    struct NucleoFrontend {
+    struct NucleoBoard {
         dac: Mcp4728<I2c<I2C1>>,
     }
 
-    impl Frontend for NucleoFrontend {
+    impl BoardControl for NucleoBoard {
         fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
             self.dac
                 .multi_write(&trim_writes(codes))
@@ -182,7 +182,7 @@ mod target {
         let config = board::device_config();
         let spi = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
         let consumer = start_acquisition(adc(spi, drdy, &config));
-        let mut fe = NucleoFrontend {
+        let mut fe = NucleoBoard {
             dac: Mcp4728::new(i2c, params::DAC_ADDRESS),
         };
         let mut dev = Device::new(config);
@@ -201,7 +201,7 @@ mod target {
     /// request bytes would overrun it.
     fn run(
         dev: &mut Device,
-        fe: &mut NucleoFrontend,
+        fe: &mut NucleoBoard,
         mut consumer: Drain<'static>,
         (mut tx, mut rx): (Tx<USART2>, Rx<USART2>),
         iwdg: &pac::IWDG,

@@ -37,7 +37,7 @@ mod target {
     use embedded_hal::spi::SpiDevice;
     use firmware::ads131m04::{crc, Ads131m04, Config, Osr, Pga, WordLength};
     use firmware::board::mps2_an386 as board;
-    use firmware::device::{Device, Frontend, HardwareError};
+    use firmware::device::{BoardControl, Device, HardwareError};
     use firmware::stream::{RawSample, SampleQueue};
     use protocol::{Command, FilterConfig, Message, Request};
     use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
@@ -47,7 +47,7 @@ mod target {
     const N: u32 = 4096;
 
     struct NoHardware;
-    impl Frontend for NoHardware {
+    impl BoardControl for NoHardware {
         fn set_trim(&mut self, _codes: [u16; 3]) -> Result<(), HardwareError> {
             Ok(())
         }

@@ -115,7 +115,7 @@ mod target {
     use critical_section::Mutex;
     use firmware::ads131m04::{Ads131m04, Config, Osr, WordLength};
     use firmware::board::mps2_an386::{self as board, Uart0};
-    use firmware::device::{Device, DeviceConfig, Frontend, HardwareError};
+    use firmware::device::{BoardControl, Device, DeviceConfig, HardwareError};
     use firmware::mcp4728::{trim_writes, Mcp4728, DEFAULT_ADDRESS};
     use firmware::stream::{Acquirer, Drain, Overruns, SampleQueue, Sampler};
     use sim::ads131m04::stimulus::{Stimulus, StimulusParams};
@@ -249,14 +249,14 @@ mod target {
     }
 
     /// The main loop's hardware: trim DAC on the emulated I2C, ADC rate and the SysTick period.
-    struct QemuFrontend {
+    struct QemuBoard {
         dac: Mcp4728<TrimDac<'static, BoardInput>>,
         syst: SYST,
         clkin_hz: u32,
     }
 
     /// The DAC handle borrows the chip, so its writes run inside critical sections.
-    impl Frontend for QemuFrontend {
+    impl BoardControl for QemuBoard {
         fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
             critical_section::with(|_| self.dac.multi_write(&trim_writes(codes)))
                 .map_err(|_| HardwareError::Dac)
@@ -346,7 +346,7 @@ mod target {
             cortex_m::singleton!(: Chip = RefCell::new(Emu::new(input, board::ADC_PARAMS)))
                 .unwrap();
         let consumer = start_acquisition(chip, adc(chip, &config));
-        let mut fe = QemuFrontend {
+        let mut fe = QemuBoard {
             dac: Mcp4728::new(TrimDac(chip), DEFAULT_ADDRESS),
             syst: cp.SYST,
             clkin_hz: config.clkin_hz,
@@ -364,7 +364,7 @@ mod target {
     fn run(
         chip: &'static Chip,
         mut dev: Device,
-        mut fe: QemuFrontend,
+        mut fe: QemuBoard,
         mut consumer: Drain<'static>,
         mut uart: Uart0,
     ) -> ! {

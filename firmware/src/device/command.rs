@@ -15,7 +15,7 @@
 
 use protocol::{Command, NackCode, Reply, Request, MAX_BATCH};
 
-use super::{Device, Frontend};
+use super::{BoardControl, Device};
 use crate::ads131m04::Osr;
 use crate::dsp::FilterBank;
 use crate::offset::NullState;
@@ -31,7 +31,7 @@ pub fn nack(req: &Request, code: NackCode) -> Reply {
 
 impl Device {
     /// Apply one request; the reply says whether it was.
-    pub fn apply(&mut self, req: &Request, hw: &mut impl Frontend) -> Reply {
+    pub fn apply(&mut self, req: &Request, hw: &mut impl BoardControl) -> Reply {
         match self.execute(&req.command, hw) {
             Ok(Some(reply)) => reply_with_tag(reply, req.tag),
             Ok(None) => Reply::Ack {
@@ -46,7 +46,7 @@ impl Device {
     fn execute(
         &mut self,
         command: &Command,
-        hw: &mut impl Frontend,
+        hw: &mut impl BoardControl,
     ) -> Result<Option<Reply>, NackCode> {
         match *command {
             Command::Start => self.streaming = true,
@@ -103,7 +103,7 @@ impl Device {
         Ok(None)
     }
 
-    fn set_rate(&mut self, hz: u32, hw: &mut impl Frontend) -> Result<(), NackCode> {
+    fn set_rate(&mut self, hz: u32, hw: &mut impl BoardControl) -> Result<(), NackCode> {
         let osr = Osr::for_rate(hz, self.cfg.clkin_hz).ok_or(NackCode::OutOfRange)?;
         let filters =
             FilterBank::build(&self.filter_config, hz as f32).map_err(|_| NackCode::OutOfRange)?;

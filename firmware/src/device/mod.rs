@@ -2,7 +2,7 @@
 //! of the board. It takes raw conversions from the acquisition queue, runs the offset cut and the
 //! filters, batches samples into protocol frames, encodes them into the transmit buffer (dropping
 //! and counting whole frames when the link is behind), and decodes and applies commands at frame
-//! boundaries. The board supplies a [`Frontend`] for the two things that touch hardware: the trim
+//! boundaries. The board supplies a [`BoardControl`] for the two things that touch hardware: the trim
 //! DAC and the ADC's data rate.
 
 pub mod command;
@@ -40,7 +40,7 @@ pub enum HardwareError {
 }
 
 /// What the core asks of the board.
-pub trait Frontend {
+pub trait BoardControl {
     /// Write the trim-DAC codes of the three bridges (MCP4728 channels A..=C). Channel D holds
     /// the analog mid-rail reference and must not be touched.
     fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError>;
@@ -146,7 +146,7 @@ impl Device {
     }
 
     /// Write the initial DAC codes and, if configured, start the power-up auto-null.
-    pub fn power_up(&mut self, hw: &mut impl Frontend) -> Result<(), HardwareError> {
+    pub fn power_up(&mut self, hw: &mut impl BoardControl) -> Result<(), HardwareError> {
         // A lone delimiter first, so the host's first frame is clean (SPEC: receiving).
         self.tx.push_frame(&[0]);
         hw.set_trim(self.dac)?;
@@ -198,7 +198,7 @@ impl Device {
     }
 
     /// One conversion from the acquisition queue.
-    pub fn on_sample(&mut self, raw: &RawSample, hw: &mut impl Frontend) {
+    pub fn on_sample(&mut self, raw: &RawSample, hw: &mut impl BoardControl) {
         // Device time follows the conversion index, so conversions lost before the queue still
         // advance it; the first conversion is t = 0.
         match self.last_index {
@@ -256,7 +256,7 @@ impl Device {
 
     /// Offset cut (null search, tare, drift) and filters for one sample of the three bridges.
     #[inline]
-    fn process(&mut self, bridge: [i32; 3], hw: &mut impl Frontend) -> Sample {
+    fn process(&mut self, bridge: [i32; 3], hw: &mut impl BoardControl) -> Sample {
         if self.offset_settling {
             self.settle_offset(bridge, hw);
         }
@@ -269,7 +269,7 @@ impl Device {
     }
 
     /// One sample for a running null search or tare.
-    fn settle_offset(&mut self, bridge: [i32; 3], hw: &mut impl Frontend) {
+    fn settle_offset(&mut self, bridge: [i32; 3], hw: &mut impl BoardControl) {
         match self.null.on_sample(bridge) {
             NullStep::Continue => {}
             NullStep::SetDac(codes) => self.write_null_codes(codes, hw),
@@ -293,7 +293,7 @@ impl Device {
         self.offset_settling = self.null.state() == NullState::Searching || self.tare.collecting();
     }
 
-    fn write_null_codes(&mut self, codes: [u16; 3], hw: &mut impl Frontend) {
+    fn write_null_codes(&mut self, codes: [u16; 3], hw: &mut impl BoardControl) {
         self.dac = codes;
         if hw.set_trim(self.dac).is_err() {
             self.null.fail();
@@ -302,7 +302,7 @@ impl Device {
 
     /// Begin a search. If the DAC refuses the first write the state becomes Failed (reported) and
     /// the codes in force stay as they were.
-    fn start_null(&mut self, hw: &mut impl Frontend) -> Result<(), HardwareError> {
+    fn start_null(&mut self, hw: &mut impl BoardControl) -> Result<(), HardwareError> {
         let codes = self.null.start();
         let written = hw.set_trim(codes);
         if written.is_err() {
@@ -383,7 +383,7 @@ impl Device {
 
     /// Call from the main loop when idle: applies waiting commands if no frame is open (e.g. while
     /// stopped, or when no samples arrive) and retries replies that did not fit the buffer.
-    pub fn poll(&mut self, hw: &mut impl Frontend) {
+    pub fn poll(&mut self, hw: &mut impl BoardControl) {
         if self.frame.is_empty() {
             self.apply_pending(hw);
         }
@@ -391,7 +391,7 @@ impl Device {
     }
 
     #[inline]
-    fn apply_pending(&mut self, hw: &mut impl Frontend) {
+    fn apply_pending(&mut self, hw: &mut impl BoardControl) {
         if self.pending.is_empty() && self.replies.is_empty() && !self.info_due {
             return;
         }

@@ -8,14 +8,14 @@ use crate::offset::{DriftSettings, NullTiming};
 use protocol::{Command, NackCode, NullState, SampleFrame, CRC};
 
 #[derive(Default)]
-struct MockFrontend {
+struct MockBoard {
     trims: Vec<[u16; 3]>,
     osrs: Vec<Osr>,
     fail_dac: bool,
     fail_adc: bool,
 }
 
-impl Frontend for MockFrontend {
+impl BoardControl for MockBoard {
     fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
         if self.fail_dac {
             return Err(HardwareError::Dac);
@@ -113,7 +113,7 @@ fn frames(msgs: &[Message]) -> Vec<SampleFrame> {
 }
 
 /// Send one command to a stopped device and return its reply.
-fn answer(dev: &mut Device, hw: &mut MockFrontend, command: Command) -> Reply {
+fn answer(dev: &mut Device, hw: &mut MockBoard, command: Command) -> Reply {
     request(dev, 9, command);
     dev.poll(hw);
     let r = replies(&drain(dev));
@@ -136,12 +136,7 @@ fn nacked(command: &Command, code: NackCode) -> Reply {
     }
 }
 
-fn check(
-    dev: &mut Device,
-    hw: &mut MockFrontend,
-    command: Command,
-    expected: Result<(), NackCode>,
-) {
+fn check(dev: &mut Device, hw: &mut MockBoard, command: Command, expected: Result<(), NackCode>) {
     let epoch = dev.config_epoch();
     let got = answer(dev, hw, command);
     match expected {
@@ -159,7 +154,7 @@ fn check(
 
 #[test]
 fn set_rate_accepts_adc_rates_only() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::SetRate { hz: 4000 }, Ok(()));
     assert_eq!(
         (dev.rate_hz(), hw.osrs.as_slice()),
@@ -208,7 +203,7 @@ fn set_rate_accepts_adc_rates_only() {
 
 #[test]
 fn set_filter_checks_every_field() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     let f = |alpha, order, cutoff| {
         Command::SetFilter(FilterConfig {
             smoother_alpha: alpha,
@@ -250,7 +245,7 @@ fn set_filter_checks_every_field() {
 
 #[test]
 fn tare_averages_then_subtracts_and_is_reported() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(
         &mut dev,
         &mut hw,
@@ -284,7 +279,7 @@ fn tare_averages_then_subtracts_and_is_reported() {
 
 #[test]
 fn auto_null_runs_reports_and_refuses_overlap() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::AutoNull, Ok(()));
     assert_eq!(dev.null_state(), NullState::Searching);
     check(&mut dev, &mut hw, Command::AutoNull, Err(NackCode::Busy));
@@ -312,7 +307,7 @@ fn auto_null_runs_reports_and_refuses_overlap() {
     }
     assert_eq!(dev.null_state(), NullState::Nulled);
     assert_eq!(&dev.info().dac_codes[..3], &[2548, 1348, 2048]);
-    let mut failing = MockFrontend {
+    let mut failing = MockBoard {
         fail_dac: true,
         ..Default::default()
     };
@@ -327,7 +322,7 @@ fn auto_null_runs_reports_and_refuses_overlap() {
 
 #[test]
 fn get_info_acks_then_sends_the_info_frame() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     request(&mut dev, 3, Command::GetInfo);
     dev.poll(&mut hw);
     let msgs = drain(&mut dev);
@@ -352,7 +347,7 @@ fn get_info_acks_then_sends_the_info_frame() {
 
 #[test]
 fn calibration_ping_drift_batch_start_stop() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     let m = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]];
     check(&mut dev, &mut hw, Command::SetCalibration(m), Ok(()));
     assert_eq!(dev.info().calibration, m);
@@ -399,7 +394,7 @@ fn raw_request(body: &[u8]) -> Vec<u8> {
 
 #[test]
 fn malformed_and_unknown_requests_are_nacked_with_their_tag() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     dev.on_rx(&raw_request(&[0x04, 21, protocol::opcode::SET_RATE, 1, 2])); // u32 cut short
     dev.on_rx(&raw_request(&[0x04, 22, 0x7F])); // no such opcode
     dev.on_rx(&raw_request(&[
@@ -436,7 +431,7 @@ fn malformed_and_unknown_requests_are_nacked_with_their_tag() {
 
 #[test]
 fn commands_take_effect_at_the_next_frame_boundary() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     let epoch = dev.config_epoch();
     dev.on_sample(&raw(0, [1; 4]), &mut hw);
@@ -471,7 +466,7 @@ fn commands_take_effect_at_the_next_frame_boundary() {
 
 #[test]
 fn slow_link_drops_whole_frames_and_counts_them_in_the_next_frame() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::SetBatch { samples: 16 }, Ok(()));
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     // The link carries 4 bytes per sample; a full frame needs 10.5: about 60 % must be dropped.
@@ -533,7 +528,7 @@ fn slow_link_drops_whole_frames_and_counts_them_in_the_next_frame() {
 
 #[test]
 fn saturation_overrun_and_adc_error_flags() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     dev.on_sample(&raw(0, [CODE_MAX, 0, 0, CODE_MIN]), &mut hw);
     dev.on_sample(&raw(3, [0; 4]), &mut hw); // two conversions lost
@@ -569,7 +564,7 @@ fn saturation_overrun_and_adc_error_flags() {
 
 #[test]
 fn a_repeated_index_still_advances_time_by_one_period() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::SetBatch { samples: 1 }, Ok(()));
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     for index in [10, 11, 11, 12] {

@@ -79,7 +79,7 @@ pub fn xcorr_offset(
         if pairs.len() < 10 {
             continue;
         }
-        let c = correlation(&pairs);
+        let c = pearson(&pairs);
         if best.is_none_or(|(b, _)| c > b) {
             best = Some((c, off));
         }
@@ -87,7 +87,7 @@ pub fn xcorr_offset(
     best.map(|(_, off)| off)
 }
 
-fn correlation(pairs: &[(f64, f64)]) -> f64 {
+fn pearson(pairs: &[(f64, f64)]) -> f64 {
     let n = pairs.len() as f64;
     let (ma, mb) = pairs
         .iter()

@@ -4,7 +4,7 @@ use baseline::synth::{rod_at, SimSpec};
 
 /// The rod path of a recording.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Protocol {
+pub enum TestShape {
     /// The standard test's two cycles at the plan's rate.
     Standard,
     /// Three ramps to a third, two thirds and all of the peak, each held 8 s, one fast return.
@@ -26,45 +26,45 @@ pub enum Protocol {
     Rate2kHz,
 }
 
-impl Protocol {
-    pub const ALL: [Protocol; 9] = [
-        Protocol::Staircase,
-        Protocol::Triangles,
-        Protocol::SpeedDecade,
-        Protocol::LongHold,
-        Protocol::HoldToEnd,
-        Protocol::StartInContact,
-        Protocol::Rate20Hz,
-        Protocol::Rate100Hz,
-        Protocol::Rate2kHz,
+impl TestShape {
+    pub const ALL: [TestShape; 9] = [
+        TestShape::Staircase,
+        TestShape::Triangles,
+        TestShape::SpeedDecade,
+        TestShape::LongHold,
+        TestShape::HoldToEnd,
+        TestShape::StartInContact,
+        TestShape::Rate20Hz,
+        TestShape::Rate100Hz,
+        TestShape::Rate2kHz,
     ];
 
     pub fn name(self) -> &'static str {
         match self {
-            Protocol::Standard => "standard",
-            Protocol::Staircase => "staircase",
-            Protocol::Triangles => "triangles",
-            Protocol::SpeedDecade => "speeds a decade apart",
-            Protocol::LongHold => "long hold",
-            Protocol::HoldToEnd => "hold to the end",
-            Protocol::StartInContact => "start in contact",
-            Protocol::Rate20Hz => "20 Hz",
-            Protocol::Rate100Hz => "100 Hz",
-            Protocol::Rate2kHz => "2 kHz",
+            TestShape::Standard => "standard",
+            TestShape::Staircase => "staircase",
+            TestShape::Triangles => "triangles",
+            TestShape::SpeedDecade => "speeds a decade apart",
+            TestShape::LongHold => "long hold",
+            TestShape::HoldToEnd => "hold to the end",
+            TestShape::StartInContact => "start in contact",
+            TestShape::Rate20Hz => "20 Hz",
+            TestShape::Rate100Hz => "100 Hz",
+            TestShape::Rate2kHz => "2 kHz",
         }
     }
 
     /// The protocol unloads as slowly as it loads, so a loop between the two can show.
     pub fn unloads_slowly(self) -> bool {
-        self == Protocol::Triangles
+        self == TestShape::Triangles
     }
 
     /// Its own sample rate, if it sets one.
     pub fn sample_rate_hz(self) -> Option<f64> {
         match self {
-            Protocol::Rate20Hz => Some(20.0),
-            Protocol::Rate100Hz => Some(100.0),
-            Protocol::Rate2kHz => Some(2000.0),
+            TestShape::Rate20Hz => Some(20.0),
+            TestShape::Rate100Hz => Some(100.0),
+            TestShape::Rate2kHz => Some(2000.0),
             _ => None,
         }
     }
@@ -78,7 +78,7 @@ impl Protocol {
         let peak = rod_at(spec, peaks_n[0]);
         let mut p = Path::new(start, 2.0);
         match self {
-            Protocol::Staircase => {
+            TestShape::Staircase => {
                 for share in [1.0 / 3.0, 2.0 / 3.0, 1.0] {
                     p.move_to(rod_at(spec, share * peaks_n[0]), slow);
                     p.hold(8.0);
@@ -86,14 +86,14 @@ impl Protocol {
                 p.move_to(start, fast);
                 p.hold(40.0);
             }
-            Protocol::Triangles => {
+            TestShape::Triangles => {
                 for _ in 0..3 {
                     p.move_to(peak, slow);
                     p.move_to(start, slow);
                 }
                 p.hold(20.0);
             }
-            Protocol::SpeedDecade => {
+            TestShape::SpeedDecade => {
                 for (to, speed) in [(rod_at(spec, peaks_n[1]), slow * 0.3), (peak, slow * 3.0)] {
                     p.move_to(to, speed);
                     p.hold(2.0);
@@ -101,19 +101,19 @@ impl Protocol {
                     p.hold(30.0);
                 }
             }
-            Protocol::LongHold | Protocol::HoldToEnd => {
+            TestShape::LongHold | TestShape::HoldToEnd => {
                 p.move_to(peak, slow);
-                p.hold(if self == Protocol::LongHold {
+                p.hold(if self == TestShape::LongHold {
                     120.0
                 } else {
                     150.0
                 });
-                if self == Protocol::LongHold {
+                if self == TestShape::LongHold {
                     p.move_to(start, fast);
                     p.hold(40.0);
                 }
             }
-            Protocol::StartInContact => {
+            TestShape::StartInContact => {
                 let preload = rod_at(spec, 0.15 * peaks_n[0]);
                 p = Path::new(preload, 0.0);
                 for to in [peak, rod_at(spec, peaks_n[1])] {

@@ -30,8 +30,8 @@ pub fn blocks(name: &str) -> Vec<mach1::Block> {
 /// `block` of `name` as a recording, as `tactile import` and `tactile prove --mach1` write it.
 pub fn recording(block: &mach1::Block, name: &str) -> Recording {
     let hw = hardware::Params::load_default().expect("hardware");
-    let front_end = baseline::FrontEnd::from_hardware(&hw).expect("front end");
-    prove::real::mach1_recording(block, name, &front_end, hw.fingertip.radius_mm)
+    let readout = baseline::Readout::from_hardware(&hw).expect("front end");
+    prove::real::mach1_recording(block, name, &readout, hw.fingertip.radius_mm)
         .unwrap_or_else(|e| panic!("{e}"))
 }
 

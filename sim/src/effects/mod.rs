@@ -1,6 +1,6 @@
 //! The catalogue of physics the baseline leaves out (`docs/diagnosis-format.md`), as
 //! switchable, parameterised signal-level operators, one module per effect and named exactly as
-//! the catalogue. All are off unless listed in a [`Chain`]. The simulator applies them to make
+//! the catalogue. All are off unless listed in an [`EffectSet`]. The simulator applies them to make
 //! recordings with effects; the diagnosis fits the very same operators.
 //!
 //! Where each acts: the gel's effects (viscoelastic relaxation, hysteresis) on the load and the
@@ -242,14 +242,14 @@ impl Effect {
 
 /// The effects switched on; the order of application is fixed by physics, not by the list.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Chain {
+pub struct EffectSet {
     pub effects: Vec<Effect>,
-    /// With a measured temperature (see [`Chain::apply_electrical_at`]), `thermal_drift` is
+    /// With a measured temperature (see [`EffectSet::apply_electrical_at`]), `thermal_drift` is
     /// regressed on it against this reference instead of following the exponential warm-up.
     pub thermal_reference: Option<ThermalReference>,
 }
 
-impl Chain {
+impl EffectSet {
     pub fn new(effects: Vec<Effect>) -> Self {
         Self {
             effects,
@@ -307,7 +307,7 @@ impl Chain {
         self.apply_electrical_at(t_s, None, volts);
     }
 
-    /// As [`Chain::apply_electrical`], with the temperature measured at each sample, if any.
+    /// As [`EffectSet::apply_electrical`], with the temperature measured at each sample, if any.
     pub fn apply_electrical_at(
         &self,
         t_s: &[f64],
@@ -412,7 +412,7 @@ mod tests {
             vec![0.0, 2.0, 1.0],
         ];
         let (l0, c0) = (load.clone(), chip.clone());
-        let chain = Chain::default();
+        let chain = EffectSet::default();
         chain.apply_mechanical(&t, &mut load, &mut chip, 20.0);
         chain.apply_electrical(&t, &mut chip);
         chain.apply_saturation(&mut chip);

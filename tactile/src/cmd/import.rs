@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use sysexit::ResultExt as _;
 
 use anyhow::Context;
-use baseline::FrontEnd;
+use baseline::Readout;
 use recording::import::{self, mach1, machine_csv, ImportMeta};
 use recording::machine::{MachineExport, MachineExportError};
 
@@ -151,7 +151,7 @@ fn write(args: &Args, export: &MachineExport, what: String) -> anyhow::Result<()
     let params = hardware::Params::load_default()
         .coded()
         .context("loading hardware/")?;
-    let front_end = FrontEnd::from_hardware(&params).coded()?;
+    let readout = Readout::from_hardware(&params).coded()?;
     let (radius_mm, radius_note) = match args.radius_mm {
         Some(r) if r > 0.0 && r.is_finite() => (r, "indenter radius given"),
         Some(r) => anyhow::bail!("--radius-mm {r}: not a positive number"),
@@ -162,8 +162,8 @@ fn write(args: &Args, export: &MachineExport, what: String) -> anyhow::Result<()
     };
     let meta = ImportMeta {
         fingertip_radius_mm: radius_mm,
-        gain: front_end.signal.gain,
-        excitation_v: front_end.signal.excitation_v,
+        gain: readout.signal.gain,
+        excitation_v: readout.signal.excitation_v,
         source: format!("{what}; {radius_note}; sensor not measured"),
     };
     let rec = import::to_recording(export, &meta, &args.input.display().to_string()).coded()?;

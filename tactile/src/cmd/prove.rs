@@ -7,7 +7,7 @@ use sysexit::ResultExt as _;
 
 use anyhow::Context;
 
-use baseline::FrontEnd;
+use baseline::Readout;
 use diagnosis::Options;
 use prove::{categories, csv, markdown, real, run as score, summary_svg, Plan, Summary};
 
@@ -52,7 +52,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         per_effect: args.per_effect,
         radius_mm: hw.fingertip.radius_mm,
         options: Options::from_hardware(&hw)?,
-        front_end: FrontEnd::from_hardware(&hw)?,
+        readout: Readout::from_hardware(&hw)?,
     };
     if args.categories {
         return run_categories(&plan, &args);

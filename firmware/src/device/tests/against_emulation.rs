@@ -21,7 +21,7 @@ struct Bench<'a> {
     dac: Mcp4728<TrimDac<'a, Stimulus>>,
 }
 
-impl Frontend for Bench<'_> {
+impl BoardControl for Bench<'_> {
     fn set_trim(&mut self, codes: [u16; 3]) -> Result<(), HardwareError> {
         self.dac
             .multi_write(&trim_writes(codes))

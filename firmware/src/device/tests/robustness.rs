@@ -32,7 +32,7 @@ const NO_ARGS: [u8; 5] = [
 ];
 
 /// Send one raw request body (after the type byte) and return the single reply to it.
-fn raw_answer(dev: &mut Device, hw: &mut MockFrontend, tag: u8, rest: &[u8]) -> Reply {
+fn raw_answer(dev: &mut Device, hw: &mut MockBoard, tag: u8, rest: &[u8]) -> Reply {
     let body = [&[protocol::kind::REQUEST, tag][..], rest].concat();
     dev.on_rx(&raw_request(&body));
     dev.poll(hw);
@@ -51,7 +51,7 @@ fn malformed(tag: u8, opcode: u8) -> Reply {
 
 #[test]
 fn truncated_and_over_long_arguments_are_nacked_malformed() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     let epoch = dev.config_epoch();
     for (op, args) in valid_args() {
         for cut in 0..args.len() {
@@ -82,7 +82,7 @@ fn truncated_and_over_long_arguments_are_nacked_malformed() {
 
 #[test]
 fn non_finite_and_non_boolean_arguments_are_out_of_range() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     let out_of_range = |opcode| Reply::Nack {
         tag: 1,
         opcode,
@@ -119,7 +119,7 @@ fn non_finite_and_non_boolean_arguments_are_out_of_range() {
 
 #[test]
 fn every_out_of_range_extreme_is_refused() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     // 32 kSPS + 2^25: the OSR product wraps to exactly clkin/2 in u32 (found by fuzzing).
     for hz in [0, 1, u32::MAX, 32_000 + (1 << 25), 64_000] {
         check(
@@ -169,7 +169,7 @@ fn every_out_of_range_extreme_is_refused() {
 
 #[test]
 fn a_burst_of_requests_in_one_read_gets_one_reply_each() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     let burst: Vec<u8> = (0..20u8)
         .flat_map(|tag| {
             let req = Request {
@@ -208,7 +208,7 @@ fn a_burst_of_requests_in_one_read_gets_one_reply_each() {
 
 #[test]
 fn a_stalled_link_drops_and_counts_replies_beyond_the_queue() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::SetBatch { samples: 16 }, Ok(()));
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     // Fill the transmit buffer with sample frames nobody drains.
@@ -245,7 +245,7 @@ fn a_stalled_link_drops_and_counts_replies_beyond_the_queue() {
 
 #[test]
 fn queue_overruns_are_flagged_in_the_next_frame() {
-    let (mut dev, mut hw) = (Device::new(config()), MockFrontend::default());
+    let (mut dev, mut hw) = (Device::new(config()), MockBoard::default());
     check(&mut dev, &mut hw, Command::SetBatch { samples: 1 }, Ok(()));
     check(&mut dev, &mut hw, Command::Start, Ok(()));
     dev.note_overruns(0);

@@ -1,13 +1,13 @@
-//! `calibration.toml`: how far the diagnosis may calibrate the baseline model to a recording
+//! `fit-bounds.toml`: how far the diagnosis may calibrate the baseline model to a recording
 //! before it calls what remains missing physics (the reasons are in the file).
 
 use std::path::Path;
 
 use crate::{ParamError, Reader};
 
-/// The calibration's bounds.
+/// The bounds of the baseline fit.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Calibration {
+pub struct FitBounds {
     /// How far ln E may move from the load cell's first estimate.
     pub modulus_ln_range: f64,
     /// Lower bound of the force-indentation exponent's shift against the FE's.
@@ -39,7 +39,7 @@ pub struct Calibration {
     pub offset_range_factor: f64,
 }
 
-impl Calibration {
+impl FitBounds {
     pub(crate) fn load(file: &Path) -> Result<Self, Vec<ParamError>> {
         let mut r = Reader::open(file).map_err(|e| vec![e])?;
         let c = Self {
