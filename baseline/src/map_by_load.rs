@@ -20,7 +20,7 @@ use crate::response::FingertipResponse;
 const SHARE_RANGE: (f64, f64) = (0.005, 3.0);
 /// Points of the table: its steps in ln(travel) (0.027) are far below the FE's node spacing.
 const POINTS: usize = 240;
-/// Largest |ln r| of an output's departure, as in [`crate::baseline`]'s maps: beyond a decade the
+/// Largest |ln r| of an output's departure, as in [`crate::model`]'s maps: beyond a decade the
 /// ratio is of two numbers near zero (a moment at no inclination), not a map.
 const MAX_LN_DEPARTURE: f64 = std::f64::consts::LN_10;
 

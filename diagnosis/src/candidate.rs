@@ -37,6 +37,11 @@ pub struct Candidate<'s, 'a> {
     pub heldout_chi2: f64,
     /// The held-out residuals (noise units), for the paired held-out test.
     heldout_r: Vec<f64>,
+    /// Its outputs on the decimated series at the fit, evaluated once when it is scored.
+    pub outputs: Outputs,
+    /// Its weighted residuals on the fitting stretch (noise units), from [`Self::outputs`]: the
+    /// report's parameter uncertainties read their correlation, not a new evaluation.
+    pub fit_residual: Vec<f64>,
     /// The fit ended above the model it nests and was replaced by that model's solution with
     /// the new effect at its neutral values (a solver failure, reported, never hidden).
     pub at_neutral: bool,
@@ -104,9 +109,12 @@ impl<'s, 'a> Candidate<'s, 'a> {
         let fit_term = n * (fitted.solution.sse / n).max(1e-300).ln();
         let bic = fit_term + k * n.ln();
         let aicc = fit_term + 2.0 * k + 2.0 * k * (k + 1.0) / (n - k - 1.0).max(1.0);
+        let outputs = model.outputs(&fitted.full, &model.setup.drive);
         let mut heldout_r = Vec::new();
-        model.weighted(&fitted.full, &model.setup.heldout_mask, &mut heldout_r);
+        model.weighted_of(&outputs, &model.setup.heldout_mask, &mut heldout_r);
         let heldout_chi2 = heldout_r.iter().map(|v| v * v).sum();
+        let mut fit_residual = Vec::new();
+        model.weighted_of(&outputs, &model.setup.fit_mask, &mut fit_residual);
         Self {
             kinds: model.kinds.clone(),
             model,
@@ -115,6 +123,8 @@ impl<'s, 'a> Candidate<'s, 'a> {
             aicc,
             heldout_chi2,
             heldout_r,
+            outputs,
+            fit_residual,
             at_neutral,
         }
     }

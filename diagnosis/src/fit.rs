@@ -246,8 +246,13 @@ impl<'s, 'a> Model<'s, 'a> {
 
     /// Weighted residuals of a full vector on `mask` of the decimated series.
     pub fn weighted(&self, full: &[f64], mask: &[bool], out: &mut Vec<f64>) {
+        let m = self.outputs(full, &self.setup.drive);
+        self.weighted_of(&m, mask, out);
+    }
+
+    /// Weighted residuals of `m`, the outputs on the decimated series, on `mask`.
+    pub fn weighted_of(&self, m: &Outputs, mask: &[bool], out: &mut Vec<f64>) {
         let s = self.setup;
-        let m = self.outputs(full, &s.drive);
         out.clear();
         for c in 0..4 {
             if !s.used[c] {

@@ -132,7 +132,7 @@ pub struct Localisation {
 }
 
 /// Effects the recording cannot tell from a calibration: the data show the deviation, but the
-/// same misfit is a baseline parameter's (extra field; see [`crate::undecided`]).
+/// same misfit is a baseline parameter's (extra field; see `crate::undecided`).
 #[derive(Debug, Clone, DeriveSerialize)]
 pub struct Undecided {
     /// The catalogue effects it could be.

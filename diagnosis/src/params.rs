@@ -43,10 +43,7 @@ const BASELINE: [(&str, &str); N_BASE] = [
 
 /// Lag-1 correlation of the fit's weighted residual (inflates the standard errors).
 fn residual_rho(c: &Candidate) -> f64 {
-    let mut r = Vec::new();
-    c.model
-        .weighted(&c.fitted.full, &c.model.setup.fit_mask, &mut r);
-    stats::lag1(&r)
+    stats::lag1(&c.fit_residual)
 }
 
 /// Duration of the recording, s.

@@ -1,11 +1,11 @@
 //! The diagnosis, start to end, one function per step: read the recording (`Data`) -> find its
 //! regimes and the held-out stretch (`Stretches`) -> set up the calibration of the baseline
-//! (`calibration_setup`) -> fit the candidates: the calibrated baseline, each catalogue effect
-//! singly and in pairs (`fit_candidates`) -> select by BIC and the held-out stretch together
-//! (`Candidates::chosen`) -> evaluate at the full rate with the mains line (`full_rate`) ->
-//! localise the baseline's residual (`localise_residual`) -> verdict (`verdict`) -> the report's
-//! data ([`Report`], [`PlotData`]).
-
+//! (`calibration_setup`) and read what the protocol allows (`Features`) -> fit the candidates
+//! and select by BIC and the held-out stretch together (`select::select`) -> evaluate at the
+//! full rate with the mains line (`full_rate`) -> localise the baseline's residual and test the
+//! chosen model's for whiteness (`localise_residual`) -> the effects' evidence
+//! (`evidence::effect_reports`) -> verdict (`verdict`) -> the report's data ([`Report`],
+//! [`PlotData`]).
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -350,7 +350,8 @@ fn localise_residual(
     segments: &[Segment],
 ) -> Localised {
     let data = setup.data;
-    let base_dec = base.outputs(&setup.drive);
+    // Both models were evaluated on the decimated series when they were scored.
+    let base_dec = &base.outputs;
     let residual: [Vec<f64>; 4] =
         std::array::from_fn(|c| diff(&data.fit.y[c], base_dec.channel(c)));
     let mismatches = localise::mismatches(
@@ -361,8 +362,8 @@ fn localise_residual(
         &setup.used,
         0.02,
     );
-    let channels = channel_localisation(data, &base_dec, &residual);
-    let chosen_dec = chosen.outputs(&setup.drive);
+    let channels = channel_localisation(data, base_dec, &residual);
+    let chosen_dec = &chosen.outputs;
     // Each compared channel's residual, with the noise's own colour taken out (coloured noise is
     // not a mismatch), is structured where it fails both of two tests: a portmanteau test at a
     // family-wise LB_P over the channels (Bonferroni), and the evidence an effect needs for an

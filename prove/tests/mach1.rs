@@ -2,9 +2,9 @@
 //! beside the checkout, read from their zip and never copied in), imported as `tactile import`
 //! does and diagnosed blind. What a physicist expects (the data's README): stress relaxation in
 //! Hayes' and the Static holds, a rate-dependent loss in the Dynamic sinusoids.
-//! `cargo test -p diagnosis --test mach1 -- --nocapture` (about a second each, in the test run)
+//! `cargo test -p prove --test mach1 -- --nocapture` (about a second each, in the test run)
 
-#[path = "support/mach1_zip.rs"]
+#[path = "../../diagnosis/tests/support/mach1_zip.rs"]
 mod mach1_zip;
 
 use diagnosis::output::Report;

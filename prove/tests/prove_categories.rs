@@ -1,6 +1,6 @@
 //! The categorised proof: its generator does what each category says (fast, in the test run),
 //! and, `--ignored`, the blind scores per category against the acceptance bar:
-//! `cargo test --release -p diagnosis --test prove_categories -- --ignored --nocapture`
+//! `cargo test --release -p prove --test prove_categories -- --ignored --nocapture`
 //! (the same as `tactile prove --categories`).
 
 use baseline::synth::{simulate, Noise, SimSpec};

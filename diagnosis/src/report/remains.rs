@@ -32,7 +32,7 @@ pub struct Peak {
 /// [`Remains::findings`] only where they pass their thresholds.
 #[derive(Debug, Clone)]
 pub struct Remains {
-    /// Index into [`crate::data::CHANNELS`].
+    /// Index into `crate::data::CHANNELS`.
     pub channel: usize,
     /// RMS of the final residual, channel unit.
     pub rms: f64,

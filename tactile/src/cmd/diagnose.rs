@@ -38,7 +38,7 @@ pub struct Args {
 /// What the arguments ask for, checked.
 #[derive(Debug, PartialEq)]
 enum Config {
-    /// One recording to `--json` (and `--report`), as before sessions existed.
+    /// One recording to `--json` (and `--report`).
     Single {
         recording: PathBuf,
         json: PathBuf,
