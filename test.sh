@@ -19,6 +19,13 @@ bash scripts/test-firmware.sh
 
 echo "== structure: no import circle between the modules of any crate"
 python3 scripts/check-module-cycles.py
+# The driver library stays free of the command line's crates: the HIL tests and the fuzz
+# targets link host alone.
+for tree in "cargo tree -p hil -e normal,build --locked" "cargo tree --manifest-path fuzz/Cargo.toml -e normal,build --locked"; do
+    if $tree | grep -qE ' (clap|ratatui|crossterm) v'; then
+        echo "$tree: links clap, ratatui or crossterm"; exit 1
+    fi
+done
 
 echo "== host workspace: style (rustfmt, clippy, rustdoc), warnings are errors"
 cargo fmt --all -- --check
