@@ -296,7 +296,7 @@ impl<'a> Replayer<'a> {
             path: self.input.clone(),
             why: "no sample frame in the capture".into(),
         })?;
-        rec.flush()?;
+        rec.finish("replay")?;
         self.summary.rows = rec.rows;
         Ok(self.summary)
     }
