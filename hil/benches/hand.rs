@@ -46,7 +46,6 @@ use hil::check::scratch;
 use hil::emu::{EmuConfig, EmuStats, Emulator};
 use hil::procfs::{autogroup_nice, cpu_s, loadavg, own_session, rss_kib, thread_cpu_s};
 use hil::pty::{read_master, Pty};
-use host::device::PortSpec;
 use host::logger::per_sensor_path;
 
 /// The logger's share of one core the hand must stay under (issue #29: 5 %, from 10 %).
@@ -182,20 +181,17 @@ impl Screen {
     }
 }
 
-/// Start `tactile log -p L1 … -p Ln --live -o out -d seconds` on the screen's pty, which
+/// Start `tactile log --hand hand.toml --live -o out -d seconds` on the screen's pty, which
 /// becomes its controlling terminal (the dashboard asks it for its size and reads its keys).
 fn spawn_logger(
     bin: &Path,
-    links: &[PathBuf],
+    hand: &Path,
     out: &Path,
     seconds: f64,
     screen: &Screen,
 ) -> std::io::Result<Child> {
     let mut cmd = Command::new(bin);
-    cmd.arg("log");
-    for l in links {
-        cmd.arg("-p").arg(l);
-    }
+    cmd.arg("log").arg("--hand").arg(hand);
     cmd.args(["--live", "-o"])
         .arg(out)
         .args(["-d", &seconds.to_string()])
@@ -427,8 +423,30 @@ fn account(stats: &EmuStats, t: &Tally) -> Account {
     }
 }
 
+/// Finger `i`'s name in the hand file.
+fn finger(i: usize) -> String {
+    format!("tip{:02}", i + 1)
+}
+
+/// Finger `i`'s crystal error: the sixteen spread over ±100 ppm.
+fn crystal_ppm(i: usize, sensors: usize) -> f64 {
+    -100.0 + 200.0 * i as f64 / (sensors.max(2) - 1) as f64
+}
+
+/// The hand file naming each finger's stable link.
+fn write_hand(dir: &Path, links: &[PathBuf]) -> PathBuf {
+    let mut toml = String::from("[fingers]\n");
+    for (i, l) in links.iter().enumerate() {
+        toml.push_str(&format!("{} = \"{}\"\n", finger(i), l.display()));
+    }
+    let path = dir.join("hand.toml");
+    std::fs::write(&path, toml).expect("write the hand file");
+    path
+}
+
 /// The emulated hand: one emulator per fingertip behind a stable link in `dir`. Their device
-/// clocks are spread over one frame period, as independent sensors' clocks would be.
+/// clocks are spread over one frame period, as independent sensors' clocks would be, their
+/// crystals over ±100 ppm, and each link is jittered as a busy USB bus would.
 fn start_hand(dir: &Path, sensors: usize) -> (Vec<Emulator>, Vec<PathBuf>) {
     let frame = Duration::from_secs_f64(f64::from(BATCH) / f64::from(RATE_HZ));
     let now = SystemTime::now();
@@ -441,6 +459,8 @@ fn start_hand(dir: &Path, sensors: usize) -> (Vec<Emulator>, Vec<PathBuf>) {
         cfg.batch = BATCH;
         cfg.epoch = now - frame.mul_f64(i as f64 / sensors as f64);
         cfg.chip_serial = 0x7AC7_1100 + i as u32;
+        cfg.clock_ppm = crystal_ppm(i, sensors);
+        cfg.jitter = Some((sim::clock::LinkJitter::USB_BUSY, 100 + i as u64));
         emus.push(Emulator::spawn(cfg).expect("start an emulator"));
         links.push(link);
     }
@@ -505,14 +525,14 @@ fn main() -> ExitCode {
     let dir = scratch("hand");
     let out = dir.join("hand.csv");
     let (emus, links) = start_hand(&dir, o.sensors);
-    let csvs: Vec<PathBuf> = links
-        .iter()
-        .map(|l| per_sensor_path(&out, &PortSpec::parse(&l.to_string_lossy()).label(), true))
+    let hand = write_hand(&dir, &links);
+    let csvs: Vec<PathBuf> = (0..links.len())
+        .map(|i| per_sensor_path(&out, &finger(i), true))
         .collect();
     let load_start = loadavg();
     let t0 = Instant::now();
     let screen = Screen::open(o.cols, o.rows, o.stall, t0).expect("a pty for the dashboard");
-    let mut child = spawn_logger(&bin, &links, &out, o.seconds, &screen).expect("start tactile");
+    let mut child = spawn_logger(&bin, &hand, &out, o.seconds, &screen).expect("start tactile");
     let logger_session = autogroup_nice(Some(child.id()), o.nice);
     let (lines, stderr) = collect_stderr(&mut child);
     let w = watch(&mut child, t0, o.seconds, &csvs[0], &screen.bytes);
@@ -585,6 +605,7 @@ fn report(r: &Report<'_>) -> bool {
     let cpu_ok = report_cpu(r);
     let loss_ok = report_loss(r);
     report_memory(r);
+    report_clocks(r);
     println!(
         "machine: 2-core x86_64 here ({} CPUs online); load average {} at the start, {} at the \
          end; emulators (this process) {:.1} % of a core; bench session {}, logger session {}",
@@ -676,6 +697,34 @@ fn report_loss(r: &Report<'_>) -> bool {
     );
     let clean = counters.is_some_and(|c| c.iter().all(|&n| n == 0));
     sum.lost == 0 && gap_rows == 0 && breaks == 0 && sum.recorded > 0 && clean
+}
+
+/// Each finger's clock estimate in the logger's final status line
+/// (` | tipNN: … clock +x.x ppm ±u µs, …`) against its emulator's crystal.
+fn report_clocks(r: &Report<'_>) {
+    let Some(line) = r.lines.iter().rev().find(|l| l.contains(" S/s, ")) else {
+        return;
+    };
+    let (mut worst, mut unc, mut n) = (0.0f64, 0.0f64, 0);
+    for (i, part) in line.split(" | ").skip(1).enumerate() {
+        let Some(at) = part.find("clock ") else {
+            continue;
+        };
+        let mut words = part[at + 6..].split_whitespace();
+        let ppm: Option<f64> = words.next().and_then(|w| w.parse().ok());
+        let u: Option<f64> = words
+            .nth(1)
+            .and_then(|w| w.trim_start_matches('±').parse().ok());
+        if let (Some(ppm), Some(u)) = (ppm, u) {
+            worst = worst.max((ppm - crystal_ppm(i, r.o.sensors)).abs());
+            unc = unc.max(u);
+            n += 1;
+        }
+    }
+    println!(
+        "clock estimates (the logger's final status line): {n} fingers, crystals -100 … +100 ppm; \
+         worst |estimated - true| {worst:.2} ppm; alignment uncertainty up to {unc:.0} µs"
+    );
 }
 
 fn report_memory(r: &Report<'_>) {

@@ -251,15 +251,19 @@ mod tests {
     /// less.
     #[test]
     fn five_minutes_of_a_hand_stay_aligned_within_a_millisecond() {
-        let sim = HandSim {
-            seconds: 300.0,
-            reconnect_at_s: 150.0,
-            ..HandSim::hour()
-        };
-        let r = simulate(&sim);
-        assert!(r.frames > 16 * 29_000, "{r:?}");
-        assert!(r.worst_s < 1e-3, "{r:?}");
-        assert!(r.reconnect_steps_s.iter().all(|s| s.abs() < 1e-3), "{r:?}");
-        assert!(r.worst_ppm_error < 1.0, "{r:?}");
+        for seed in [29, 1, 2, 3] {
+            let sim = HandSim {
+                seconds: 300.0,
+                reconnect_at_s: 150.0,
+                seed,
+                ..HandSim::hour()
+            };
+            let r = simulate(&sim);
+            eprintln!("seed {seed}: {r:?}");
+            assert!(r.frames > 16 * 29_000, "{r:?}");
+            assert!(r.worst_s < 1e-3, "{r:?}");
+            assert!(r.reconnect_steps_s.iter().all(|s| s.abs() < 1e-3), "{r:?}");
+            assert!(r.worst_ppm_error < 1.0, "{r:?}");
+        }
     }
 }

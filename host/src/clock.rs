@@ -33,7 +33,7 @@ pub const SETTLE_S: f64 = 0.5;
 /// Shortest baseline a rate is taken from, device seconds. Each point's delay is the least of
 /// one bucket, a few hundred µs above the true least at worst; over two seconds that is a rate
 /// error of ~100 ppm, no worse than assuming none, and it shrinks as the window grows.
-pub const MIN_BASELINE_S: f64 = 4.0;
+pub const MIN_BASELINE_S: f64 = 2.0;
 /// The device's u32 µs counter wraps after this many seconds.
 const WRAP_S: f64 = 4_294.967_296;
 /// How far below the line a continuing stamp may land (the line's own error) and how far above
@@ -81,8 +81,6 @@ pub struct DeviceClock {
     settle_until: Option<f64>,
     /// The settling frame of least delay: (device s, host s).
     settle_best: Option<(f64, f64)>,
-    /// The line's rate comes from a fit (not the prior of none).
-    rated: bool,
     /// Median height of the window's points above the line: the alignment's uncertainty.
     spread_s: f64,
     /// Sessions whose clock restarted (as opposed to continued).
@@ -108,7 +106,6 @@ impl DeviceClock {
             shift_s: 0.0,
             settle_until: None,
             settle_best: None,
-            rated: false,
             spread_s: f64::NAN,
             restarts: 0,
         }
@@ -140,12 +137,11 @@ impl DeviceClock {
     }
 
     /// Has the current session's offset been settled (its mapped times are to be trusted)?
-    ///
-    /// The first session is settled once its rate is known too: until then the mapping would be
-    /// extrapolated with no rate at all (100 ppm is 0.1 ms a second), so the recorder holds its
-    /// first seconds and maps them afterwards, by interpolation. A later session has the rate.
+    /// (Held at most [`SETTLE_S`], within the logger's one second allowed to a crash. Until the
+    /// window spans [`MIN_BASELINE_S`], the first session maps with no rate: at 100 ppm that is
+    /// 0.1 ms a second, the worst of the simulated hour, in its first seconds.)
     pub fn settled(&self) -> bool {
-        self.settle_until.is_none() && self.rated
+        self.settle_until.is_none()
     }
 
     /// The host time (same origin as `observe`'s) at which the device read `device_s` in the
@@ -252,9 +248,8 @@ impl DeviceClock {
 
     fn refit(&mut self) {
         let prior = self.line.map_or(0.0, |l| l.b);
-        if let Some((l, rated)) = lower_envelope(self.points(), prior) {
+        if let Some((l, _)) = lower_envelope(self.points(), prior) {
             self.line = Some(l);
-            self.rated |= rated;
             let mut above: Vec<f64> = self.points().map(|p| p.y - l.y(p.x)).collect();
             above.sort_by(f64::total_cmp);
             self.spread_s = above[above.len() / 2];

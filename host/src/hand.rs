@@ -54,9 +54,16 @@ pub fn parse(path: &Path, text: &str) -> Result<Vec<Finger>, FileError> {
         bad(line, "fingers", e.message().to_string())
     })?;
     let mut fingers: Vec<(usize, Finger)> = Vec::new();
-    for (name, value) in &file.fingers {
+    // In the order of the file (the table is sorted by name), so that errors and the hand's
+    // order follow what the user wrote.
+    let mut entries: Vec<(usize, &String, &toml::Value)> = file
+        .fingers
+        .iter()
+        .map(|(name, value)| (key_line(text, name), name, value))
+        .collect();
+    entries.sort_by_key(|(line, _, _)| *line);
+    for (line, name, value) in entries {
         let field = format!("fingers.{name}");
-        let line = key_line(text, name);
         if name.is_empty()
             || !name
                 .chars()
@@ -98,8 +105,6 @@ pub fn parse(path: &Path, text: &str) -> Result<Vec<Finger>, FileError> {
         let why = format!("{} fingers; a hand has 1 to {MAX_FINGERS}", fingers.len());
         return Err(bad(key_line(text, "fingers"), "fingers", why));
     }
-    // In the order of the file (the table is sorted by name).
-    fingers.sort_by_key(|(line, _)| *line);
     Ok(fingers.into_iter().map(|(_, f)| f).collect())
 }
 

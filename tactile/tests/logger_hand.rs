@@ -84,8 +84,9 @@ fn a_hand_file_logs_each_finger_on_one_time_base() {
     for (i, name) in ["thumb", "index"].iter().enumerate() {
         let rec = recording::read(&dir.join(format!("rec-{name}.csv"))).unwrap();
         let ppm = meta(&rec, "clock_ppm");
+        // Eight seconds through a pty, jittered, at the emulators' 2 ms tick: within 150 ppm.
         assert!(
-            (ppm - PPM[i]).abs() < 60.0,
+            (ppm - PPM[i]).abs() < 150.0,
             "{name}: {ppm} ppm, truth {}",
             PPM[i]
         );

@@ -12,6 +12,7 @@ pub mod mcap_io;
 mod recorder;
 pub mod reference;
 pub mod replay;
+mod rows;
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};

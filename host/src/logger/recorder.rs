@@ -8,13 +8,13 @@ use std::time::{Instant, SystemTime};
 use protocol::Info;
 
 use super::cdr::CdrWriter;
+use super::rows::RowWriter;
 use super::{
     clock_key, gap_code, metadata, unix_s, FileError, Setup, SharedMcap, EXTRA_COLUMNS,
     FLUSH_EVERY, PENDING,
 };
 use crate::clock::DeviceClock;
 use crate::device::{Event, Frame, Gap, GapKind, Scale};
-use recording::RecordingWriter;
 
 /// Writes one sensor's CSV. Times: `t_s` is the device's stamp mapped onto the host time base
 /// by the device clock's running fit ([`DeviceClock`]): no host jitter, no drift between
@@ -23,7 +23,7 @@ use recording::RecordingWriter;
 /// decreases.
 pub struct Recorder {
     path: PathBuf,
-    csv: RecordingWriter<Box<dyn std::io::Write>>,
+    csv: RowWriter,
     /// The CSV is a file whose clock metadata can be filled in at the end.
     patchable: bool,
     scale: Scale,
@@ -79,7 +79,7 @@ impl Recorder {
     ) -> Result<Self, FileError> {
         let meta = metadata(info, setup, start);
         let with_temp = setup.temp_sensor.is_some();
-        let mut csv = RecordingWriter::new(out, &meta, with_temp, &EXTRA_COLUMNS)
+        let mut csv = RowWriter::new(out, &meta, with_temp, &EXTRA_COLUMNS)
             .map_err(|e| FileError::write(path, e))?;
         csv.flush().map_err(|e| FileError::write(path, e))?;
         Ok(Self {
@@ -92,7 +92,9 @@ impl Recorder {
             start,
             clock: DeviceClock::new(),
             held: Vec::new(),
-            last_t_s: 0.0,
+            // The first sample may precede the origin (replay puts it at the first frame's
+            // receipt, after the sample was taken): t_s is then slightly negative, not clamped.
+            last_t_s: f64::NEG_INFINITY,
             last_flush: Instant::now(),
             mcap: None,
             cdr: CdrWriter::default(),
@@ -156,7 +158,7 @@ impl Recorder {
         extra: &[f64],
     ) -> Result<(), FileError> {
         self.csv
-            .write_row(required, Some(temp_c), extra)
+            .write_row(required, temp_c, extra)
             .map_err(|e| FileError::write(&self.path, e))
     }
 
