@@ -116,3 +116,39 @@ fn a_hand_file_logs_each_finger_on_one_time_base() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A malformed hand file or a finger whose port is missing: one line naming the file, the line
+/// and the field (or the finger), a non-zero exit, and no file created.
+#[test]
+fn a_bad_hand_file_is_one_clear_error() {
+    let dir = scratch("hand-bad");
+    let cases = [
+        (
+            "[fingers]\nthumb = \"/dev/null\"\nring = 3\n",
+            65,
+            ":3: field fingers.ring: expected a port",
+        ),
+        (
+            "[fingers]\nthumb = \"/nonexistent/tip\"\n",
+            66,
+            ": finger thumb: port /nonexistent/tip",
+        ),
+    ];
+    for (text, code, says) in cases {
+        let hand = dir.join("hand.toml");
+        std::fs::write(&hand, text).unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_tactile"))
+            .args(["log", "-q", "--hand"])
+            .arg(&hand)
+            .arg("-o")
+            .arg(dir.join("rec.csv"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(code), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains("hand.toml") && err.contains(says), "{err}");
+        assert!(!dir.join("rec-thumb.csv").exists() && !dir.join("rec.mcap").exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
