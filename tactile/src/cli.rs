@@ -61,6 +61,28 @@ pub fn report(err: &anyhow::Error) -> ExitCode {
     ExitCode::from(code)
 }
 
+impl Command {
+    /// Run the subcommand.
+    pub fn run(self) -> anyhow::Result<()> {
+        match self {
+            Self::List(a) => cmd::list::run(a),
+            Self::Info(a) => cmd::info::run(a),
+            Self::Log(a) => cmd::log::run(a),
+            Self::Tare(a) => cmd::tare::run(a),
+            Self::Config(a) => cmd::config::run(a),
+            Self::Replay(a) => cmd::replay::run(a),
+            Self::Plot(a) => cmd::plot::run(a),
+            Self::Chip(a) => cmd::chip::run(a),
+            Self::Fe(a) => cmd::fe::run(a),
+            Self::Observations(a) => cmd::observations::run(a),
+            Self::Simulate(a) => cmd::simulate::run(a),
+            Self::Diagnose(a) => cmd::diagnose::run(a),
+            Self::Prove(a) => cmd::prove::run(a),
+            Self::Import(a) => cmd::import::run(a),
+        }
+    }
+}
+
 /// Print a clap outcome: `--help` and `--version` go to stdout with success; a bad flag or value
 /// goes to stderr with [`sysexit::USAGE`], like every other error of ours, not clap's own 2.
 pub fn report_usage(err: &clap::Error) -> ExitCode {

@@ -9,7 +9,7 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(err) => return tactile::cli::report_usage(&err),
     };
-    match tactile::cmd::run(cli.command) {
+    match cli.command.run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => tactile::cli::report(&err),
     }
