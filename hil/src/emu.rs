@@ -11,6 +11,11 @@
 //! as fast as the pty takes them (device time still follows the sequence), for studies that
 //! need a million frames in less than an hour.
 //!
+//! [`EmuConfig::clock_ppm`] makes the device's crystal run fast or slow (frames come due by the
+//! device's clock, so a fast device sends more of them per true second, each stamped with its
+//! own time), and [`EmuConfig::jitter`] holds every sample frame back by a draw of a one-sided
+//! link delay: the truth of both is known, so the host's clock estimate can be checked.
+//!
 //! With [`EmuConfig::faults`] the device's output passes `sim::link::FaultyLink` on its way to
 //! the pty, so the host driver reads a damaged stream, and [`EmuStats::injected`] holds the
 //! link's exact account of what it did.
@@ -30,6 +35,7 @@ use protocol::{
     opcode, Accumulator, Command, FilterConfig, Info, Message, NackCode, NullState, Outcome, Reply,
     Request, Sample, SampleFrame, Status,
 };
+use sim::clock::LinkJitter;
 use sim::link::{FaultRates, FaultyLink, Injected};
 
 use crate::pty::relink;
@@ -72,6 +78,10 @@ pub struct EmuConfig {
     pub cut_mid_frame_after: Option<Duration>,
     pub pace: Pace,
     pub faults: Option<EmuFaults>,
+    /// The device crystal's error, ppm (positive: its clock runs fast against true time).
+    pub clock_ppm: f64,
+    /// Each sample frame is delayed by a draw of this (seeded) delay before the pty sees it.
+    pub jitter: Option<(LinkJitter, u64)>,
 }
 
 impl EmuConfig {
@@ -86,6 +96,8 @@ impl EmuConfig {
             cut_mid_frame_after: None,
             pace: Pace::RealTime,
             faults: None,
+            clock_ppm: 0.0,
+            jitter: None,
         }
     }
 }
@@ -272,11 +284,15 @@ struct Device {
     /// Stalls the link asked for: (after this many bytes written, for this long).
     stalls: VecDeque<(u64, Duration)>,
     quiet_until: Option<Instant>,
+    /// Sample frames on their way through the jittered link: (when the pty gets it, bytes).
+    in_flight: VecDeque<(SystemTime, Vec<u8>)>,
+    jitter_rng: rand_chacha::ChaCha8Rng,
 }
 
 impl Device {
     fn new(cfg: EmuConfig, port: File, stats: Arc<EmuStats>) -> Self {
         let info = info_for(&cfg);
+        let cfg_seed = cfg.jitter.map_or(0, |(_, seed)| seed);
         let streaming = cfg.autostart;
         Self {
             cfg,
@@ -292,6 +308,8 @@ impl Device {
             written: 0,
             stalls: VecDeque::new(),
             quiet_until: None,
+            in_flight: VecDeque::new(),
+            jitter_rng: sim::clock::rng(cfg_seed),
         }
     }
 
@@ -312,6 +330,7 @@ impl Device {
                 }
             }
             self.produce();
+            self.arrive();
             self.drain();
             self.wait();
         }
@@ -348,12 +367,27 @@ impl Device {
         self.port.write_all(&wire[..wire.len() / 2])
     }
 
+    /// Frames due by now: the device's clock reads `(1 + ppm·1e-6)·t` at true time `t`.
     fn due_seq(&self) -> u64 {
         let elapsed = SystemTime::now()
             .duration_since(self.cfg.epoch)
             .unwrap_or_default();
-        let frame_s = f64::from(self.cfg.batch) / f64::from(self.cfg.rate_hz);
-        (elapsed.as_secs_f64() / frame_s) as u64
+        let device_s = elapsed.as_secs_f64() * (1.0 + self.cfg.clock_ppm * 1e-6);
+        (device_s / self.frame_s()) as u64
+    }
+
+    fn frame_s(&self) -> f64 {
+        f64::from(self.cfg.batch) / f64::from(self.cfg.rate_hz)
+    }
+
+    /// Frames whose link delay has passed go to the pty, in order (a serial link is FIFO).
+    fn arrive(&mut self) {
+        let now = SystemTime::now();
+        while self.in_flight.front().is_some_and(|(at, _)| *at <= now) {
+            if let Some((_, bytes)) = self.in_flight.pop_front() {
+                self.queue(&bytes);
+            }
+        }
     }
 
     fn status(&self) -> Status {
@@ -411,7 +445,18 @@ impl Device {
         }
         let f = truth_frame(seq as u32, self.cfg.batch, self.cfg.rate_hz, self.status());
         if let Ok(w) = protocol::encode_vec(&Message::Sample(f)) {
-            self.queue(&w);
+            match self.cfg.jitter {
+                Some((j, _)) if self.cfg.pace == Pace::RealTime => {
+                    // Sent when the device's clock reached the frame's end, delayed by the link.
+                    let device_s = (seq + 1) as f64 * self.frame_s();
+                    let true_s = device_s / (1.0 + self.cfg.clock_ppm * 1e-6);
+                    let at = self.cfg.epoch
+                        + Duration::from_secs_f64(true_s + j.draw(&mut self.jitter_rng));
+                    let at = self.in_flight.back().map_or(at, |(last, _)| at.max(*last));
+                    self.in_flight.push_back((at, w));
+                }
+                _ => self.queue(&w),
+            }
         }
         self.stats.frames_sent.fetch_add(1, Ordering::Relaxed);
         let _ = self.stats.first_seq_plus_one.compare_exchange(

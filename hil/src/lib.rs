@@ -6,6 +6,7 @@
 
 pub mod check;
 pub mod emu;
+pub mod hand_clock;
 pub mod native;
 pub mod procfs;
 pub mod pty;

@@ -8,6 +8,8 @@
 //! ([`sysexit::ExitStatus`]).
 
 pub mod calibration;
+pub mod clock;
 pub mod decode;
 pub mod device;
+pub mod hand;
 pub mod logger;

@@ -3,6 +3,8 @@
 #![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 #[cfg(feature = "std")]
+pub mod clock;
+#[cfg(feature = "std")]
 pub mod link;
 
 pub mod ads131m04;

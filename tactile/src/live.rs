@@ -1,6 +1,8 @@
-//! The live terminal dashboard of `tactile log --live`: per sensor the current Fz, Mx, My and
-//! bridge volts, a sparkline of each over the last seconds, the measured sample rate, and every
-//! counter of damage (lost, dropped, CRC errors, resyncs, reconnects), with the link state.
+//! The live terminal dashboard of `tactile log --live`: the hand as a grid of fingers, each with
+//! its current Fz, Mx, My, a sparkline of each over the last seconds, and its status: the
+//! measured sample rate, the samples lost, its clock's rate error against the host (ppm) and
+//! the alignment's uncertainty, and every other counter of damage (dropped, CRC errors,
+//! reconnects) with the last gap.
 
 use std::collections::VecDeque;
 use std::io::{BufWriter, Stdout};
@@ -38,6 +40,8 @@ pub struct SensorView {
     arrivals: VecDeque<(Instant, usize)>,
     last_point: Option<Instant>,
     pub last_gap: Option<String>,
+    /// The device clock against the host's: ppm, and the alignment's uncertainty in µs.
+    pub clock: (f64, f64),
 }
 
 impl SensorView {
@@ -52,6 +56,7 @@ impl SensorView {
             arrivals: VecDeque::new(),
             last_point: None,
             last_gap: None,
+            clock: (f64::NAN, f64::NAN),
         }
     }
 
@@ -139,8 +144,9 @@ impl SensorView {
     }
 }
 
-/// How often the screen is redrawn at most.
-const REFRESH_EVERY: Duration = Duration::from_millis(100);
+/// How often the screen is redrawn at most: five times a second, as often as a person reads a
+/// number (a sixteen-finger screen at ten a second took 3.5 % of a core, issue #29).
+const REFRESH_EVERY: Duration = Duration::from_millis(200);
 /// How often the screen thread looks at the keyboard between refreshes.
 const KEY_POLL: Duration = Duration::from_millis(50);
 /// Bytes of screen output gathered before a write (a full refresh of a large terminal fits).
@@ -294,13 +300,10 @@ fn screen_loop(
 }
 
 fn render(f: &mut TermFrame<'_>, s: &Snapshot) {
-    let (views, counters) = (&s.views, &s.counters);
     let area = f.area();
-    let mut constraints = vec![Constraint::Length(1)];
-    constraints.extend(views.iter().map(|_| Constraint::Min(9)));
     let rows = Layout::default()
         .direction(Direction::Vertical)
-        .constraints(constraints)
+        .constraints([Constraint::Length(1), Constraint::Min(0)])
         .split(area);
     let mut title = format!(" tactile log — {:.1} s — q quits ", s.elapsed.as_secs_f64());
     if s.skipped > 0 {
@@ -310,84 +313,103 @@ fn render(f: &mut TermFrame<'_>, s: &Snapshot) {
         ));
     }
     f.render_widget(Paragraph::new(title).bold(), rows[0]);
-    for (i, (v, c)) in views.iter().zip(counters).enumerate() {
-        render_sensor(f, rows[i + 1], v, c);
+    for (cell, (v, c)) in grid(rows[1], s.views.len())
+        .into_iter()
+        .zip(s.views.iter().zip(&s.counters))
+    {
+        render_finger(f, cell, v, c);
     }
 }
 
-/// Rate, frames and every loss counter, red where it is not zero.
-fn stats_line(v: &SensorView, c: &Counters) -> Line<'static> {
-    let bad = |n: u64| {
-        if n > 0 {
-            Style::default().fg(Color::Red)
-        } else {
-            Style::default().fg(Color::Green)
-        }
-    };
-    Line::from(vec![
-        Span::raw(format!(
-            "rate {:6.0}/{} S/s  frames {}  ",
-            v.rate_hz(),
-            v.nominal_rate_hz,
-            c.frames
-        )),
-        Span::styled(format!("lost {}  ", c.lost_on_link), bad(c.lost_on_link)),
-        Span::styled(
-            format!("dropped {}  ", c.dropped_by_device),
-            bad(c.dropped_by_device),
-        ),
-        Span::styled(format!("crc {}  ", c.crc_errors), bad(c.crc_errors)),
-        Span::styled(
-            format!("resyncs {}  reconnects {}  ", c.resyncs, c.reconnects),
-            bad(c.reconnects),
-        ),
-        Span::raw(
-            v.last_gap
-                .clone()
-                .map(|g| format!("last gap: {g}"))
-                .unwrap_or_default(),
-        ),
-    ])
+/// `n` cells in a grid as square as the area's shape allows (a terminal cell is about twice as
+/// tall as wide, and a finger's panel wants about three times its height in width).
+fn grid(area: Rect, n: usize) -> Vec<Rect> {
+    if n == 0 {
+        return Vec::new();
+    }
+    let aspect = f64::from(area.width) / (3.0 * f64::from(area.height.max(1)));
+    let cols = ((n as f64 * aspect).sqrt().round() as usize).clamp(1, n);
+    let rows = n.div_ceil(cols);
+    let row_areas = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints(vec![Constraint::Ratio(1, rows as u32); rows])
+        .split(area);
+    let mut cells = Vec::with_capacity(n);
+    for r in row_areas.iter() {
+        let cs = Layout::default()
+            .direction(Direction::Horizontal)
+            .constraints(vec![Constraint::Ratio(1, cols as u32); cols])
+            .split(*r);
+        cells.extend(cs.iter().copied());
+    }
+    cells.truncate(n);
+    cells
 }
 
-fn render_sensor(f: &mut TermFrame<'_>, area: Rect, v: &SensorView, c: &Counters) {
+fn colour(bad: bool) -> Style {
+    Style::default().fg(if bad { Color::Red } else { Color::Green })
+}
+
+/// The finger's status: rate, lost, clock; then the other counters and the last gap.
+fn status_lines(v: &SensorView, c: &Counters) -> [Line<'static>; 2] {
+    let (ppm, unc_us) = v.clock;
+    let slow = v.rate_hz() < 0.9 * f64::from(v.nominal_rate_hz);
+    let status = Line::from(vec![
+        Span::styled(format!("{:.0} S/s ", v.rate_hz()), colour(slow)),
+        Span::styled(
+            format!("lost {} ", c.lost_on_link),
+            colour(c.lost_on_link > 0),
+        ),
+        Span::raw(format!("clock {ppm:+.1} ppm ±{unc_us:.0} µs")),
+    ]);
+    let damage = c.dropped_by_device + c.crc_errors + c.reconnects + c.host_queue_drops;
+    let more = Line::from(vec![
+        Span::styled(
+            format!(
+                "dropped {} crc {} reconn {} queue {} ",
+                c.dropped_by_device, c.crc_errors, c.reconnects, c.host_queue_drops
+            ),
+            colour(damage > 0),
+        ),
+        Span::raw(v.last_gap.clone().unwrap_or_default()),
+    ]);
+    [status, more]
+}
+
+fn render_finger(f: &mut TermFrame<'_>, area: Rect, v: &SensorView, c: &Counters) {
     let block = Block::default()
         .borders(Borders::ALL)
-        .title(format!(" {} ", v.label));
+        .title(format!(" {} ", v.label).bold());
     let inner = block.inner(area);
     f.render_widget(block, area);
     let parts = Layout::default()
         .direction(Direction::Vertical)
-        .constraints([Constraint::Length(2), Constraint::Min(3)])
+        .constraints([Constraint::Length(4), Constraint::Min(0)])
         .split(inner);
-    let values = Line::from(vec![
-        Span::raw(format!(
-            "Fz {:+9.3} N   Mx {:+9.5} N·m   My {:+9.5} N·m   ",
-            v.loads[0], v.loads[1], v.loads[2]
-        )),
-        Span::raw(format!(
-            "({:+.5} {:+.5} {:+.5} V)",
-            v.volts[0], v.volts[1], v.volts[2]
-        )),
-    ]);
-    f.render_widget(Paragraph::new(vec![values, stats_line(v, c)]), parts[0]);
+    let values = Line::from(format!(
+        "Fz {:+8.3} N  Mx {:+8.5}  My {:+8.5} N·m",
+        v.loads[0], v.loads[1], v.loads[2]
+    ));
+    let volts = Line::from(format!(
+        "   {:+.5} {:+.5} {:+.5} V",
+        v.volts[0], v.volts[1], v.volts[2]
+    ));
+    let [status, more] = status_lines(v, c);
+    f.render_widget(Paragraph::new(vec![values, volts, status, more]), parts[0]);
+    if parts[1].height < 3 {
+        return; // no room for the sparklines: the numbers are what matters
+    }
     let sparks = Layout::default()
         .direction(Direction::Horizontal)
         .constraints([Constraint::Ratio(1, 3); 3])
         .split(parts[1]);
-    let names = ["Fz [N]", "Mx [N·m]", "My [N·m]"];
+    let names = ["Fz", "Mx", "My"];
     let colors = [Color::Cyan, Color::Yellow, Color::Magenta];
     for i in 0..3 {
         // The sparkline draws from the left: keep the newest points that fit.
         let fit = usize::from(sparks[i].width.saturating_sub(2));
         let (data, lo, hi) = v.spark(i, fit);
-        let title = format!(
-            " {} {:.4} … {:.4}, last {:.0} s ",
-            names[i],
-            lo,
-            hi,
-            data.len() as f64 * POINT_EVERY.as_secs_f64()
-        );
+        let title = format!(" {} {:.3}…{:.3} ", names[i], lo, hi);
         let w = Sparkline::default()
             .block(Block::default().borders(Borders::ALL).title(title))
             .data(&data)

@@ -4,11 +4,14 @@
 //! tactile-emu --link /tmp/tactile0 [--rate 1000] [--batch 10] [--autostart]
 //!             [--epoch-unix SECONDS] [--cut-after SECONDS] [--run-for SECONDS]
 //!             [--free-run FRAMES] [--fault-rate PER_FRAME] [--fault-seed N]
+//!             [--ppm PPM] [--jitter-seed N]
 //! ```
 //! Prints the pty path and the link, then runs until killed (or `--run-for` / `--cut-after`).
 //! `--free-run` streams that many frames as fast as the pty takes them; `--fault-rate` passes
 //! the frames (all but 16 at each end) through `sim::link::FaultyLink` with every fault at that
-//! rate, and prints the link's account at the end of `--run-for`.
+//! rate, and prints the link's account at the end of `--run-for`. `--ppm` sets the crystal's
+//! error; `--jitter-seed` delays each frame by a draw of a busy USB link's delay
+//! (`sim::clock::LinkJitter::USB_BUSY`).
 
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
@@ -32,6 +35,17 @@ fn value<T: std::str::FromStr>(
 ) -> Result<T, String> {
     let v = args.next().ok_or_else(|| format!("{flag} needs a value"))?;
     v.parse().map_err(|_| format!("{flag}: cannot read {v:?}"))
+}
+
+/// The configuration's values a device could have.
+fn check(cfg: &EmuConfig) -> Result<(), String> {
+    if !cfg.clock_ppm.is_finite() || cfg.clock_ppm.abs() >= 1e5 {
+        return Err(format!("--ppm: {} is not a crystal error", cfg.clock_ppm));
+    }
+    if cfg.rate_hz == 0 || !(1..=16).contains(&cfg.batch) {
+        return Err("--rate must be > 0 and --batch in 1..=16".into());
+    }
+    Ok(())
 }
 
 fn run() -> Result<(), String> {
@@ -59,16 +73,18 @@ fn run() -> Result<(), String> {
             }
             "--fault-rate" => fault_rate = Some(value::<f64>(&mut args, &a)?),
             "--fault-seed" => fault_seed = value(&mut args, &a)?,
+            "--ppm" => cfg.clock_ppm = value(&mut args, &a)?,
+            "--jitter-seed" => {
+                cfg.jitter = Some((sim::clock::LinkJitter::USB_BUSY, value(&mut args, &a)?))
+            }
             "-h" | "--help" => {
-                println!("usage: tactile-emu --link PATH [--rate HZ] [--batch N] [--autostart] [--epoch-unix S] [--cut-after S] [--run-for S] [--free-run FRAMES] [--fault-rate R] [--fault-seed N]");
+                println!("usage: tactile-emu --link PATH [--rate HZ] [--batch N] [--autostart] [--epoch-unix S] [--cut-after S] [--run-for S] [--free-run FRAMES] [--fault-rate R] [--fault-seed N] [--ppm PPM] [--jitter-seed N]");
                 return Ok(());
             }
             other => return Err(format!("unknown argument {other:?}")),
         }
     }
-    if cfg.rate_hz == 0 || !(1..=16).contains(&cfg.batch) {
-        return Err("--rate must be > 0 and --batch in 1..=16".into());
-    }
+    check(&cfg)?;
     if let Some(rate) = fault_rate {
         if !(0.0..=1.0).contains(&rate) {
             return Err(format!(

@@ -48,6 +48,8 @@ pub(super) struct Io {
     damaged: bool,
     queue_drops_pending: u64,
     shutdown: bool,
+    /// State of the draw in [`Io::coalesce`].
+    rand: u64,
 }
 
 fn add(c: &AtomicU64, n: u64) {
@@ -82,6 +84,7 @@ impl Io {
             damaged: false,
             queue_drops_pending: 0,
             shutdown: false,
+            rand: 0x9E37_79B9_7F4A_7C15 ^ u64::from(std::process::id()),
         };
         // A lone delimiter ends whatever the device's receiver holds, so our first request is clean.
         io.write(&[0]);
@@ -106,6 +109,7 @@ impl Io {
                     add(&self.shared.counters.bytes, n as u64);
                     let now = SystemTime::now();
                     decoder.feed(&buf[..n], |j| self.on_frame(j, now));
+                    self.coalesce();
                 }
                 Some(Err(e)) if is_transient(&e) => {}
                 Some(Err(_)) | None => self.lost(),
@@ -116,6 +120,23 @@ impl Io {
         if self.link.is_some() && self.streaming {
             let _ = self.send_raw(Command::Stop, 0);
         }
+    }
+
+    /// While streaming with no command waiting, let frames gather before the next read, so one
+    /// wake takes several frames instead of one each. The pause is drawn uniformly from
+    /// `0..2·coalesce`: a fixed one would lock to the frame period, and the frames read just
+    /// after they arrived (the clock fit's minimum-delay points, [`crate::clock`]) would be those of one
+    /// phase only; a random one reads some frame soon after its arrival in every second.
+    fn coalesce(&mut self) {
+        if !self.streaming || !self.inflight.is_empty() || self.opts.coalesce.is_zero() {
+            return;
+        }
+        // xorshift64: a cheap uniform draw; no statistics hang on its quality.
+        self.rand ^= self.rand << 13;
+        self.rand ^= self.rand >> 7;
+        self.rand ^= self.rand << 17;
+        let u = (self.rand >> 11) as f64 / (1u64 << 53) as f64;
+        std::thread::sleep(self.opts.coalesce.mul_f64(2.0 * u));
     }
 
     fn poll_control(&mut self) {

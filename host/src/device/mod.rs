@@ -38,6 +38,9 @@ pub struct OpenOptions {
     pub retries: u32,
     /// Events buffered between the I/O thread and the reader.
     pub queue: usize,
+    /// Mean pause after a read while streaming, so that one wake reads several frames (zero:
+    /// read every frame as it comes). See `Io::coalesce`.
+    pub coalesce: Duration,
 }
 
 impl Default for OpenOptions {
@@ -48,6 +51,7 @@ impl Default for OpenOptions {
             command_timeout: Duration::from_millis(300),
             retries: 3,
             queue: 16_384,
+            coalesce: Duration::from_millis(10),
         }
     }
 }

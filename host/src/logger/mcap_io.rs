@@ -1,6 +1,7 @@
 //! The MCAP side of a recording: every received frame as raw wire bytes (re-decodable by
-//! `tactile replay`), every sample decoded to JSON with both timestamps (plots directly in
-//! Foxglove), gaps and info frames. Chunks are uncompressed and closed at every flush, so a
+//! `tactile replay`), every sample decoded with its times (CDR messages of a `ros2msg` schema
+//! declared in the file, [`super::cdr`]: plots directly in Foxglove), gaps and info frames.
+//! Log times are the host time base of all fingers ([`crate::clock`]). Chunks are uncompressed and closed at every flush, so a
 //! killed logger leaves complete chunks that [`recover`] reads back.
 
 use std::collections::BTreeMap;
@@ -12,22 +13,10 @@ use std::time::Instant;
 
 use mcap::records::MessageHeader;
 
-use super::{FileError, FLUSH_EVERY};
+use super::{cdr, FileError, FLUSH_EVERY};
 
 /// Encoding label of the raw topic: COBS frames of protocol/SPEC.md without delimiter.
 pub const RAW_ENCODING: &str = "tactile-cobs-v1";
-
-const SAMPLE_SCHEMA: &str = r#"{"type":"object","title":"tactile.Sample","properties":{
-"t_s":{"type":"number","description":"s since the start of the recording"},
-"t_device_s":{"type":"number","description":"device clock, s, unwrapped"},
-"t_host_s":{"type":"number","description":"host receive time of the frame, Unix s"},
-"seq":{"type":"integer"},"session":{"type":"integer"},
-"fz_V":{"type":"number"},"mx_V":{"type":"number"},"my_V":{"type":"number"},
-"fz_N":{"type":"number"},"mx_Nm":{"type":"number"},"my_Nm":{"type":"number"},
-"temp_code":{"type":"integer"},"saturated":{"type":"integer"}}}"#;
-
-const GAP_SCHEMA: &str = r#"{"type":"object","title":"tactile.Gap","properties":{
-"t_s":{"type":"number"},"kind":{"type":"string"},"missing":{"type":"integer"},"session":{"type":"integer"}}}"#;
 
 /// Channel ids of one sensor.
 #[derive(Debug, Clone, Copy)]
@@ -62,10 +51,18 @@ impl McapSink {
             .disable_seeking(true);
         let mut w = opts.create(BufWriter::new(file)).map_err(err)?;
         let sample_schema = w
-            .add_schema("tactile.Sample", "jsonschema", SAMPLE_SCHEMA.as_bytes())
+            .add_schema(
+                cdr::SAMPLE_NAME,
+                cdr::SCHEMA_ENCODING,
+                cdr::SAMPLE_SCHEMA.as_bytes(),
+            )
             .map_err(err)?;
         let gap_schema = w
-            .add_schema("tactile.Gap", "jsonschema", GAP_SCHEMA.as_bytes())
+            .add_schema(
+                cdr::GAP_NAME,
+                cdr::SCHEMA_ENCODING,
+                cdr::GAP_SCHEMA.as_bytes(),
+            )
             .map_err(err)?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -98,11 +95,21 @@ impl McapSink {
             .map_err(|e| self.err(e))?;
         let sample = self
             .w
-            .add_channel(self.sample_schema, &format!("{base}/sample"), "json", &md)
+            .add_channel(
+                self.sample_schema,
+                &format!("{base}/sample"),
+                cdr::MESSAGE_ENCODING,
+                &md,
+            )
             .map_err(|e| self.err(e))?;
         let gap = self
             .w
-            .add_channel(self.gap_schema, &format!("{base}/gap"), "json", &md)
+            .add_channel(
+                self.gap_schema,
+                &format!("{base}/gap"),
+                cdr::MESSAGE_ENCODING,
+                &md,
+            )
             .map_err(|e| self.err(e))?;
         Ok(SensorChannels { raw, sample, gap })
     }
@@ -125,6 +132,16 @@ impl McapSink {
         self.w
             .write_to_known_channel(&header, data)
             .map_err(|e| self.err(e))
+    }
+
+    /// A metadata record `name` (e.g. one finger's clock estimate at the end of the run).
+    pub fn metadata(&mut self, name: &str, pairs: &[(String, String)]) -> Result<(), FileError> {
+        let metadata = pairs.iter().cloned().collect();
+        let m = mcap::records::Metadata {
+            name: name.to_string(),
+            metadata,
+        };
+        self.w.write_metadata(&m).map_err(|e| self.err(e))
     }
 
     /// Close the current chunk and push it to the file.

@@ -7,10 +7,12 @@
 //! every flush, so a killed logger leaves a file whose complete chunks [`mcap_io::recover`]
 //! reads without the summary section it never wrote.
 
+pub mod cdr;
 pub mod mcap_io;
 mod recorder;
 pub mod reference;
 pub mod replay;
+mod rows;
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
@@ -189,6 +191,10 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
             f.butterworth_order.to_string(),
         ),
         ("firmware_cutoff_hz", decimal(f.cutoff_hz).to_string()),
+        (clock_key::TIME_BASE, clock_key::TIME_BASE_VALUE.to_string()),
+        (clock_key::PPM, PENDING.to_string()),
+        (clock_key::UNCERTAINTY, PENDING.to_string()),
+        (clock_key::RESTARTS, PENDING.to_string()),
     ];
     Meta {
         sample_rate_hz: f64::from(info.sample_rate_hz),
@@ -202,6 +208,36 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
         rod_speed_mm_per_min: setup.rod_speed_mm_per_min,
         source: Some(setup.source.clone()),
         other: other.map(|(k, v)| (k.to_string(), v)).to_vec(),
+    }
+}
+
+/// Placeholder of a metadata value only known at the end of the run: padded so that the final
+/// value overwrites it in place (the rows after it are already written).
+pub const PENDING: &str = "pending                 ";
+
+/// This project's metadata keys for the time base (the format keeps unknown keys).
+pub mod clock_key {
+    use crate::clock::DeviceClock;
+
+    pub const TIME_BASE: &str = "time_base";
+    pub const TIME_BASE_VALUE: &str = "host clock; device stamps mapped by a lower-envelope fit";
+    /// The device clock's rate error against the host's, ppm, at the end of the run.
+    pub const PPM: &str = "clock_ppm";
+    /// The alignment's uncertainty, µs (median height of minimum-delay points above the fit).
+    pub const UNCERTAINTY: &str = "clock_uncertainty_us";
+    /// Sessions whose device clock restarted (placed on the time base by the fitted rate).
+    pub const RESTARTS: &str = "clock_restarts";
+
+    /// The clock's final values under these keys.
+    pub fn pairs(c: &DeviceClock) -> Vec<(String, String)> {
+        vec![
+            (PPM.into(), format!("{:.3}", c.ppm())),
+            (
+                UNCERTAINTY.into(),
+                format!("{:.1}", c.uncertainty_s() * 1e6),
+            ),
+            (RESTARTS.into(), c.restarts.to_string()),
+        ]
     }
 }
 

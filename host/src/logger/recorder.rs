@@ -1,31 +1,41 @@
 //! One sensor's recording CSV (and its share of the MCAP file), fed by the driver's events.
 
-use std::fmt::Write as _;
 use std::fs::File;
+use std::io::{Read as _, Seek as _, Write as _};
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};
 
 use protocol::Info;
 
-use super::{gap_code, metadata, unix_s, FileError, Setup, SharedMcap, EXTRA_COLUMNS, FLUSH_EVERY};
+use super::cdr::CdrWriter;
+use super::rows::RowWriter;
+use super::{
+    clock_key, gap_code, metadata, unix_s, FileError, Setup, SharedMcap, EXTRA_COLUMNS,
+    FLUSH_EVERY, PENDING,
+};
+use crate::clock::DeviceClock;
 use crate::device::{Event, Frame, Gap, GapKind, Scale};
-use recording::RecordingWriter;
 
-/// Writes one sensor's CSV. Times: within a connection session `t_s` follows the device clock
-/// (no host jitter); each session is anchored to the host clock at its first frame, and `t_s`
-/// never decreases.
+/// Writes one sensor's CSV. Times: `t_s` is the device's stamp mapped onto the host time base
+/// by the device clock's running fit ([`DeviceClock`]): no host jitter, no drift between
+/// sensors, and one origin (`start`) for every sensor of a run. The first frames of each
+/// session are held back until the session's offset is settled, then written; `t_s` never
+/// decreases.
 pub struct Recorder {
     path: PathBuf,
-    csv: RecordingWriter<Box<dyn std::io::Write>>,
+    csv: RowWriter,
+    /// The CSV is a file whose clock metadata can be filled in at the end.
+    patchable: bool,
     scale: Scale,
     temp_sensor: Option<sim::frontend::TempSensor>,
     rate_hz: f64,
     start: SystemTime,
-    anchor: Option<(u32, f64)>,
+    clock: DeviceClock,
+    held: Vec<Frame>,
     last_t_s: f64,
     last_flush: Instant,
     mcap: Option<SharedMcap>,
-    json: String,
+    cdr: CdrWriter,
     pub rows: u64,
 }
 
@@ -54,7 +64,9 @@ impl Recorder {
         start: SystemTime,
     ) -> Result<Self, FileError> {
         let file = File::create(path).map_err(|e| FileError::write(path, e))?;
-        Self::create_on(Box::new(file), path, info, setup, start)
+        let mut r = Self::create_on(Box::new(file), path, info, setup, start)?;
+        r.patchable = true;
+        Ok(r)
     }
 
     /// Write to `out` (e.g. stdout); `path` names it in messages.
@@ -67,21 +79,25 @@ impl Recorder {
     ) -> Result<Self, FileError> {
         let meta = metadata(info, setup, start);
         let with_temp = setup.temp_sensor.is_some();
-        let mut csv = RecordingWriter::new(out, &meta, with_temp, &EXTRA_COLUMNS)
+        let mut csv = RowWriter::new(out, &meta, with_temp, &EXTRA_COLUMNS)
             .map_err(|e| FileError::write(path, e))?;
         csv.flush().map_err(|e| FileError::write(path, e))?;
         Ok(Self {
             path: path.to_path_buf(),
             csv,
+            patchable: false,
             scale: Scale::from_info(info),
             temp_sensor: setup.temp_sensor,
             rate_hz: f64::from(info.sample_rate_hz.max(1)),
             start,
-            anchor: None,
-            last_t_s: 0.0,
+            clock: DeviceClock::new(),
+            held: Vec::new(),
+            // The first sample may precede the origin (replay puts it at the first frame's
+            // receipt, after the sample was taken): t_s is then slightly negative, not clamped.
+            last_t_s: f64::NEG_INFINITY,
             last_flush: Instant::now(),
             mcap: None,
-            json: String::new(),
+            cdr: CdrWriter::default(),
             rows: 0,
         })
     }
@@ -99,6 +115,11 @@ impl Recorder {
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// This device's clock against the host's.
+    pub fn clock(&self) -> &DeviceClock {
+        &self.clock
     }
 
     pub fn on_event(&mut self, ev: &Event) -> Result<(), FileError> {
@@ -137,25 +158,46 @@ impl Recorder {
         extra: &[f64],
     ) -> Result<(), FileError> {
         self.csv
-            .write_row(required, Some(temp_c), extra)
+            .write_row(required, temp_c, extra)
             .map_err(|e| FileError::write(&self.path, e))
     }
 
     fn on_frame(&mut self, f: &Frame) -> Result<(), FileError> {
+        // Held frames of an unsettled session are written with what is known before the next
+        // session moves the clock's axis.
+        if self.held.first().is_some_and(|h| h.session != f.session) {
+            self.release()?;
+        }
         let t_dev0_s = f.t_device_us as f64 * 1e-6;
-        let anchor = match self.anchor {
-            Some((session, a)) if session == f.session => a,
-            _ => {
-                let a = self.host_s(f.host_time) - t_dev0_s;
-                self.anchor = Some((f.session, a));
-                a
-            }
-        };
+        let host_s = self.host_s(f.host_time);
+        self.clock.observe(f.session, t_dev0_s, host_s);
+        if !self.clock.settled() {
+            self.held.push(f.clone());
+            return Ok(());
+        }
+        self.release()?;
+        self.write_frame(f)?;
+        self.maybe_flush()
+    }
+
+    /// Write the frames held while their session settled.
+    fn release(&mut self) -> Result<(), FileError> {
+        for f in std::mem::take(&mut self.held) {
+            self.write_frame(&f)?;
+        }
+        Ok(())
+    }
+
+    /// The frame's rows, its raw bytes and its samples to the files, on the time base.
+    fn write_frame(&mut self, f: &Frame) -> Result<(), FileError> {
+        let t_dev0_s = f.t_device_us as f64 * 1e-6;
+        let host_s = self.host_s(f.host_time);
         let t_host = unix_s(f.host_time);
         let start = unix_s(self.start);
+        let base = |c: &DeviceClock, t_dev: f64| c.host_s(t_dev).unwrap_or(host_s);
         if let Some((m, ch)) = &self.mcap {
-            m.borrow_mut()
-                .write(ch.raw, ns(start + anchor + t_dev0_s), ns(t_host), &f.raw)?;
+            let t = ns(start + base(&self.clock, t_dev0_s));
+            m.borrow_mut().write(ch.raw, t, ns(t_host), &f.raw)?;
         }
         let temp_c = self.temp_c(f.frame.temp);
         let mut extra = [f64::NAN; EXTRA_COLUMNS.len()];
@@ -166,11 +208,9 @@ impl Recorder {
         extra[col::MISSING] = 0.0;
         extra[col::TEMP_CODE] = f64::from(f.frame.temp);
         extra[col::SATURATED] = f64::from(f.frame.status.saturated);
-        // Shared by the frame's samples: formatted once (a Unix time takes 17 digits).
-        let t_host_json = t_host.to_string();
         for (k, s) in f.frame.samples().iter().enumerate() {
             let t_dev_s = t_dev0_s + k as f64 / self.rate_hz;
-            let t_s = (anchor + t_dev_s).max(self.last_t_s);
+            let t_s = base(&self.clock, t_dev_s).max(self.last_t_s);
             self.last_t_s = t_s;
             let v = self.scale.adc_volts(s);
             let l = self.scale.loads(s);
@@ -179,30 +219,20 @@ impl Recorder {
             self.write_row(&[t_s, f64::NAN, f64::NAN, v[0], v[1], v[2]], temp_c, &extra)?;
             self.rows += 1;
             if let Some((m, ch)) = &self.mcap {
-                self.json.clear();
-                let _ = write!(
-                    self.json,
-                    r#"{{"t_s":{t_s},"t_device_s":{t_dev_s},"t_host_s":{t_host_json},"seq":{},"session":{},"fz_V":{},"mx_V":{},"my_V":{},"fz_N":{},"mx_Nm":{},"my_Nm":{},"temp_code":{},"saturated":{}}}"#,
-                    f.seq,
-                    f.session,
-                    v[0],
-                    v[1],
-                    v[2],
-                    l[0],
-                    l[1],
-                    l[2],
-                    f.frame.temp,
-                    f.frame.status.saturated
-                );
-                m.borrow_mut().write(
-                    ch.sample,
-                    ns(start + t_s),
-                    ns(t_host),
-                    self.json.as_bytes(),
-                )?;
+                self.cdr.begin().f64(t_s).f64(t_dev_s).f64(t_host);
+                for x in v.iter().chain(&l) {
+                    self.cdr.f64(*x);
+                }
+                self.cdr
+                    .u32(f.seq)
+                    .u32(f.session)
+                    .i32(f.frame.temp)
+                    .u8(f.frame.status.saturated);
+                m.borrow_mut()
+                    .write(ch.sample, ns(start + t_s), ns(t_host), &self.cdr.buf)?;
             }
         }
-        self.maybe_flush()
+        Ok(())
     }
 
     /// A gap is a row with the time and the gap columns only: every required value is missing,
@@ -217,6 +247,7 @@ impl Recorder {
             GapKind::DeviceRestart { .. } => (gap_code::DEVICE_RESTART, None),
             GapKind::HostQueueFull { frames } => (gap_code::HOST_QUEUE, Some(*frames as f64)),
         };
+        self.release()?;
         let t_s = self.host_s(g.host_time).max(self.last_t_s);
         self.last_t_s = t_s;
         let mut extra = [f64::NAN; EXTRA_COLUMNS.len()];
@@ -234,14 +265,16 @@ impl Recorder {
                 GapKind::DeviceRestart { .. } => "device_restart",
                 GapKind::HostQueueFull { .. } => "host_queue_full",
             };
-            let json = format!(
-                r#"{{"t_s":{t_s},"kind":"{kind}","missing":{},"session":{}}}"#,
-                missing.unwrap_or(-1.0),
-                g.session
-            );
+            let missing = missing.map_or(-1, |m| m as i64);
+            self.cdr
+                .begin()
+                .f64(t_s)
+                .string(kind)
+                .i64(missing)
+                .u32(g.session);
             let t = ns(unix_s(self.start) + t_s);
             m.borrow_mut()
-                .write(ch.gap, t, ns(unix_s(g.host_time)), json.as_bytes())?;
+                .write(ch.gap, t, ns(unix_s(g.host_time)), &self.cdr.buf)?;
         }
         // A gap is exactly what a later reader must not miss: write it out now.
         self.flush()
@@ -263,7 +296,9 @@ impl Recorder {
         Ok(())
     }
 
+    /// Write everything out, frames held while their session settled included.
     pub fn flush(&mut self) -> Result<(), FileError> {
+        self.release()?;
         self.last_flush = Instant::now();
         self.csv
             .flush()
@@ -273,4 +308,44 @@ impl Recorder {
         }
         Ok(())
     }
+}
+
+impl Recorder {
+    /// The end of the run: flush, and fill in the clock's metadata (the estimate as it stands
+    /// now) in the CSV header and as an MCAP metadata record `clock <label>`.
+    pub fn finish(&mut self, label: &str) -> Result<(), FileError> {
+        self.flush()?;
+        let pairs = clock_key::pairs(&self.clock);
+        if self.patchable {
+            patch_header(&self.path, &pairs).map_err(|e| FileError::write(&self.path, e))?;
+        }
+        if let Some((m, _)) = &self.mcap {
+            m.borrow_mut().metadata(&format!("clock {label}"), &pairs)?;
+        }
+        Ok(())
+    }
+}
+
+/// Overwrite the [`PENDING`] values of `pairs`' keys in the metadata at the head of `path`,
+/// within their padding (a value too long for it is left pending rather than break the file).
+fn patch_header(path: &Path, pairs: &[(String, String)]) -> std::io::Result<()> {
+    let mut f = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(path)?;
+    let mut head = vec![0u8; 16 * 1024];
+    let n = f.read(&mut head)?;
+    let head = String::from_utf8_lossy(&head[..n]).into_owned();
+    for (k, v) in pairs {
+        let key = format!("# {k} = ");
+        let Some(at) = head.find(&key) else {
+            continue;
+        };
+        if v.len() > PENDING.len() {
+            continue;
+        }
+        f.seek(std::io::SeekFrom::Start((at + key.len()) as u64))?;
+        f.write_all(format!("{v:<width$}", width = PENDING.len()).as_bytes())?;
+    }
+    f.flush()
 }

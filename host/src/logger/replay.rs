@@ -7,6 +7,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use protocol::{Info, Message, Outcome};
 
+use super::cdr;
 use super::mcap_io::{recover_bytes, StoredMessage, MCAP_MAGIC, RAW_ENCODING};
 use super::{FileError, Recorder, Setup};
 use crate::decode::FastDecoder;
@@ -134,20 +135,37 @@ impl Replayer<'_> {
         }))
     }
 
-    fn on_gap_json(&mut self, data: &[u8], host_time: SystemTime) -> Result<(), FileError> {
-        let v: serde_json::Value =
-            serde_json::from_slice(data).map_err(|e| FileError::Capture {
-                path: self.input.clone(),
-                why: format!("gap message: {e}"),
-            })?;
-        let missing = v
-            .get("missing")
-            .and_then(|m| m.as_f64())
-            .filter(|m| *m >= 0.0)
-            .map(|m| m as u64);
-        let kind = match v.get("kind").and_then(|k| k.as_str()) {
-            Some("disconnected") => GapKind::Disconnected,
-            Some("reconnected") => {
+    /// A gap message: CDR of [`cdr::GAP_SCHEMA`], or the JSON of files written before it.
+    fn on_gap_message(
+        &mut self,
+        encoding: &str,
+        data: &[u8],
+        host_time: SystemTime,
+    ) -> Result<(), FileError> {
+        let bad = |why: String| FileError::Capture {
+            path: self.input.clone(),
+            why: format!("gap message: {why}"),
+        };
+        let (kind, missing) = if encoding == cdr::MESSAGE_ENCODING {
+            let fields = cdr::parse_schema(cdr::GAP_SCHEMA).map_err(bad)?;
+            let v = cdr::decode(&fields, data).map_err(bad)?;
+            let get = |name: &str| v.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone());
+            let kind = match get("kind") {
+                Some(cdr::Value::Text(k)) => k,
+                _ => String::new(),
+            };
+            (kind, get("missing").map_or(-1.0, |m| m.num()))
+        } else {
+            let v: serde_json::Value =
+                serde_json::from_slice(data).map_err(|e| bad(e.to_string()))?;
+            let kind = v.get("kind").and_then(|k| k.as_str()).unwrap_or_default();
+            let missing = v.get("missing").and_then(|m| m.as_f64()).unwrap_or(-1.0);
+            (kind.to_string(), missing)
+        };
+        let missing = (missing >= 0.0).then_some(missing as u64);
+        let kind = match kind.as_str() {
+            "disconnected" => GapKind::Disconnected,
+            "reconnected" => {
                 self.tracker.new_session();
                 GapKind::Reconnected {
                     downtime: Duration::ZERO,
@@ -274,7 +292,7 @@ impl<'a> Replayer<'a> {
                 framed.push(0);
                 decoder.feed(&framed, |j| self.on_outcome(j.outcome, j.raw, Some(t)));
             } else if *m.topic == gap_topic {
-                self.on_gap_json(&m.data, t)?;
+                self.on_gap_message(&m.encoding, &m.data, t)?;
             }
         }
         Ok(())
@@ -296,7 +314,7 @@ impl<'a> Replayer<'a> {
             path: self.input.clone(),
             why: "no sample frame in the capture".into(),
         })?;
-        rec.flush()?;
+        rec.finish("replay")?;
         self.summary.rows = rec.rows;
         Ok(self.summary)
     }

@@ -25,8 +25,17 @@ use host::logger::{metadata, per_sensor_path, Recorder, Setup};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Serial port(s): device path or `serial:<USB serial number>`; repeat for several sensors.
-    #[arg(long, short = 'p', value_name = "PORT", required = true)]
+    #[arg(
+        long,
+        short = 'p',
+        value_name = "PORT",
+        required_unless_present = "hand"
+    )]
     pub port: Vec<String>,
+    /// A hand file (TOML, `[fingers]` name = "serial:SN" or port path; docs/hand.md): one CSV
+    /// per finger named by finger, one MCAP with a topic per finger.
+    #[arg(long, value_name = "TOML", conflicts_with = "port")]
+    pub hand: Option<PathBuf>,
     /// Output CSV; with several sensors, one file per sensor named after it.
     #[arg(long, short = 'o', default_value = "recording.csv")]
     pub out: PathBuf,
@@ -136,7 +145,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             },
             AlignArg::Start => Align::Start,
         };
-        for path in csv_paths(&args) {
+        for path in csv_paths(&args)? {
             let off = merge_file(&path, reference, align).coded()?;
             eprintln!("{}: reference merged (offset {off:.3} s)", path.display());
         }
@@ -160,15 +169,37 @@ fn close_dashboard(dash: Dashboard, sensors: &[Sensor], elapsed: Duration, quiet
     }
 }
 
-fn csv_paths(args: &Args) -> Vec<PathBuf> {
-    let several = args.port.len() > 1;
-    args.port
+/// The sensors to log: (label, port), from `--hand` (fingers by name) or the `-p` list.
+fn targets(args: &Args) -> anyhow::Result<Vec<(String, PortSpec)>> {
+    if let Some(hand) = &args.hand {
+        let fingers = host::hand::load(hand).coded()?;
+        return Ok(fingers.into_iter().map(|f| (f.name, f.port)).collect());
+    }
+    Ok(args
+        .port
         .iter()
-        .map(|p| per_sensor_path(&args.out, &PortSpec::parse(p).label(), several))
-        .collect()
+        .map(|p| {
+            let spec = PortSpec::parse(p);
+            (spec.label(), spec)
+        })
+        .collect())
+}
+
+fn csv_paths(args: &Args) -> anyhow::Result<Vec<PathBuf>> {
+    let targets = targets(args)?;
+    let several = targets.len() > 1 || args.hand.is_some();
+    Ok(targets
+        .iter()
+        .map(|(label, _)| per_sensor_path(&args.out, label, several))
+        .collect())
 }
 
 type SharedSink = Rc<RefCell<McapSink>>;
+
+/// How long the pump sleeps when every queue was empty. The queues hold seconds of frames
+/// ([`MIN_QUEUE`]), and the I/O threads deliver a few frames per read anyway: waking 50 times a
+/// second instead of 200 costs nothing but a few milliseconds of latency on the files.
+const IDLE: Duration = Duration::from_millis(20);
 
 /// Fewest frames queued per sensor between its I/O thread and the files: 20 s at 1 kHz, 2.3 s
 /// at the link's top rate (8.8 kHz in batches of 10), while the logger empties every queue
@@ -183,10 +214,11 @@ fn queue_per_sensor(sensors: usize) -> usize {
 }
 
 fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Option<SharedSink>)> {
+    let targets = targets(args)?;
     let opts = OpenOptions {
         reconnect: !args.no_reconnect,
         reconnect_for: Duration::from_secs_f64(args.reconnect_for),
-        queue: queue_per_sensor(args.port.len()),
+        queue: queue_per_sensor(targets.len()),
         ..OpenOptions::default()
     };
     let mut setup = Setup::from_hardware(String::new())
@@ -200,14 +232,21 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
     }
     // Open every sensor before creating any file: a wrong port leaves nothing behind.
     let mut devices = Vec::new();
-    for port in &args.port {
-        let spec = PortSpec::parse(port);
-        let dev = Device::open(&spec, opts.clone()).coded()?;
+    for (label, spec) in targets {
+        let named = args
+            .hand
+            .as_ref()
+            .map(|h| format!("{}: finger {label}", h.display()));
+        let dev = match (Device::open(&spec, opts.clone()).coded(), named) {
+            (Ok(d), _) => d,
+            (Err(e), Some(finger)) => return Err(anyhow::Error::from(e).context(finger)),
+            (Err(e), None) => return Err(e.into()),
+        };
         if let Some(hz) = args.rate {
             dev.set_rate(hz).coded()?;
         }
         let info = dev.get_info().coded()?;
-        devices.push((spec, dev, info));
+        devices.push((label, dev, info));
     }
     let mcap = match (&args.mcap, args.no_mcap) {
         (_, true) => None,
@@ -220,18 +259,18 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
         .coded()?
         .map(|m| Rc::new(RefCell::new(m)));
     let mut sensors = Vec::new();
-    for ((spec, dev, info), csv) in devices.into_iter().zip(csv_paths(args)) {
+    for ((label, dev, info), csv) in devices.into_iter().zip(csv_paths(args)?) {
         setup.source = format!("tactile log {}", dev.port().display());
         let mut rec = Recorder::create(&csv, &info, &setup, start).coded()?;
         if let Some(m) = &mcap {
             let ch = m
                 .borrow_mut()
-                .add_sensor(&spec.label(), &metadata(&info, &setup, start).pairs())
+                .add_sensor(&label, &metadata(&info, &setup, start).pairs())
                 .coded()?;
             rec = rec.with_mcap((m.clone(), ch));
             rec.on_event(&Event::Info(info.clone())).coded()?;
         }
-        let view = SensorView::new(spec.label(), Scale::from_info(&info), info.sample_rate_hz);
+        let view = SensorView::new(label, Scale::from_info(&info), info.sample_rate_hz);
         sensors.push(Sensor {
             dev,
             rec,
@@ -274,6 +313,8 @@ fn pump(
                 }
             }
             s.rec.maybe_flush().coded()?;
+            let c = s.rec.clock();
+            s.view.clock = (c.ppm(), c.uncertainty_s() * 1e6);
         }
         let all_ended = sensors.iter().all(|s| s.ended);
         if stop.load(Ordering::Relaxed)
@@ -293,7 +334,7 @@ fn pump(
             eprintln!("{}", status_line(sensors, t0.elapsed()));
         }
         if idle {
-            std::thread::sleep(Duration::from_millis(5));
+            std::thread::sleep(IDLE);
         }
     }
 }
@@ -307,11 +348,15 @@ fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
         } else {
             " DISCONNECTED"
         };
+        let clock = s.rec.clock();
         line.push_str(&format!(
-            " | {}{state}: {:.0} S/s, {} rows, lost {} dropped {} crc {} reconnects {} queue {}",
+            " | {}{state}: {:.0} S/s, {} rows, clock {:+.1} ppm ±{:.0} µs, lost {} dropped {} crc {} \
+             reconnects {} queue {}",
             s.view.label,
             s.view.rate_hz(),
             s.rec.rows,
+            clock.ppm(),
+            clock.uncertainty_s() * 1e6,
             c.lost_on_link,
             c.dropped_by_device,
             c.crc_errors,
@@ -325,7 +370,7 @@ fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
 /// Flush every CSV and write the MCAP summary (the recorders let go of the writer first).
 fn finish_files(sensors: &mut [Sensor], mcap: Option<SharedSink>) -> anyhow::Result<()> {
     for s in sensors.iter_mut() {
-        s.rec.flush().coded()?;
+        s.rec.finish(&s.view.label).coded()?;
         s.rec.detach_mcap();
     }
     if let Some(m) = mcap {

@@ -1,4 +1,5 @@
-//! One module per subcommand: its `Args` (clap) and `run`.
+//! One module per subcommand: its `Args` (clap) and `run`. The dispatch from the argument tree
+//! is `cli::Command::run`, so that this module does not import the tree that imports it.
 
 pub mod chip;
 pub mod common;
