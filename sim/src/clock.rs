@@ -94,7 +94,7 @@ mod tests {
             ppm: -87.5,
             offset_s: 12.25,
         };
-        let t = 3599.123_456;
+        let t = 3_599.123_456;
         assert!((c.true_s(c.device_s(t)) - t).abs() < 1e-12);
         // 100 ppm fast gains 0.36 s in an hour.
         let fast = Crystal {
