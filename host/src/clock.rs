@@ -19,7 +19,7 @@
 //! kept running; its u32 µs counter may have wrapped) or restart (it lost power). A stamp that
 //! lands on the current line, modulo a counter wrap, continues the clock; any other restarts it:
 //! the new session's stamps are placed on the line by the fitted rate and the new session's own
-//! minimum delay ([`SETTLE_FRAMES`] frames of it), and the window carries on, so the time base
+//! minimum delay (its first [`SETTLE_S`] of frames), and the window carries on, so the time base
 //! does not jump and the rate need not be learnt again.
 
 /// Device seconds per bucket of the window: the fit sees one minimum-delay point per bucket.
