@@ -15,7 +15,8 @@ echo "== firmware style: rustfmt, clippy (host and thumb), rustdoc; warnings are
 cargo fmt --all -- --check
 cargo clippy --all-targets --target "$host" -- -D warnings
 cargo clippy --release --bins -- -D warnings
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
+# --release: the dependencies were just checked for the release profile by clippy above.
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --release
 
 echo "== firmware host tests"
 cargo test --target "$host"

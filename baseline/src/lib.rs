@@ -8,6 +8,7 @@
 //! load ([`map_by_load`]); the rod's drive and the outputs through the one forward model of the
 //! signal ([`model`]: `sim::forward`); a whole recording with noise and effects ([`synth`]); the
 //! standard test of `hardware/` ([`standard_test`]).
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 pub mod fe_response;
 pub mod interp;

@@ -9,6 +9,7 @@
 //!
 //! Units are SI throughout (m, Pa, N, N·m, V); the load convention is in [`Load`].
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 pub mod bridge;
 pub mod fz;

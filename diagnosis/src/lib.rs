@@ -14,6 +14,7 @@
 //! `candidate` -> `params` -> `select` (the effects' selection) -> `localise`, `mains` ->
 //! `evidence` -> `pipeline` (candidates, selection, full-rate evaluation, verdict) -> [`output`]
 //! and [`report`].
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 mod candidate;
 mod data;

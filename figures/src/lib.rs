@@ -19,6 +19,7 @@
 //! .unwrap();
 //! assert!(svg.contains("Fz bridge [mV]"));
 //! ```
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 mod chart;
 mod font;

@@ -48,7 +48,7 @@
 //! pressure, contact penalty) is proportional to E, so the force–travel curve scales exactly
 //! linearly with E (`tests/verification.rs`, `response_scales_linearly_with_youngs_modulus`). A curve at one modulus therefore calibrates E by a
 //! single factor.
-
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 // Index loops follow the tensor and node-dof notation of the equations they implement.
 #![allow(clippy::needless_range_loop)]
 

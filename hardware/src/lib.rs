@@ -10,6 +10,7 @@
 //! let params = hardware::Params::load_default().unwrap();
 //! assert!(params.fingertip.radius_mm > 0.0);
 //! ```
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 mod adc;
 mod board;

@@ -3,6 +3,7 @@
 //! emulated sensor behind a pseudo-terminal ([`native`]), the firmware's QEMU binary with its UART
 //! on a pty ([`qemu`]), the f64 references the decoded values are checked against
 //! ([`mod@reference`]), and recording checks ([`check`]).
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 pub mod check;
 pub mod emu;

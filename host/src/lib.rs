@@ -6,6 +6,7 @@
 //!
 //! Each error type says which exit code a command ending on it deserves
 //! ([`sysexit::ExitStatus`]).
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 pub mod calibration;
 pub mod clock;

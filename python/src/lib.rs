@@ -2,6 +2,7 @@
 //! wraps it in DataFrames and dicts). Conversions only: reading, writing, simulation,
 //! diagnosis and the chip's figures are the libraries' (`recording`, `diagnosis`), the same
 //! calls `tactile` makes, so both give the same files, JSON and error messages.
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 mod convert;
 mod error;

@@ -11,6 +11,7 @@
 //! makes every line end with `\n` or `\r\n`, and a row cut short by a killed writer can still
 //! parse (`0.0012` cut to `0.00`), so reading it would silently alter the data.
 #![warn(missing_docs)]
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 mod error;
 mod meta;

@@ -4,6 +4,7 @@
 //! A command line wraps a library's error with [`Coded`] where it meets it
 //! ([`ResultExt::coded`]); the code then travels with the error through any context that is
 //! added on top, and [`code_of`] finds it in the chain without knowing the library's types.
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 use std::error::Error;
 use std::fmt;

@@ -1,4 +1,5 @@
 //! `tactile`: parse the raw arguments into a validated command, run it, map errors to exit codes.
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 use std::process::ExitCode;
 

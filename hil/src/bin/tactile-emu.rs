@@ -12,6 +12,7 @@
 //! rate, and prints the link's account at the end of `--run-for`. `--ppm` sets the crystal's
 //! error; `--jitter-seed` delays each frame by a draw of a busy USB link's delay
 //! (`sim::clock::LinkJitter::USB_BUSY`).
+#![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
