@@ -230,14 +230,16 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
     if let Some(a) = args.azimuth_deg {
         setup.azimuth_deg = a;
     }
-    // Open every sensor before creating any file: a wrong port leaves nothing behind.
+    // Open every sensor before creating any file: a wrong port leaves nothing behind. One I/O
+    // thread serves them all (host::device::Device::open_all).
+    let specs: Vec<PortSpec> = targets.iter().map(|(_, spec)| spec.clone()).collect();
     let mut devices = Vec::new();
-    for (label, spec) in targets {
+    for ((label, _), dev) in targets.into_iter().zip(Device::open_all(&specs, opts)) {
         let named = args
             .hand
             .as_ref()
             .map(|h| format!("{}: finger {label}", h.display()));
-        let dev = match (Device::open(&spec, opts.clone()).coded(), named) {
+        let dev = match (dev.coded(), named) {
             (Ok(d), _) => d,
             (Err(e), Some(finger)) => return Err(anyhow::Error::from(e).context(finger)),
             (Err(e), None) => return Err(e.into()),
