@@ -196,9 +196,12 @@ fn csv_paths(args: &Args) -> anyhow::Result<Vec<PathBuf>> {
 
 type SharedSink = Rc<RefCell<McapSink>>;
 
-/// How long the pump sleeps when every queue was empty. The queues hold seconds of frames
-/// ([`MIN_QUEUE`]), and the I/O threads deliver a few frames per read anyway: waking 50 times a
-/// second instead of 200 costs nothing but a few milliseconds of latency on the files.
+/// How long the pump sleeps after each pass over the queues. A pass takes everything queued,
+/// so the work per pass grows with the pause and the passes' fixed cost (a look at every
+/// queue, clock and flush timer) shrinks: a pump that went round again whenever a pass had
+/// found anything ran a pass for every few frames the I/O thread delivered. The queues hold
+/// seconds of frames ([`MIN_QUEUE`]): the pause costs only its latency on the files, far
+/// under their flush interval.
 const IDLE: Duration = Duration::from_millis(20);
 
 /// Fewest frames queued per sensor between its I/O thread and the files: 20 s at 1 kHz, 2.3 s
@@ -298,12 +301,10 @@ fn pump(
     let mut last_status = Instant::now();
     let t0 = Instant::now();
     loop {
-        let mut idle = true;
         for s in sensors.iter_mut() {
             loop {
                 match s.dev.events().try_recv() {
                     Ok(ev) => {
-                        idle = false;
                         s.view.on_event(&ev);
                         s.rec.on_event(&ev).coded()?;
                     }
@@ -335,9 +336,7 @@ fn pump(
             last_status = Instant::now();
             eprintln!("{}", status_line(sensors, t0.elapsed()));
         }
-        if idle {
-            std::thread::sleep(IDLE);
-        }
+        std::thread::sleep(IDLE);
     }
 }
 
