@@ -219,12 +219,12 @@ impl Dashboard {
         })
     }
 
-    /// Offer the screen a refresh (at most every `REFRESH_EVERY`); `true` when the user asked to quit
-    /// (q, Esc, Ctrl-C). Never waits for the terminal.
+    /// Offer the screen a refresh (at most every `REFRESH_EVERY`; `take` copies the sensors'
+    /// views and counters, and is called only then); `true` when the user asked to quit (q,
+    /// Esc, Ctrl-C). Never waits for the terminal.
     pub fn draw(
         &mut self,
-        views: &[&SensorView],
-        counters: &[Counters],
+        take: impl FnOnce() -> (Vec<SensorView>, Vec<Counters>),
         elapsed: Duration,
     ) -> std::io::Result<bool> {
         if self.quit.load(Ordering::Relaxed) {
@@ -239,9 +239,10 @@ impl Dashboard {
             return Ok(false);
         }
         self.last_refresh = Instant::now();
+        let (views, counters) = take();
         let snapshot = Snapshot {
-            views: views.iter().map(|v| (*v).clone()).collect(),
-            counters: counters.to_vec(),
+            views,
+            counters,
             elapsed,
             skipped: self.skipped,
         };

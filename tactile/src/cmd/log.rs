@@ -327,9 +327,11 @@ fn pump(
             return Ok(());
         }
         if let Some(d) = dash.as_deref_mut() {
-            let counters: Vec<_> = sensors.iter().map(|s| s.dev.counters()).collect();
-            let views: Vec<&SensorView> = sensors.iter().map(|s| &s.view).collect();
-            if d.draw(&views, &counters, t0.elapsed())? {
+            let take = || {
+                let views = sensors.iter().map(|s| s.view.clone()).collect();
+                (views, sensors.iter().map(|s| s.dev.counters()).collect())
+            };
+            if d.draw(take, t0.elapsed())? {
                 return Ok(());
             }
         } else if !quiet && last_status.elapsed() >= Duration::from_secs(1) {
