@@ -59,16 +59,23 @@ impl Hub {
         })
     }
 
-    /// Until every port is closed by its handle or given up.
+    /// Until every port is closed by its handle or given up. A wake in a catch window that
+    /// read a frame goes straight back to waiting: the ports' commands, deadlines and
+    /// registrations are looked at once a round (and at every wake outside the rounds), not
+    /// at each of the window's wakes.
     pub(super) fn run(mut self) {
+        let mut catching = false;
         loop {
-            self.service();
-            if self.ios.iter().all(Option::is_none) {
-                return;
+            if !catching {
+                self.service();
+                if self.ios.iter().all(Option::is_none) {
+                    return;
+                }
+                self.register();
             }
-            self.register();
             let timeout = self.wait();
-            self.poll_and_read(timeout);
+            let read = self.poll_and_read(timeout);
+            catching = read && Instant::now() < self.catch_until;
         }
     }
 
@@ -146,11 +153,12 @@ impl Hub {
         self.coalesce.mul_f64(2.0 * u)
     }
 
-    /// Wait up to `timeout` for any open port to be readable, and read each that is.
-    fn poll_and_read(&mut self, timeout: Duration) {
+    /// Wait up to `timeout` for any open port to be readable, and read each that is; `true`
+    /// if one was.
+    fn poll_and_read(&mut self, timeout: Duration) -> bool {
         if self.registered.iter().all(Option::is_none) {
             std::thread::sleep(timeout); // every port away: only reconnections to try
-            return;
+            return false;
         }
         // Whole milliseconds, rounded up: a window's last fraction is waited for, not spun on.
         let ms = timeout.as_micros().div_ceil(1000).min(i32::MAX as u128) as i32;
@@ -164,12 +172,14 @@ impl Hub {
             )
         };
         // Fewer than none: interrupted; the next turn looks again.
-        for k in 0..usize::try_from(ready).unwrap_or(0) {
+        let ready = usize::try_from(ready).unwrap_or(0);
+        for k in 0..ready {
             let i = self.events[k].u64 as usize;
             // Bytes, a hang-up or an error: the read tells which (and marks a lost port).
             if let Some(io) = self.ios.get_mut(i).and_then(Option::as_mut) {
                 io.read_ready(&mut self.buf);
             }
         }
+        ready > 0
     }
 }
