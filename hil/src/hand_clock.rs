@@ -32,7 +32,7 @@ pub struct HandSim {
     /// its link (its clock keeps running), both for `outage_s`.
     pub reconnect_at_s: f64,
     pub outage_s: f64,
-    /// The driver's mean pause between reads ([`host::device::OpenOptions::coalesce`]).
+    /// The driver's mean pause between rounds of reads ([`host::device::OpenOptions::coalesce`]).
     pub coalesce_s: f64,
     /// The driver's catch window after each pause ([`host::device::OpenOptions::catch`]).
     pub catch_s: f64,

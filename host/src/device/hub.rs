@@ -9,8 +9,9 @@
 //! of every port that has bytes, then a catch window of `catch` in which each frame is read the
 //! moment it arrives. The reads after a pause carry the rest of the pause as delay; the reads in
 //! the catch window carry none, and they are what the clock fit's lower envelope rests on
-//! ([`crate::clock`]): about half of each port's frames fall in a window at the defaults, so
-//! every port is read on arrival tens of times a second, for about nine wakes a round in all.
+//! ([`crate::clock`]): about a third of each port's frames fall in a window at the defaults
+//! (5 ms of every 15), so every port is read on arrival some thirty times a second, for about
+//! nine wakes a round in all.
 //! The pause is random so that the windows do not lock onto the frame period (a fixed one
 //! would catch the frames of one phase only); the rounds depend on no port's frames, which is
 //! what lets `hil::hand_clock` simulate each finger on its own.
