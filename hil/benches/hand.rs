@@ -478,7 +478,7 @@ fn simulated_hour() -> bool {
     println!(
         "simulated hour: {} fingers x {:.0} s on a virtual clock ({:.1} s of wall time), crystals \
          within ±{:.0} ppm, link delay {:.0} µs + U(0, {:.0} µs) + Exp({:.0} µs), {:.0} % held up \
-         to {:.0} ms, reads paused U(0, {:.0} ms); finger 1 restarts and finger 2 loses its link \
+         to {:.0} ms, one reader in rounds (pause U(0, {:.0} ms), catch window {:.1} ms); finger 1 restarts and finger 2 loses its link \
          at {:.0} s for {:.0} s; {} frames compared",
         sim.fingers,
         sim.seconds,
@@ -490,6 +490,7 @@ fn simulated_hour() -> bool {
         j.outlier_prob * 100.0,
         j.outlier_max_s * 1e3,
         2e3 * sim.coalesce_s,
+        1e3 * sim.catch_s,
         sim.reconnect_at_s,
         sim.outage_s,
         r.frames

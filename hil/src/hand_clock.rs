@@ -32,8 +32,10 @@ pub struct HandSim {
     /// its link (its clock keeps running), both for `outage_s`.
     pub reconnect_at_s: f64,
     pub outage_s: f64,
-    /// The driver's mean pause between reads ([`host::device::OpenOptions::coalesce`]).
+    /// The driver's mean pause between rounds of reads ([`host::device::OpenOptions::coalesce`]).
     pub coalesce_s: f64,
+    /// The driver's catch window after each pause ([`host::device::OpenOptions::catch`]).
+    pub catch_s: f64,
 }
 
 impl HandSim {
@@ -48,6 +50,7 @@ impl HandSim {
             reconnect_at_s: 1800.0,
             outage_s: 5.0,
             coalesce_s: host::device::OpenOptions::default().coalesce.as_secs_f64(),
+            catch_s: host::device::OpenOptions::default().catch.as_secs_f64(),
         }
     }
 }
@@ -139,45 +142,59 @@ struct FingerRun {
     step_s: f64,
 }
 
-/// The driver's I/O thread as it reads: after each read it pauses `U(0, 2·coalesce)`, then reads
-/// what has arrived, or waits for the next frame if nothing has. The link is FIFO: a frame
+/// The driver's one I/O thread for every port ([`host::device`]) as it reads, in rounds: a
+/// pause of `U(0, 2·coalesce)`, one read of every port that has bytes, then a catch window of
+/// `catch` in which every frame is read the moment it arrives. The rounds do not depend on any
+/// one port's frames and are the same for every finger (each finger's `Reader` draws them from
+/// the hand's seed), so each finger can be simulated on its own. The link is FIFO: a frame
 /// never arrives before the one sent ahead of it.
 struct Reader {
     last_arrival_s: f64,
-    last_read_s: f64,
-    /// When the pause after the last read ends.
-    pause_end_s: f64,
+    /// The current round's read after its pause, and the next round's.
+    round_s: f64,
+    next_round_s: f64,
+    rounds: rand_chacha::ChaCha8Rng,
     coalesce_s: f64,
+    catch_s: f64,
 }
 
 impl Reader {
-    fn new(coalesce_s: f64) -> Self {
+    /// `seed` is the hand's: every finger's reader sees the same rounds.
+    fn new(coalesce_s: f64, catch_s: f64, seed: u64) -> Self {
         Self {
             last_arrival_s: f64::NEG_INFINITY,
-            last_read_s: f64::NEG_INFINITY,
-            pause_end_s: f64::NEG_INFINITY,
+            round_s: f64::NEG_INFINITY,
+            next_round_s: 0.0,
+            rounds: rng(seed ^ 0x0052_4f55_4e44),
             coalesce_s,
+            catch_s,
         }
     }
 
     /// The host time at which a frame reaching the link's end at `arrival_s` is read.
-    fn read(&mut self, arrival_s: f64, r: &mut rand_chacha::ChaCha8Rng) -> f64 {
+    fn read(&mut self, arrival_s: f64) -> f64 {
         let a = arrival_s.max(self.last_arrival_s);
         self.last_arrival_s = a;
-        if a <= self.last_read_s {
-            return self.last_read_s; // taken by the read that is already done
+        if self.coalesce_s <= 0.0 {
+            return a; // no pause: every frame is read as it comes
         }
-        // Read when the pause ends, or, if nothing had come by then, as soon as it arrives.
-        self.last_read_s = a.max(self.pause_end_s);
-        self.pause_end_s = self.last_read_s + r.random_range(0.0..=2.0 * self.coalesce_s);
-        self.last_read_s
+        while self.next_round_s < a {
+            self.round_s = self.next_round_s;
+            let pause_s = self.rounds.random_range(0.0..=2.0 * self.coalesce_s);
+            self.next_round_s = self.round_s + self.catch_s + pause_s;
+        }
+        if a <= self.round_s + self.catch_s {
+            a // in the catch window: read as it comes
+        } else {
+            self.next_round_s
+        }
     }
 }
 
 /// One finger, frame by frame, as the recorder handles it; its time errors go to `grid`.
 fn run_finger(sim: &HandSim, dev: &Device, seed: u64, grid: &mut Grid) -> (DeviceClock, FingerRun) {
     let mut link = rng(seed);
-    let mut reader = Reader::new(sim.coalesce_s);
+    let mut reader = Reader::new(sim.coalesce_s, sim.catch_s, sim.seed);
     let mut clock = DeviceClock::new();
     let mut held: Vec<(f64, f64)> = Vec::new();
     let mut run = FingerRun {
@@ -217,7 +234,7 @@ fn run_finger(sim: &HandSim, dev: &Device, seed: u64, grid: &mut Grid) -> (Devic
         let d = d - FRAME_S;
         let b = *base.get_or_insert((d / WRAP_S).floor() * WRAP_S);
         let stamp = d - b;
-        let host = reader.read(t + sim.jitter.draw(&mut link), &mut link);
+        let host = reader.read(t + sim.jitter.draw(&mut link));
         clock.observe(session, stamp, host);
         held.push((stamp, t_frame));
         if !clock.settled() {

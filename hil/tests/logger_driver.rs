@@ -111,3 +111,64 @@ fn the_driver_survives_a_killed_emulator_process() {
     assert_eq!(c.duplicates, 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Several ports on the one I/O thread (`Device::open_all`): a missing port is its own error
+/// and leaves the others open; when one emulator vanishes (no reconnection asked) its stream
+/// ends as gone while the other keeps streaming.
+#[test]
+fn one_thread_serves_several_ports_and_loses_one_alone() {
+    let dir = scratch("driver-all");
+    let (a, b) = (dir.join("tactile-a"), dir.join("tactile-b"));
+    let epoch_s = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64();
+    let mut emu_a = emulator(&a, epoch_s);
+    let mut emu_b = emulator(&b, epoch_s);
+    let opts = OpenOptions {
+        reconnect: false,
+        ..OpenOptions::default()
+    };
+    let specs = [a, dir.join("missing"), b].map(PortSpec::Path);
+    let mut opened = Device::open_all(&specs, opts).into_iter();
+    let dev_a = opened.next().unwrap().unwrap();
+    let missing = opened.next().unwrap();
+    assert!(
+        matches!(missing, Err(host::device::DeviceError::NotFound { .. })),
+        "{:?}",
+        missing.err()
+    );
+    let dev_b = opened.next().unwrap().unwrap();
+    dev_a.start().unwrap();
+    dev_b.start().unwrap();
+    let count = |dev: &Device, for_: Duration| {
+        let t0 = Instant::now();
+        let mut frames = 0;
+        while t0.elapsed() < for_ {
+            match dev.events().recv_timeout(Duration::from_millis(50)) {
+                Ok(Event::Frame(_)) => frames += 1,
+                Ok(_) | Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
+            }
+        }
+        frames
+    };
+    assert!(count(&dev_a, Duration::from_millis(500)) > 20);
+    assert!(count(&dev_b, Duration::from_millis(500)) > 20);
+    emu_a.kill().unwrap();
+    emu_a.wait().unwrap();
+    // A's stream ends (its events channel disconnects once the thread lets go of the port).
+    let t0 = Instant::now();
+    while t0.elapsed() < Duration::from_secs(5) && dev_a.gone_error().is_none() {
+        let _ = dev_a.events().recv_timeout(Duration::from_millis(50));
+    }
+    assert!(dev_a.gone_error().is_some(), "port A should be gone");
+    assert!(
+        count(&dev_b, Duration::from_millis(500)) > 20,
+        "B kept streaming"
+    );
+    dev_b.close();
+    dev_a.close();
+    emu_b.kill().unwrap();
+    emu_b.wait().unwrap();
+}

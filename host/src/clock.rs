@@ -27,8 +27,8 @@ pub const BUCKET_S: f64 = 1.0;
 /// Buckets kept: about four minutes of one point a second.
 pub const WINDOW: usize = 256;
 /// Device seconds of a new session whose least delay fixes its offset before its times are
-/// trusted: at 100 frames/s fifty frames, read at some twenty-five random instants by the
-/// driver ([`crate::device::OpenOptions::coalesce`]), of which a few catch a frame as it arrives.
+/// trusted: at 100 frames/s fifty frames, about a third of them read the moment they arrive, in
+/// the driver's catch windows ([`crate::device::OpenOptions::catch`]).
 pub const SETTLE_S: f64 = 0.5;
 /// Shortest baseline a rate is taken from, device seconds. Each point's delay is the least of
 /// one bucket, a few hundred µs above the true least at worst; over two seconds that is a rate

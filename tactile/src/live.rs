@@ -144,9 +144,11 @@ impl SensorView {
     }
 }
 
-/// How often the screen is redrawn at most: five times a second, as often as a person reads a
-/// number (a sixteen-finger screen at ten a second took 3.5 % of a core, issue #29).
-const REFRESH_EVERY: Duration = Duration::from_millis(200);
+/// How often the screen is redrawn at most: twice a second, about as fast as a person reads a
+/// changing number (the sparklines keep their ten points a second and move by five). A
+/// redraw builds the whole screen, so its cost is the rate times the terminal's size: a
+/// sixteen-finger screen of 200x150 took 1.7 % of a core at five a second (issue #29).
+const REFRESH_EVERY: Duration = Duration::from_millis(500);
 /// How often the screen thread looks at the keyboard between refreshes.
 const KEY_POLL: Duration = Duration::from_millis(50);
 /// Bytes of screen output gathered before a write (a full refresh of a large terminal fits).
@@ -217,12 +219,12 @@ impl Dashboard {
         })
     }
 
-    /// Offer the screen a refresh (at most ten a second); `true` when the user asked to quit
-    /// (q, Esc, Ctrl-C). Never waits for the terminal.
+    /// Offer the screen a refresh (at most every `REFRESH_EVERY`; `take` copies the sensors'
+    /// views and counters, and is called only then); `true` when the user asked to quit (q,
+    /// Esc, Ctrl-C). Never waits for the terminal.
     pub fn draw(
         &mut self,
-        views: &[&SensorView],
-        counters: &[Counters],
+        take: impl FnOnce() -> (Vec<SensorView>, Vec<Counters>),
         elapsed: Duration,
     ) -> std::io::Result<bool> {
         if self.quit.load(Ordering::Relaxed) {
@@ -237,9 +239,10 @@ impl Dashboard {
             return Ok(false);
         }
         self.last_refresh = Instant::now();
+        let (views, counters) = take();
         let snapshot = Snapshot {
-            views: views.iter().map(|v| (*v).clone()).collect(),
-            counters: counters.to_vec(),
+            views,
+            counters,
             elapsed,
             skipped: self.skipped,
         };

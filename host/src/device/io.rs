@@ -1,7 +1,9 @@
-//! The I/O thread: owns the port, decodes, tracks sequence and time, runs commands with tags,
-//! timeouts and retries, and reconnects.
+//! One port's side of the I/O thread ([`super::hub`]): owns the port, decodes, tracks sequence
+//! and time, runs commands with tags, timeouts and retries, and reconnects. It never blocks:
+//! the hub reads it when its descriptor has bytes and calls it back for its deadlines.
 
-use std::io::{Read, Write};
+use std::io::Write;
+use std::os::fd::AsRawFd;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{mpsc, Arc};
@@ -30,6 +32,14 @@ struct Inflight {
     acked: bool,
 }
 
+/// The I/O thread's ends of one handle's channels.
+pub(super) struct Ends {
+    pub events: mpsc::SyncSender<Event>,
+    pub control: mpsc::Receiver<Control>,
+    /// Dropped when the port is closed.
+    pub closed: mpsc::Sender<()>,
+}
+
 pub(super) struct Io {
     spec: PortSpec,
     path: PathBuf,
@@ -48,8 +58,12 @@ pub(super) struct Io {
     damaged: bool,
     queue_drops_pending: u64,
     shutdown: bool,
-    /// State of the draw in [`Io::coalesce`].
-    rand: u64,
+    /// `None` only while it is feeding (it calls back into this `Io`).
+    decoder: Option<FastDecoder>,
+    /// When the next reconnection attempt is due, while the port is away.
+    retry_at: Instant,
+    /// Dropped with this `Io`, when the port is closed: [`super::Device`] waits for it.
+    _closed: mpsc::Sender<()>,
 }
 
 fn add(c: &AtomicU64, n: u64) {
@@ -63,9 +77,13 @@ impl Io {
         tty: TTYPort,
         opts: OpenOptions,
         shared: Arc<Shared>,
-        events: mpsc::SyncSender<Event>,
-        control: mpsc::Receiver<Control>,
+        ends: Ends,
     ) -> Self {
+        let Ends {
+            events,
+            control,
+            closed,
+        } = ends;
         shared.connected.store(true, Ordering::Relaxed);
         let mut io = Self {
             spec,
@@ -84,59 +102,79 @@ impl Io {
             damaged: false,
             queue_drops_pending: 0,
             shutdown: false,
-            rand: 0x9E37_79B9_7F4A_7C15 ^ u64::from(std::process::id()),
+            decoder: Some(FastDecoder::new()),
+            retry_at: Instant::now(),
+            _closed: closed,
         };
         // A lone delimiter ends whatever the device's receiver holds, so our first request is clean.
         io.write(&[0]);
         io
     }
 
-    pub(super) fn run(mut self) {
-        let mut decoder = FastDecoder::new();
-        let mut buf = vec![0u8; 16 * 1024];
-        while !self.shutdown {
-            self.poll_control();
-            if self.link.is_none() {
-                if !self.reconnect(&mut decoder) {
-                    break;
-                }
-                continue;
-            }
-            let read = self.link.as_mut().map(|l| l.read(&mut buf));
-            match read {
-                Some(Ok(0)) => self.lost(),
-                Some(Ok(n)) => {
-                    add(&self.shared.counters.bytes, n as u64);
-                    let now = SystemTime::now();
-                    decoder.feed(&buf[..n], |j| self.on_frame(j, now));
-                    self.coalesce();
-                }
-                Some(Err(e)) if is_transient(&e) => {}
-                Some(Err(_)) | None => self.lost(),
-            }
-            self.check_deadlines();
+    /// The port's descriptor while it is open, with the count of opens (a reopened port may
+    /// get the number of the descriptor it had).
+    pub(super) fn fd(&self) -> Option<(std::os::fd::RawFd, u64)> {
+        let opens = self.shared.counters.reconnects.load(Ordering::Relaxed);
+        self.link.as_ref().map(|l| (l.as_raw_fd(), opens))
+    }
+
+    /// A command waits for its reply: the port's bytes should be read as they come.
+    pub(super) fn waiting(&self) -> bool {
+        !self.inflight.is_empty()
+    }
+
+    pub(super) fn streaming(&self) -> bool {
+        self.streaming && self.link.is_some()
+    }
+
+    /// The earliest instant this port needs the thread: a command's deadline, or the next
+    /// reconnection attempt.
+    pub(super) fn due(&self) -> Option<Instant> {
+        let deadline = self.inflight.iter().map(|f| f.deadline).min();
+        let retry = self.link.is_none().then_some(self.retry_at);
+        deadline.into_iter().chain(retry).min()
+    }
+
+    /// Commands from the handle, a reconnection attempt if one is due, expired deadlines;
+    /// `false` once this port is done (closed by its handle, or given up).
+    pub(super) fn service(&mut self) -> bool {
+        self.poll_control();
+        if !self.shutdown && self.link.is_none() && Instant::now() >= self.retry_at {
+            self.reconnect();
         }
-        // Best effort: leave the device quiet when the handle is closed.
-        if self.link.is_some() && self.streaming {
-            let _ = self.send_raw(Command::Stop, 0);
+        self.check_deadlines();
+        !self.shutdown
+    }
+
+    /// Read what the port holds (the hub saw it readable, so this does not block) and handle
+    /// every completed frame, stamped with the time of this read.
+    pub(super) fn read_ready(&mut self, buf: &mut [u8]) {
+        let Some((fd, _)) = self.fd() else {
+            return;
+        };
+        // SAFETY: `fd` is this port's open descriptor and `buf` is writable for its length.
+        let n = unsafe { libc::read(fd, buf.as_mut_ptr().cast(), buf.len()) };
+        let now = SystemTime::now();
+        match n {
+            0 => self.lost(),
+            n if n > 0 => {
+                let n = n as usize;
+                add(&self.shared.counters.bytes, n as u64);
+                if let Some(mut decoder) = self.decoder.take() {
+                    decoder.feed(&buf[..n], |j| self.on_frame(j, now));
+                    self.decoder = Some(decoder);
+                }
+            }
+            _ if is_transient(&std::io::Error::last_os_error()) => {}
+            _ => self.lost(),
         }
     }
 
-    /// While streaming with no command waiting, let frames gather before the next read, so one
-    /// wake takes several frames instead of one each. The pause is drawn uniformly from
-    /// `0..2·coalesce`: a fixed one would lock to the frame period, and the frames read just
-    /// after they arrived (the clock fit's minimum-delay points, [`crate::clock`]) would be those of one
-    /// phase only; a random one reads some frame soon after its arrival in every second.
-    fn coalesce(&mut self) {
-        if !self.streaming || !self.inflight.is_empty() || self.opts.coalesce.is_zero() {
-            return;
+    /// Leave the device quiet (best effort) as the handle closes.
+    pub(super) fn close(mut self) {
+        if self.link.is_some() && self.streaming {
+            let _ = self.send_raw(Command::Stop, 0);
         }
-        // xorshift64: a cheap uniform draw; no statistics hang on its quality.
-        self.rand ^= self.rand << 13;
-        self.rand ^= self.rand >> 7;
-        self.rand ^= self.rand << 17;
-        let u = (self.rand >> 11) as f64 / (1u64 << 53) as f64;
-        std::thread::sleep(self.opts.coalesce.mul_f64(2.0 * u));
     }
 
     fn poll_control(&mut self) {
@@ -399,6 +437,8 @@ impl Io {
         self.shared.connected.store(false, Ordering::Relaxed);
         let now = SystemTime::now();
         self.lost_since = Some((Instant::now(), now));
+        // The first attempt after a pause: a device that vanishes takes a moment to come back.
+        self.retry_at = Instant::now() + RETRY_EVERY;
         self.seq_before_outage = self.track.last_seq().or(self.seq_before_outage);
         self.emit(Event::Gap(Gap {
             kind: GapKind::Disconnected,
@@ -414,23 +454,26 @@ impl Io {
         }
     }
 
-    /// One reconnection attempt; `false` when it is time to give up.
-    fn reconnect(&mut self, decoder: &mut FastDecoder) -> bool {
+    /// One reconnection attempt; gives up (the stream ends) after `reconnect_for`.
+    fn reconnect(&mut self) {
         let since = self.lost_since.map_or_else(Instant::now, |(i, _)| i);
         if !self.opts.reconnect || since.elapsed() > self.opts.reconnect_for {
             self.shared.gone.store(true, Ordering::Relaxed);
-            return false;
+            self.shutdown = true;
+            return;
         }
-        std::thread::sleep(Duration::from_millis(100));
+        self.retry_at = Instant::now() + RETRY_EVERY;
         let Ok(path) = self.spec.resolve() else {
-            return true;
+            return;
         };
         let Ok(tty) = super::port::open_path(&path) else {
-            return true;
+            return;
         };
         self.path = path;
         self.link = Some(tty);
-        decoder.reset();
+        if let Some(d) = self.decoder.as_mut() {
+            d.reset();
+        }
         self.track.new_session();
         self.damaged = false;
         add(&self.shared.counters.reconnects, 1);
@@ -440,9 +483,11 @@ impl Io {
         if self.streaming {
             self.submit(Command::Start, None);
         }
-        true
     }
 }
+
+/// Pause between reconnection attempts.
+const RETRY_EVERY: Duration = Duration::from_millis(100);
 
 fn is_transient(e: &std::io::Error) -> bool {
     matches!(

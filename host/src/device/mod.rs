@@ -2,20 +2,20 @@
 //! (device time unwrapped, host receive time, sequence), send commands with typed results,
 //! count every kind of damage, and reconnect after an unplug with the gap marked.
 //!
-//! One I/O thread per sensor owns the port; it decodes with [`crate::decode::FastDecoder`],
-//! sends [`Event`]s into a bounded channel (a reader that cannot keep up loses frames *visibly*,
+//! One I/O thread owns the ports opened together ([`Device::open_all`]; `hub`): it decodes with
+//! [`crate::decode::FastDecoder`], sends each sensor's [`Event`]s into its bounded channel (a reader that cannot keep up loses frames *visibly*,
 //! as a [`GapKind::HostQueueFull`], instead of lagging ever further behind), and carries out
 //! commands sent to it with their tags, timeouts and retries.
 
 mod convert;
 mod error;
+mod hub;
 mod io;
 mod port;
 mod track;
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
-use std::thread::JoinHandle;
 use std::time::{Duration, SystemTime};
 
 use protocol::{Calibration, Command, FilterConfig, Info, SampleFrame};
@@ -38,9 +38,13 @@ pub struct OpenOptions {
     pub retries: u32,
     /// Events buffered between the I/O thread and the reader.
     pub queue: usize,
-    /// Mean pause after a read while streaming, so that one wake reads several frames (zero:
-    /// read every frame as it comes). See `Io::coalesce`.
+    /// Mean pause of the I/O thread while streaming, so that one wake reads several frames
+    /// of every port (zero: read every frame as it comes). See [`OpenOptions::catch`].
     pub coalesce: Duration,
+    /// After each pause and the read of every port, how long the I/O thread reads each frame
+    /// the moment it arrives: those reads are the ones the clock fit ([`crate::clock`]) is
+    /// made of, since a frame read after a pause carries the rest of the pause as delay.
+    pub catch: Duration,
 }
 
 impl Default for OpenOptions {
@@ -52,6 +56,7 @@ impl Default for OpenOptions {
             retries: 3,
             queue: 16_384,
             coalesce: Duration::from_millis(10),
+            catch: Duration::from_millis(5),
         }
     }
 }
@@ -205,52 +210,95 @@ pub struct Device {
     shared: Arc<Shared>,
     control: Option<mpsc::Sender<Control>>,
     events: mpsc::Receiver<Event>,
-    thread: Option<JoinHandle<()>>,
+    /// Ends (disconnects) when the I/O thread has closed this sensor's port.
+    closed: Option<mpsc::Receiver<()>>,
     opts: OpenOptions,
 }
 
 impl Device {
     /// Open the sensor and read its info frame. Does not start streaming.
     pub fn open(spec: &PortSpec, opts: OpenOptions) -> Result<Self, DeviceError> {
-        let path = spec.resolve()?;
-        let tty = port::open_path(&path)?;
-        let shared = Arc::new(Shared::default());
-        let (ctl_tx, ctl_rx) = mpsc::channel();
-        let (ev_tx, ev_rx) = mpsc::sync_channel(opts.queue.max(1));
-        let io = io::Io::new(
-            spec.clone(),
-            path.clone(),
-            tty,
-            opts.clone(),
-            shared.clone(),
-            ev_tx,
-            ctl_rx,
-        );
-        let thread = std::thread::Builder::new()
-            .name(format!("tactile-io {}", path.display()))
-            .spawn(move || io.run())
-            .map_err(|e| DeviceError::Io {
-                port: path.clone(),
-                source: e,
-            })?;
-        let dev = Self {
-            spec: spec.clone(),
-            port: path,
-            shared,
-            control: Some(ctl_tx),
-            events: ev_rx,
-            thread: Some(thread),
-            opts,
-        };
-        let info = dev.get_info()?;
+        let mut all = Self::open_all(std::slice::from_ref(spec), opts);
+        all.pop().unwrap_or_else(|| {
+            Err(DeviceError::Gone {
+                port: spec.label().into(),
+            })
+        })
+    }
+
+    /// Open several sensors, served by one I/O thread (a hand: one wake reads every port), and
+    /// read each one's info frame. One result per spec, in order; a sensor that fails leaves
+    /// the others open.
+    pub fn open_all(specs: &[PortSpec], opts: OpenOptions) -> Vec<Result<Self, DeviceError>> {
+        let mut ios = Vec::new();
+        let mut opened: Vec<Result<Self, DeviceError>> = Vec::new();
+        for spec in specs {
+            let tty = spec.resolve().and_then(|p| Ok((port::open_path(&p)?, p)));
+            opened.push(tty.map(|(tty, path)| {
+                let shared = Arc::new(Shared::default());
+                let (ctl_tx, ctl_rx) = mpsc::channel();
+                let (ev_tx, ev_rx) = mpsc::sync_channel(opts.queue.max(1));
+                let (closed_tx, closed_rx) = mpsc::channel();
+                ios.push(io::Io::new(
+                    spec.clone(),
+                    path.clone(),
+                    tty,
+                    opts.clone(),
+                    shared.clone(),
+                    io::Ends {
+                        events: ev_tx,
+                        control: ctl_rx,
+                        closed: closed_tx,
+                    },
+                ));
+                Self {
+                    spec: spec.clone(),
+                    port: path,
+                    shared,
+                    control: Some(ctl_tx),
+                    events: ev_rx,
+                    closed: Some(closed_rx),
+                    opts: opts.clone(),
+                }
+            }));
+        }
+        if !ios.is_empty() {
+            let spawned = hub::Hub::new(ios, opts.coalesce, opts.catch).and_then(|hub| {
+                std::thread::Builder::new()
+                    .name("tactile-io".into())
+                    .spawn(move || hub.run())
+            });
+            if let Err(e) = spawned {
+                return opened
+                    .into_iter()
+                    .map(|d| {
+                        d.and_then(|d| {
+                            Err(DeviceError::Io {
+                                port: d.port.clone(),
+                                source: std::io::Error::new(e.kind(), e.to_string()),
+                            })
+                        })
+                    })
+                    .collect();
+            }
+        }
+        opened
+            .into_iter()
+            .map(|d| d.and_then(Self::handshake))
+            .collect()
+    }
+
+    /// Read the info frame and check the protocol version.
+    fn handshake(self) -> Result<Self, DeviceError> {
+        let info = self.get_info()?;
         if info.protocol_version != protocol::PROTOCOL_VERSION {
             return Err(DeviceError::Version {
-                port: dev.port.clone(),
+                port: self.port.clone(),
                 got: info.protocol_version,
                 want: protocol::PROTOCOL_VERSION,
             });
         }
-        Ok(dev)
+        Ok(self)
     }
 
     pub fn spec(&self) -> &PortSpec {
@@ -376,10 +424,12 @@ impl Device {
         self.shutdown();
     }
 
+    /// Drop the command channel (the I/O thread closes the port when it sees that) and wait
+    /// until the port is closed, so that it can be opened again at once.
     fn shutdown(&mut self) {
         self.control = None;
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
+        if let Some(closed) = self.closed.take() {
+            let _ = closed.recv();
         }
     }
 }

@@ -196,9 +196,12 @@ fn csv_paths(args: &Args) -> anyhow::Result<Vec<PathBuf>> {
 
 type SharedSink = Rc<RefCell<McapSink>>;
 
-/// How long the pump sleeps when every queue was empty. The queues hold seconds of frames
-/// ([`MIN_QUEUE`]), and the I/O threads deliver a few frames per read anyway: waking 50 times a
-/// second instead of 200 costs nothing but a few milliseconds of latency on the files.
+/// How long the pump sleeps after each pass over the queues. A pass takes everything queued,
+/// so the work per pass grows with the pause and the passes' fixed cost (a look at every
+/// queue, clock and flush timer) shrinks: a pump that went round again whenever a pass had
+/// found anything ran a pass for every few frames the I/O thread delivered. The queues hold
+/// seconds of frames ([`MIN_QUEUE`]): the pause costs only its latency on the files, far
+/// under their flush interval.
 const IDLE: Duration = Duration::from_millis(20);
 
 /// Fewest frames queued per sensor between its I/O thread and the files: 20 s at 1 kHz, 2.3 s
@@ -230,14 +233,16 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
     if let Some(a) = args.azimuth_deg {
         setup.azimuth_deg = a;
     }
-    // Open every sensor before creating any file: a wrong port leaves nothing behind.
+    // Open every sensor before creating any file: a wrong port leaves nothing behind. One I/O
+    // thread serves them all (host::device::Device::open_all).
+    let specs: Vec<PortSpec> = targets.iter().map(|(_, spec)| spec.clone()).collect();
     let mut devices = Vec::new();
-    for (label, spec) in targets {
+    for ((label, _), dev) in targets.into_iter().zip(Device::open_all(&specs, opts)) {
         let named = args
             .hand
             .as_ref()
             .map(|h| format!("{}: finger {label}", h.display()));
-        let dev = match (Device::open(&spec, opts.clone()).coded(), named) {
+        let dev = match (dev.coded(), named) {
             (Ok(d), _) => d,
             (Err(e), Some(finger)) => return Err(anyhow::Error::from(e).context(finger)),
             (Err(e), None) => return Err(e.into()),
@@ -296,12 +301,10 @@ fn pump(
     let mut last_status = Instant::now();
     let t0 = Instant::now();
     loop {
-        let mut idle = true;
         for s in sensors.iter_mut() {
             loop {
                 match s.dev.events().try_recv() {
                     Ok(ev) => {
-                        idle = false;
                         s.view.on_event(&ev);
                         s.rec.on_event(&ev).coded()?;
                     }
@@ -324,18 +327,18 @@ fn pump(
             return Ok(());
         }
         if let Some(d) = dash.as_deref_mut() {
-            let counters: Vec<_> = sensors.iter().map(|s| s.dev.counters()).collect();
-            let views: Vec<&SensorView> = sensors.iter().map(|s| &s.view).collect();
-            if d.draw(&views, &counters, t0.elapsed())? {
+            let take = || {
+                let views = sensors.iter().map(|s| s.view.clone()).collect();
+                (views, sensors.iter().map(|s| s.dev.counters()).collect())
+            };
+            if d.draw(take, t0.elapsed())? {
                 return Ok(());
             }
         } else if !quiet && last_status.elapsed() >= Duration::from_secs(1) {
             last_status = Instant::now();
             eprintln!("{}", status_line(sensors, t0.elapsed()));
         }
-        if idle {
-            std::thread::sleep(IDLE);
-        }
+        std::thread::sleep(IDLE);
     }
 }
 
