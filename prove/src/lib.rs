@@ -441,22 +441,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
         .map(name)
         .collect();
     let Some(r) = report else {
-        return Score {
-            id: case.id,
-            truth,
-            unseen,
-            found: vec!["<error>".into()],
-            effects: Vec::new(),
-            undecided: Vec::new(),
-            correct: false,
-            quiet: false,
-            low_snr: case.low_snr,
-            primary_errors: Vec::new(),
-            heldout_before: f64::NAN,
-            heldout_after: f64::NAN,
-            seconds: f64::NAN,
-            runner_up: None,
-        };
+        return Score::failed(case, truth, unseen);
     };
     // Read through the contract's keys: a described term (`"catalogue": false`) is no
     // catalogue name.
@@ -513,6 +498,28 @@ fn score(case: &Case, report: Option<Report>) -> Score {
         heldout_before: r.fit.heldout.rmse_before,
         heldout_after: r.fit.heldout.rmse_after,
         seconds: r.seconds,
+    }
+}
+
+impl Score {
+    /// A case whose diagnosis failed: nothing found, nothing measured.
+    fn failed(case: &Case, truth: Vec<String>, unseen: Vec<String>) -> Self {
+        Score {
+            id: case.id,
+            truth,
+            unseen,
+            found: vec!["<error>".into()],
+            effects: Vec::new(),
+            undecided: Vec::new(),
+            correct: false,
+            quiet: false,
+            low_snr: case.low_snr,
+            primary_errors: Vec::new(),
+            heldout_before: f64::NAN,
+            heldout_after: f64::NAN,
+            seconds: f64::NAN,
+            runner_up: None,
+        }
     }
 }
 

@@ -521,7 +521,7 @@ fn effect(name: &str, stage: &str, channels: &[&str], depends: Option<&[&str]>) 
 fn the_judge_reads_stage_channels_and_dependence() {
     let x = pair(Physics::OffsetStep, Target::Mx, TestShape::Standard, false);
     let right = effect("offset_step", "electronics", &["mx_V"], Some(&["time"]));
-    assert!(described::judge(&x.truth, &[right.clone()]).right);
+    assert!(described::judge(&x.truth, std::slice::from_ref(&right)).right);
     let wrong_stage = effect("offset_step", "transducer", &["mx_V"], Some(&["time"]));
     let wrong_dep = effect("offset_step", "electronics", &["mx_V"], Some(&["load_N"]));
     let wrong_channel = effect(

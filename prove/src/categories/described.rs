@@ -3,10 +3,10 @@
 //! lacks"). Each recording hides one [`Physics`], placed at its stage, on the fingertip of the
 //! project's model or of another one ([`super::OtherFingertip`]), with or without sensor outputs
 //! (a test of the material alone: load cell only), under several protocols, some with a
-//! catalogue effect besides. The generators ([`inject`]) are the proof's own physics: they do not
+//! catalogue effect besides. The generators (`described/inject.rs`, `terms.rs`) are the proof's own physics: they do not
 //! use the diagnosis's terms, nor the simulator's effects for what the recording is scored on.
 //!
-//! Two groups are scored ([`score`]):
+//! Two groups are scored (`described/score.rs`):
 //! - **out of catalogue**: offset step, stuck or zero-reading channel, dead sensor, flipped
 //!   sign, a load growing with a power of the rod speed, a span following the temperature, a
 //!   frame vibration at a few hertz, a line at no mains frequency, a slow wander, a permanent set

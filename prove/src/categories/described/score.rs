@@ -22,12 +22,12 @@ fn matches(truth: &Truth, effect: &ReportedEffect) -> bool {
         .stage
         .as_deref()
         .is_some_and(|s| truth.stages.contains(&s));
-    let has = |c: &&str| effect.channels.iter().any(|x| x == c);
+    let has = |c: &str| effect.channels.iter().any(|x| x == c);
     let inside = effect
         .channels
         .iter()
         .all(|c| truth.channels.contains(&c.as_str()) || truth.channels_also.contains(&c.as_str()));
-    let channels_right = truth.channels.iter().all(|c| has(&c)) && inside;
+    let channels_right = truth.channels.iter().all(|c| has(c)) && inside;
     let what_right = match truth.catalogue_name {
         Some(name) => effect.is_catalogue() && effect.name == name,
         None => !effect.is_catalogue() && depends_right(truth, effect.depends_on.as_deref()),

@@ -16,7 +16,37 @@ pub(super) fn truth(inj: &Injection, spec: &SimSpec) -> Truth {
     } else {
         OUTPUTS.to_vec()
     };
-    let (stages, channels, also, any, allowed, name): Tuple = match inj.physics {
+    let (stages, channels, also, any, allowed, name) = match inj.physics.group() {
+        super::Group::OutOfCatalogue => shape(inj.physics, on, with_outputs),
+        super::Group::NewStage => named_shape(inj.physics),
+    };
+    let mut hidden: Vec<String> = spec
+        .effects
+        .iter()
+        .map(|e| e.kind().name().to_string())
+        .collect();
+    if matches!(inj.physics, TendonRecovery | SensingElementRelaxation) {
+        hidden.push("viscoelastic_relaxation".into());
+    }
+    Truth {
+        physics: inj.physics,
+        stages,
+        channels,
+        channels_also: also,
+        depends_any: any,
+        depends_allowed: allowed,
+        catalogue_name: name,
+        hidden,
+        params: Vec::new(),
+        material_alone: inj.material_alone,
+    }
+}
+
+/// Stage, channels and dependence of a kind out of the catalogue acting on `on`;
+/// `with_outputs` are the outputs a material's term may list besides the load.
+fn shape(physics: Physics, on: Vec<&'static str>, with_outputs: Vec<&'static str>) -> Tuple {
+    use Physics::*;
+    match physics {
         OffsetStep | Wander => (
             vec![ELECTRONICS],
             on,
@@ -60,19 +90,7 @@ pub(super) fn truth(inj: &Injection, spec: &SimSpec) -> Truth {
             vec!["rod_speed", "load_N", "rod_mm"],
             None,
         ),
-        SpanFollowsTemperature => {
-            let mut allowed = vec!["temp_C", "load_N", "rod_mm"];
-            allowed.extend(OUTPUTS);
-            let stages = vec![TRANSDUCER, ELECTRONICS];
-            (
-                stages,
-                OUTPUTS.to_vec(),
-                vec![],
-                vec!["temp_C"],
-                allowed,
-                None,
-            )
-        }
+        SpanFollowsTemperature => span_shape(),
         PermanentSet => (
             vec![MATERIAL],
             vec!["load_N"],
@@ -97,6 +115,30 @@ pub(super) fn truth(inj: &Injection, spec: &SimSpec) -> Truth {
             vec!["time", "load_N", "rod_mm"],
             None,
         ),
+        _ => named_shape(physics),
+    }
+}
+
+/// The outputs' span following the temperature: the bridges' or the amplifiers', a function
+/// of the temperature and of what the span multiplies.
+fn span_shape() -> Tuple {
+    let mut allowed = vec!["temp_C", "load_N", "rod_mm"];
+    allowed.extend(OUTPUTS);
+    let stages = vec![TRANSDUCER, ELECTRONICS];
+    (
+        stages,
+        OUTPUTS.to_vec(),
+        vec![],
+        vec!["temp_C"],
+        allowed,
+        None,
+    )
+}
+
+/// A catalogue entry at its new stage, on its channels.
+fn named_shape(physics: Physics) -> Tuple {
+    use Physics::*;
+    match physics {
         MainsOnLoadCell => named(ELECTRONICS, "mains_interference"),
         SaturationOnLoadCell => named(ELECTRONICS, "amplifier_saturation"),
         StiffeningAlone => named(MATERIAL, "stiffening"),
@@ -109,26 +151,8 @@ pub(super) fn truth(inj: &Injection, spec: &SimSpec) -> Truth {
             vec![],
             Some("viscoelastic_relaxation"),
         ),
-    };
-    let mut hidden: Vec<String> = spec
-        .effects
-        .iter()
-        .map(|e| e.kind().name().to_string())
-        .collect();
-    if matches!(inj.physics, TendonRecovery | SensingElementRelaxation) {
-        hidden.push("viscoelastic_relaxation".into());
-    }
-    Truth {
-        physics: inj.physics,
-        stages,
-        channels,
-        channels_also: also,
-        depends_any: any,
-        depends_allowed: allowed,
-        catalogue_name: name,
-        hidden,
-        params: Vec::new(),
-        material_alone: inj.material_alone,
+        // The kinds out of the catalogue have no name.
+        _ => (vec![], vec![], vec![], vec![], vec![], None),
     }
 }
 
@@ -359,10 +383,10 @@ fn tendon(
     ]);
     let clean = &ctx.clean.channels;
     let lagged = lag(&clean.t_s, &clean.load_n, tau_1_s);
-    for i in 0..clean.t_s.len() {
-        let dried = 1.0 + b * (1.0 - (-clean.t_s[i] / tau_2_s).exp());
-        let target = (clean.load_n[i] - a * lagged[i]) * dried;
-        rec.channels.load_n[i] += target - clean.load_n[i];
+    let rows = clean.t_s.iter().zip(&clean.load_n).zip(&lagged);
+    for (f, ((t, c), l)) in rec.channels.load_n.iter_mut().zip(rows) {
+        let dried = 1.0 + b * (1.0 - (-t / tau_2_s).exp());
+        *f += (c - a * l) * dried - c;
     }
 }
 
