@@ -11,8 +11,11 @@
 //! - **nuisances** that are not missing physics and must not be named: wrong gains in the
 //!   metadata, a load-cell offset, coarse quantisation, isolated spikes, missing rows, coloured
 //!   noise, a temperature column the outputs ignore ([`nuisances::Nuisance`]);
-//! - the **real Mach-1 tests**, with the physics each must show: [`super::real`].
+//! - the **real Mach-1 tests**, with the physics each must show: [`super::real`];
+//! - **described physics**: physics the catalogue lacks, and catalogue entries at another
+//!   stage, scored on stage, channels and dependence or name ([`described`]).
 
+pub mod described;
 mod family;
 mod nuisances;
 mod protocols;
@@ -35,6 +38,8 @@ pub enum Category {
     IndependentBaseline,
     ThreeEffects,
     Nuisances,
+    /// Scored on their own terms ([`described::table`]), not in [`table`].
+    Described(described::Group),
 }
 
 impl Category {
@@ -51,6 +56,7 @@ impl Category {
             Category::IndependentBaseline => "independent baseline",
             Category::ThreeEffects => "three effects",
             Category::Nuisances => "nuisances",
+            Category::Described(g) => g.name(),
         }
     }
 }
@@ -60,6 +66,8 @@ impl Category {
 pub struct Labelled {
     pub category: Category,
     pub label: String,
+    /// What a described recording hides ([`Category::Described`]).
+    pub truth: Option<described::Truth>,
 }
 
 use EffectKind::*;
@@ -106,15 +114,46 @@ const TRIPLES: [[EffectKind; 3]; 8] = [
 const NUISANCE_TRUTHS: [&[EffectKind]; 3] = [&[], &[], &[ViscoelasticRelaxation]];
 
 impl Plan {
-    /// Every category's recordings (in parallel, each from its own seed), with their labels.
+    /// Every category's recordings (in parallel, each from its own seed), with their labels;
+    /// the described physics apart ([`Plan::generate_described`]).
     pub fn generate_categories(&self) -> Result<(Vec<Labelled>, Vec<Case>), FeResponseError> {
+        self.generate_from(category_specs(), 1000)
+    }
+
+    /// The described physics' recordings: out of the catalogue, and the catalogue at new stages.
+    pub fn generate_described(&self) -> Result<(Vec<Labelled>, Vec<Case>), FeResponseError> {
+        let specs = described::specs()
+            .into_iter()
+            .map(|(label, spec)| {
+                let group = spec
+                    .injection
+                    .map_or(described::Group::OutOfCatalogue, |i| i.physics.group());
+                (Category::Described(group), label, spec)
+            })
+            .collect();
+        self.generate_from(specs, 2000)
+    }
+
+    fn generate_from(
+        &self,
+        specs: Vec<(Category, String, CaseSpec)>,
+        first_id: usize,
+    ) -> Result<(Vec<Labelled>, Vec<Case>), FeResponseError> {
         use rayon::prelude::*;
-        category_specs()
+        specs
             .into_par_iter()
             .enumerate()
             .map(|(id, (category, label, spec))| {
-                let case = self.build(id + 1000, &spec)?;
-                Ok((Labelled { category, label }, case))
+                let case = self.build(id + first_id, &spec)?;
+                let truth = case.described.clone();
+                Ok((
+                    Labelled {
+                        category,
+                        label,
+                        truth,
+                    },
+                    case,
+                ))
             })
             .collect::<Result<Vec<_>, _>>()
             .map(|v| v.into_iter().unzip())
@@ -192,11 +231,35 @@ pub fn table(labelled: &[Labelled], scores: &[Score]) -> String {
     out
 }
 
-/// Every category passes [`category_passes`].
+/// Every category passes [`category_passes`] (a described term on an effect-free recording
+/// counts among its false alarms).
 pub fn all_pass(labelled: &[Labelled], scores: &[Score]) -> bool {
     summaries(labelled, scores)
         .iter()
         .all(|(_, s)| category_passes(s))
+}
+
+/// The effect-free recordings of the categories of [`table`] that got a described term
+/// (`"catalogue": false`), in one line: a description must not be a new false alarm.
+pub fn described_on_effect_free(labelled: &[Labelled], scores: &[Score]) -> String {
+    let free: Vec<&Score> = labelled
+        .iter()
+        .zip(scores)
+        .filter(|(l, s)| Category::ALL.contains(&l.category) && s.effect_free())
+        .map(|(_, s)| s)
+        .collect();
+    let with: Vec<String> = free
+        .iter()
+        .filter(|s| !s.described().is_empty())
+        .map(|s| format!("{:02} ({})", s.id, s.described().join(", ")))
+        .collect();
+    format!(
+        "Effect-free recordings with a described term (`\"catalogue\": false`, counted among the false alarms): {} of {}{}{}.\n",
+        with.len(),
+        free.len(),
+        if with.is_empty() { "" } else { ": " },
+        with.join(", ")
+    )
 }
 
 /// The acceptance figures of each category's recordings.

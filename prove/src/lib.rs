@@ -4,6 +4,7 @@
 
 pub mod categories;
 pub mod real;
+pub mod reported;
 
 use std::fmt::Write as _;
 
@@ -14,10 +15,12 @@ use sim::effects::{Effect, EffectKind};
 use baseline::fe_response::{AngleBlend, FeResponseError};
 use baseline::synth::{simulate, simulate_path, Gaussian, Noise, SimSpec};
 use baseline::{BaselineParams, Drive, FingertipResponse};
+use categories::described::{Injection, Truth};
 use categories::{Nuisance, OtherFingertip, TestShape};
 use diagnosis::output::Report;
 use diagnosis::{diagnose, Options};
 use recording::Recording;
+use reported::ReportedEffect;
 
 /// One generated recording and what is hidden in it.
 pub struct Case {
@@ -25,6 +28,9 @@ pub struct Case {
     pub truth: Vec<Effect>,
     pub low_snr: bool,
     pub recording: Recording,
+    /// The physics hidden besides the catalogue's, and what a right answer says of it
+    /// ([`categories::described`]).
+    pub described: Option<Truth>,
 }
 
 impl Score {
@@ -38,8 +44,27 @@ impl Score {
     /// with a "?" ("" for none).
     pub fn answer(&self, sep: &str) -> String {
         let undecided = self.undecided.iter().map(|e| format!("{e}?"));
-        let all: Vec<String> = self.found.iter().cloned().chain(undecided).collect();
+        let described = self
+            .described()
+            .into_iter()
+            .map(|e| format!("{e} (described)"));
+        let all: Vec<String> = self
+            .found
+            .iter()
+            .cloned()
+            .chain(undecided)
+            .chain(described)
+            .collect();
         all.join(sep)
+    }
+
+    /// The names of the terms reported with `"catalogue": false`.
+    pub fn described(&self) -> Vec<String> {
+        self.effects
+            .iter()
+            .filter(|e| !e.is_catalogue())
+            .map(|e| e.name.clone())
+            .collect()
     }
 }
 
@@ -51,8 +76,11 @@ pub struct Score {
     pub truth: Vec<String>,
     /// Hidden effects its sample rate cannot show (a mains line below its Nyquist rate).
     pub unseen: Vec<String>,
-    /// The effects the diagnosis named.
+    /// The catalogue effects the diagnosis named.
     pub found: Vec<String>,
+    /// Every effect reported, as the contract's JSON has it (stage, channels, `catalogue`,
+    /// `depends_on`): described terms included.
+    pub effects: Vec<ReportedEffect>,
     /// Effects it reported as undecided against a calibration (`Report::undecided`).
     pub undecided: Vec<String>,
     pub correct: bool,
@@ -153,6 +181,12 @@ impl Plan {
         if cs.nuisance == Some(Nuisance::TemperatureIgnored) {
             ambient_swing = Some((u(1.0, 2.0), u(40.0, 90.0)));
         }
+        if let Some(swing) = cs
+            .injection
+            .and_then(|i| i.ambient_swing(self.seed ^ id as u64))
+        {
+            ambient_swing = Some(swing);
+        }
         let other = cs.other_family.map(|linear_outputs| OtherFingertip {
             fe: &fe,
             exponent: u(1.5, 2.3),
@@ -188,18 +222,37 @@ impl Plan {
             ambient_swing,
             source: "tactile prove".into(),
         };
+        let (recording, described) = record(&spec, cs, &jig);
         Ok(Case {
             id,
             truth,
             low_snr: jig.low_snr,
-            recording: record(&spec, cs, &jig),
+            recording,
+            described,
         })
     }
 }
 
-/// Simulate `spec` along the case's protocol, then add its nuisance.
-fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> Recording {
-    let mut recording = match cs.protocol.waypoints(spec, [jig.peak_n, jig.second_peak_n]) {
+/// Simulate `spec` along the case's protocol, then add its nuisance; or simulate the physics it
+/// hides besides the catalogue's, with its truth.
+fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> (Recording, Option<Truth>) {
+    let waypoints = cs.protocol.waypoints(spec, [jig.peak_n, jig.second_peak_n]);
+    if let Some(injection) = &cs.injection {
+        let history = match waypoints {
+            Some(w) => sim::compression::RodHistory::from_waypoints(spec.test.sample_rate_hz, &w),
+            None => {
+                let turns: Vec<f64> = spec
+                    .peak_loads_n
+                    .iter()
+                    .map(|&l| baseline::synth::rod_at(spec, l))
+                    .collect();
+                spec.test.rod_history(&turns)
+            }
+        };
+        let (recording, truth) = injection.record(spec, history);
+        return (recording, Some(truth));
+    }
+    let mut recording = match waypoints {
         Some(w) => simulate_path(
             spec,
             sim::compression::RodHistory::from_waypoints(spec.test.sample_rate_hz, &w),
@@ -213,7 +266,7 @@ fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> Recording {
         let mut u = |a: f64, b: f64| a + (b - a) * h.uniform();
         n.apply(&mut recording, &mut u, &mut || z.normal(), &jig.noise);
     }
-    recording
+    (recording, None)
 }
 
 /// What one case hides, and what its category varies beyond the standard proof.
@@ -224,6 +277,8 @@ pub struct CaseSpec {
     /// Another model's fingertip: `Some(linear_outputs)`.
     pub other_family: Option<bool>,
     pub nuisance: Option<Nuisance>,
+    /// Physics beyond the catalogue's effects, or a catalogue entry at another stage.
+    pub injection: Option<Injection>,
 }
 
 impl CaseSpec {
@@ -234,6 +289,7 @@ impl CaseSpec {
             protocol: TestShape::Standard,
             other_family: None,
             nuisance: None,
+            injection: None,
         }
     }
 }
@@ -390,6 +446,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
             truth,
             unseen,
             found: vec!["<error>".into()],
+            effects: Vec::new(),
             undecided: Vec::new(),
             correct: false,
             quiet: false,
@@ -401,7 +458,14 @@ fn score(case: &Case, report: Option<Report>) -> Score {
             runner_up: None,
         };
     };
-    let named: Vec<String> = r.effects.iter().map(|e| e.name.clone()).collect();
+    // Read through the contract's keys: a described term (`"catalogue": false`) is no
+    // catalogue name.
+    let effects = ReportedEffect::all(&serde_json::to_value(&r).unwrap_or_default());
+    let named: Vec<String> = effects
+        .iter()
+        .filter(|e| e.is_catalogue())
+        .map(|e| e.name.clone())
+        .collect();
     // A true effect the recording cannot tell from a calibration, reported as such
     // (`Report::undecided`), is answered as well as the data allow; shown with a "?".
     let undecided: Vec<&String> = r
@@ -440,6 +504,7 @@ fn score(case: &Case, report: Option<Report>) -> Score {
         truth,
         unseen,
         found,
+        effects,
         undecided,
         correct: a == b,
         quiet: r.verdict == diagnosis::output::Verdict::NoSignificantMismatch,
@@ -515,7 +580,11 @@ impl Summary {
         Self {
             cases: scores.len(),
             correct_share: scores.iter().filter(|s| s.correct).count() as f64 / n,
-            false_alarms: none.iter().filter(|s| !s.found.is_empty()).count(),
+            // A described term is a finding too: on an effect-free recording, a false alarm.
+            false_alarms: none
+                .iter()
+                .filter(|s| !s.found.is_empty() || !s.described().is_empty())
+                .count(),
             no_effect_cases: none.len(),
             not_quiet: none.iter().filter(|s| !s.quiet).count(),
             primary_within_20: primary.iter().filter(|&&e| e <= 0.2).count() as f64

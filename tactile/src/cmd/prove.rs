@@ -32,7 +32,8 @@ pub struct Args {
     #[arg(long)]
     pub write_recordings: bool,
     /// Score the categories instead (protocols, another model's baseline, three effects,
-    /// nuisances): categories.md in the output folder, one table row per category.
+    /// nuisances, then physics out of the catalogue and the catalogue at new stages):
+    /// categories.md in the output folder, one table row per category.
     #[arg(long)]
     pub categories: bool,
     /// With --categories, also score the real Mach-1 tests: the examples' zip or a folder holding
@@ -108,15 +109,16 @@ fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
     }
     let scores = score(&cases, &plan.options);
     let table = categories::table(&labelled, &scores);
+    let check = categories::described_on_effect_free(&labelled, &scores);
     let details = categories::details(&labelled, &scores);
-    println!("{table}\n{details}");
+    println!("{table}\n{check}\n{details}");
     println!(
         "{} recordings in {:.1} s",
         labelled.len(),
         started.elapsed().as_secs_f64()
     );
     let mut real_pass = true;
-    let mut text = format!("{table}\n{details}");
+    let mut text = format!("{table}\n{check}\n{details}");
     if let Some(source) = &args.mach1 {
         let read = |name: &str| read_mach1(source, name).map_err(|e| format!("{e:#}"));
         let real = real::run_mach1(&read, plan).map_err(anyhow::Error::msg)?;
@@ -125,13 +127,36 @@ fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
         real_pass = real.iter().all(|s| s.correct);
         text.push_str(&format!("\n{real_table}"));
     }
+    let described_pass = run_described(plan, args, &mut text)?;
     let path = args.out.join("categories.md");
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     anyhow::ensure!(
-        categories::all_pass(&labelled, &scores) && real_pass,
+        categories::all_pass(&labelled, &scores) && real_pass && described_pass,
         "some categories miss the acceptance bar (see the table)"
     );
     Ok(())
+}
+
+/// The described physics (out of the catalogue, the catalogue at new stages), diagnosed blind:
+/// its tables appended to `text`; whether both groups pass.
+fn run_described(plan: &Plan, args: &Args, text: &mut String) -> anyhow::Result<bool> {
+    let started = Instant::now();
+    let (labelled, cases) = plan.generate_described()?;
+    if args.write_recordings {
+        write_recordings(&cases, &args.out)?;
+    }
+    let scores = score(&cases, &plan.options);
+    let table = categories::described::table(&labelled, &scores);
+    println!("{table}");
+    println!(
+        "{} described recordings in {:.1} s",
+        labelled.len(),
+        started.elapsed().as_secs_f64()
+    );
+    text.push_str(&format!(
+        "\n## Physics the catalogue lacks, and the catalogue at new stages\n\n{table}"
+    ));
+    Ok(categories::described::all_pass(&labelled, &scores))
 }
 
 /// The text of `name` from the Mach-1 examples at `source` (their zip, or a folder), each byte
