@@ -264,8 +264,23 @@ pub fn best_step(
             best = Some((gain, k));
         }
     }
-    let t0 = ctx.t_s()[best?.1];
-    let h: Vec<f64> = ctx.t_s().iter().map(|&t| f64::from(t >= t0)).collect();
-    let fixed = freeze.then(|| h.iter().zip(&ctx.model[c]).map(|(h, m)| -h * m).collect());
-    Some((t0, Columns { x: vec![h], fixed }))
+    // Refine t0 between the neighbouring blocks: each block holds the share of its span after
+    // t0 (a step inside a block moves its mean part of the way).
+    let k = best?.1;
+    let (from, to) = (ctx.block_span[k.saturating_sub(1)].0, ctx.block_span[k].1);
+    let step_at = |t0: f64| {
+        let h: Vec<f64> = ctx
+            .block_span
+            .iter()
+            .map(|&(a, b)| ((b - t0) / (b - a).max(1e-12)).clamp(0.0, 1.0))
+            .collect();
+        let fixed = freeze.then(|| h.iter().zip(&ctx.model[c]).map(|(h, m)| -h * m).collect());
+        Columns { x: vec![h], fixed }
+    };
+    let shapes = (0..=20).map(|i| {
+        let t0 = from + (to - from) * f64::from(i) / 20.0;
+        (vec![t0], step_at(t0))
+    });
+    let (shape, columns, _, _) = best_shape(ctx, c, others, shapes)?;
+    Some((shape[0], columns))
 }
