@@ -186,7 +186,7 @@ pub fn solve(ctx: &Context, c: usize, cols: &Columns) -> Option<(Vec<f64>, f64)>
         Vec::new()
     } else {
         let scale: f64 = (0..k).map(|p| a[(p, p)]).fold(0.0, f64::max);
-        if !(scale > 0.0) {
+        if scale.is_nan() || scale <= 0.0 {
             return None;
         }
         // A tiny ridge keeps a column that barely reaches the stretch from blowing up.
