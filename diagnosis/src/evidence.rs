@@ -122,12 +122,15 @@ pub fn effect_reports(sel: &Selection, data: &Data) -> Vec<EffectReport> {
         }
         out.push(EffectReport {
             name: kind.name().to_string(),
+            stage: kind.stage(),
             channels: kind.channels().iter().map(|c| c.to_string()).collect(),
             evidence: sentence(kind, &params, cmp.bic_gain, cmp.heldout_ratio, data)
                 + &bound_note(&parameters),
             params,
             param_stderr: errs,
-            catalogue: None,
+            catalogue: true,
+            depends_on: None,
+            form: None,
             parameters,
         });
     }
@@ -165,8 +168,28 @@ fn join_second_term(first: &mut EffectReport, second: Vec<ParamDetail>) {
 /// The mains line as an effect, with Cramér–Rao standard errors for a sinusoid in white noise
 /// over N samples spanning T.
 pub fn mains_report(line: &Line, data: &Data) -> EffectReport {
+    mains_on(line, data, &[1, 2, 3])
+}
+
+/// The mains line on the load cell: the same catalogue entry at the load cell's electronics.
+pub fn load_mains_report(line: &Line, data: &Data) -> EffectReport {
+    let mut e = mains_on(line, data, &[0]);
+    e.channels = vec!["load_N".into()];
+    e.evidence = format!(
+        "Mains pickup at {:.2} Hz with {:.4} N amplitude on the load cell's own electronics: a narrow spectral line in the load.",
+        line.freq_hz,
+        line.amplitude()
+    );
+    e.params = Numbers(vec![
+        ("freq_hz".into(), line.freq_hz),
+        ("amplitude_N".into(), line.amplitude()),
+    ]);
+    e
+}
+
+fn mains_on(line: &Line, data: &Data, chans: &[usize]) -> EffectReport {
     let n = data.full.len() as f64;
-    let sigma = (1..4).map(|c| data.noise[c].sd()).sum::<f64>() / 3.0;
+    let sigma = chans.iter().map(|&c| data.noise[c].sd()).sum::<f64>() / chans.len().max(1) as f64;
     let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
     let a = line.amplitude().max(1e-300);
     let detail =
@@ -211,11 +234,14 @@ pub fn mains_report(line: &Line, data: &Data) -> EffectReport {
     let kind = EffectKind::MainsInterference;
     EffectReport {
         name: kind.name().to_string(),
+        stage: kind.stage(),
         channels: kind.channels().iter().map(|c| c.to_string()).collect(),
         evidence: sentence(kind, &params, f64::NAN, f64::NAN, data),
         params,
         param_stderr: errs,
-        catalogue: None,
+        catalogue: true,
+        depends_on: None,
+        form: None,
         parameters,
     }
 }

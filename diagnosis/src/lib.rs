@@ -37,6 +37,7 @@ mod specs;
 mod static_shape;
 mod stats;
 mod temperature;
+mod terms;
 mod undecided;
 
 pub use data::DataError;

@@ -5,6 +5,12 @@ use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde::Serialize as DeriveSerialize;
 
 use super::localise::{ChannelLocalisation, Mismatch};
+pub use sim::effects::Stage;
+
+/// A stage as the contract spells it.
+fn stage_name<S: Serializer>(stage: &Stage, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(stage.name())
+}
 
 /// The contract's format tag.
 pub const FORMAT: &str = "tactile-diagnosis/1";
@@ -75,15 +81,27 @@ pub struct ParamDetail {
     pub note: Option<String>,
 }
 
+/// One effect found: a catalogue entry, or a term the catalogue lacks, described
+/// (`catalogue: false`, with `depends_on` and `form`).
 #[derive(Debug, Clone, DeriveSerialize)]
 pub struct EffectReport {
     pub name: String,
+    /// Where in the chain it acts: `material`, `transducer` or `electronics`.
+    #[serde(serialize_with = "stage_name")]
+    pub stage: Stage,
     pub channels: Vec<String>,
     pub params: Numbers,
     pub param_stderr: Numbers,
     pub evidence: String,
+    /// A catalogue entry (`true`) or a described term (`false`).
+    pub catalogue: bool,
+    /// A described term's recorded quantities (`time`, `rod_mm`, `rod_speed`, `load_N`,
+    /// `load_rate`, `temp_C`, an output channel); empty for a constant.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub catalogue: Option<bool>,
+    pub depends_on: Option<Vec<String>>,
+    /// A described term's fitted expression, in words and symbols.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub form: Option<String>,
     /// Extra: `params` with units, bounds and bound flags.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub parameters: Vec<ParamDetail>,

@@ -477,6 +477,15 @@ impl<'s, 'a> Selection<'s, 'a> {
         }
     }
 
+    /// Report candidate `i` instead of the chosen one, for `why` (a described term took up what
+    /// the chosen model's extra effect had).
+    pub fn replace_chosen(&mut self, i: usize, why: &str) {
+        let old = self.chosen;
+        self.reasons[old] = format!("rejected: {why}");
+        self.reasons[i] = format!("accepted: {why}");
+        self.chosen = i;
+    }
+
     /// The index in `all` of the model `chosen` without effect number `i`.
     pub fn without_index(&self, i: usize) -> usize {
         let kinds: Vec<EffectKind> = self

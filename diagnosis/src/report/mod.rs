@@ -65,8 +65,15 @@ fn effects(d: &Diagnosis) -> String {
     for e in &r.effects {
         let window = words::evidence_window(e, &r.mismatches);
         h.push_str(&format!(
-            "<h3>{}</h3><p>{} {}</p>",
+            "<h3>{} <small>({}{})</small></h3><p><b>{}</b></p><p>{} {}</p>",
             esc(&capital(&words::effect_name(&e.name))),
+            e.stage.name(),
+            if e.catalogue {
+                ""
+            } else {
+                ", not in the catalogue"
+            },
+            esc(&words::stage_sentence(e)),
             esc(&e.evidence),
             esc(&words::effect_sentences(e, r, window))
         ));

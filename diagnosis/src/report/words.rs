@@ -6,7 +6,7 @@ use figures::number::{measurement, significant};
 use super::remains::{Finding, Remains};
 use crate::data::CHANNELS;
 use crate::localise::Mismatch;
-use crate::output::{CandidateReport, EffectReport, Report, Verdict};
+use crate::output::{CandidateReport, EffectReport, Report, Stage, Verdict};
 
 /// A channel as a reader names it.
 pub fn channel_name(channel: &str) -> &'static str {
@@ -36,6 +36,37 @@ pub fn effect_name(name: &str) -> String {
 fn count(n: usize) -> String {
     const WORDS: [&str; 6] = ["no", "one", "two", "three", "four", "five"];
     WORDS.get(n).map_or(n.to_string(), |w| w.to_string())
+}
+
+/// Where in the chain an effect acts, on which channels, and for a described term its form and
+/// what it is a function of, in one sentence.
+pub fn stage_sentence(e: &EffectReport) -> String {
+    let stage = match e.stage {
+        Stage::Material => "the material (between the rod's travel and the load)",
+        Stage::Transducer => "the transducer (between the load and the outputs)",
+        Stage::Electronics => "the electronics (after the transduction)",
+    };
+    let on: Vec<&str> = e.channels.iter().map(|c| channel_name(c)).collect();
+    let mut s = format!("Acts at {stage}, on {}.", list(&on));
+    if !e.catalogue {
+        let of = match e.depends_on.as_deref() {
+            Some([]) | None => "a constant".to_string(),
+            Some(d) => format!("a function of {}", d.join(", ")),
+        };
+        s.push_str(&format!(
+            " Not in the catalogue: described as {} ({of}).",
+            e.form.as_deref().unwrap_or("a term of its own")
+        ));
+    }
+    s
+}
+
+/// "a, b and c".
+fn list(items: &[&str]) -> String {
+    match items.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => items.concat(),
+    }
 }
 
 /// RMSE relative to the range, as a percentage.

@@ -33,6 +33,29 @@ pub use thermal_drift::{ThermalDrift, ThermalReference};
 pub use time_offset::TimeOffset;
 pub use viscoelastic_relaxation::ViscoelasticRelaxation;
 
+/// Where in the measuring chain a piece of physics acts (`docs/diagnosis-format.md`, "Where the
+/// physics acts").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Stage {
+    /// Between the rod's travel and the load: the gel, the contact, the rig.
+    Material,
+    /// Between the load and the outputs: the load's share to the chip, the chip, the bridges.
+    Transducer,
+    /// After the transduction, on any measured channel (the load cell's included).
+    Electronics,
+}
+
+impl Stage {
+    /// The contract's word for the stage.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Material => "material",
+            Stage::Transducer => "transducer",
+            Stage::Electronics => "electronics",
+        }
+    }
+}
+
 /// Which catalogue entry, without parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum EffectKind {
@@ -112,6 +135,21 @@ impl EffectKind {
             ViscoelasticRelaxation | Hysteresis => &["load_N", "fz_V", "mx_V", "my_V"],
             Crosstalk | ContactFriction => &["mx_V", "my_V"],
             _ => &["fz_V", "mx_V", "my_V"],
+        }
+    }
+
+    /// Where the forward model acts in the emulator's chain ([`EffectSet`]): on the load and the
+    /// chip loads alike (the gel), on the chip loads only or on the bridges' response (the
+    /// transducer), or on the output volts (the electronics). `thermal_drift` moves the outputs'
+    /// offset with temperature, an additive term after the bridges; `bridge_nonlinearity` is the
+    /// bridges' own response to stress, although the emulator applies it to the volts.
+    pub fn stage(self) -> Stage {
+        use EffectKind::*;
+        match self {
+            ViscoelasticRelaxation | Hysteresis => Stage::Material,
+            Stiffening | Crosstalk | ContactFriction | BridgeNonlinearity => Stage::Transducer,
+            HighpassCoupling | ThermalDrift | AmplifierSaturation | TimeOffset
+            | MainsInterference => Stage::Electronics,
         }
     }
 

@@ -1,0 +1,281 @@
+//! Physics the catalogue lacks, described (`docs/diagnosis-format.md`, "Where the physics
+//! acts"): when the chosen model's residual stays structured, a small library of terms, each a
+//! function of recorded quantities (time, rod travel and speed, load and load rate,
+//! temperature) located at a stage, is searched with the same forward–backward search and the
+//! same two tests as the catalogue's effects: the BIC against the model without the term, and
+//! the held-out stretch that no parameter saw ([`crate::candidate::heldout_needed`]).
+//!
+//! Every term adds to one channel's model a part linear in its amplitudes once its shape (a
+//! time, a frequency, a time constant, a power) is chosen: contribution = fixed + X beta, with
+//! beta by weighted least squares on the fitting stretch and the shape from a grid (each grid
+//! dimension counted as a parameter in the BIC). The terms act on the chosen model's residual:
+//! the catalogue's calibration stays as it was fitted, so a term can only be named for what the
+//! calibrated model with its catalogue effects could not take up.
+//!
+//! Why each term is in the library, in its own file with its equation:
+//! [`offset_step`] (a connector knock, a zero jump), [`stuck_channel`] (a channel that freezes),
+//! [`line`] (a line at any frequency: a frame's vibration, a slow wander, mains on the load
+//! cell), [`temperature_span`] (a span that follows the temperature), [`speed_power`] (a force
+//! or output depending on a power of the rod speed), [`permanent_set`] (a set after the first
+//! loading), [`output_relaxation`] (the sensing element creeps where the load does not),
+//! [`load_lag`] (the load cell's stream shifted in time). The calibration's own checks, an
+//! inverted sign and a dead channel, are in [`sanity`].
+
+mod fitting;
+pub(crate) mod line;
+pub(crate) mod load_lag;
+pub(crate) mod offset_step;
+pub(crate) mod output_relaxation;
+pub(crate) mod permanent_set;
+pub(crate) mod report;
+pub(crate) mod sanity;
+mod search;
+pub(crate) mod speed_power;
+pub(crate) mod stuck_channel;
+pub(crate) mod temperature_span;
+#[cfg(test)]
+mod tests;
+
+pub(crate) use fitting::Context;
+pub(crate) use search::{search, Found, Nested};
+
+use crate::output::{EffectReport, ParamDetail};
+use baseline::Outputs;
+use sim::effects::Stage;
+
+/// What was described beyond the catalogue: the effects to report and the terms' contributions
+/// to the model, on the decimated series and at the full rate.
+pub(crate) struct Described {
+    pub found: Found,
+    pub effects: Vec<EffectReport>,
+    decimated: [Vec<f64>; 4],
+    full: [Vec<f64>; 4],
+}
+
+impl Described {
+    /// The calibration's sanity findings, and with `structured` (the chosen model's residual is
+    /// not noise) the library's terms that pass both tests.
+    pub fn new(ctx: &Context, nested: Nested, details: &[ParamDetail], structured: bool) -> Self {
+        let mut effects: Vec<EffectReport> = sanity::inverted_signs(ctx, details, nested.n)
+            .iter()
+            .chain(&sanity::dead_channels(ctx, nested.n))
+            .map(report::sanity_effect)
+            .collect();
+        let found = if structured {
+            search(ctx, nested)
+        } else {
+            Found::default()
+        };
+        effects.extend(report::effects(&found));
+        let full_t = &ctx.data.full.t_s;
+        let mut decimated: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; ctx.len()]);
+        let mut full: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; full_t.len()]);
+        for t in &found.terms {
+            add(&mut decimated[t.channel], &t.contribution());
+            add(&mut full[t.channel], &t.at_full(ctx, full_t));
+        }
+        Self {
+            found,
+            effects,
+            decimated,
+            full,
+        }
+    }
+
+    /// The model `m` at the full rate with the terms.
+    pub fn add_full(&self, m: &Outputs, _t_s: &[f64]) -> Outputs {
+        let mut out = m.clone();
+        add(&mut out.load_n, &self.full[0]);
+        for c in 1..4 {
+            add(&mut out.volts[c - 1], &self.full[c]);
+        }
+        out
+    }
+
+    /// The model's channels `m` on the decimated series with the terms.
+    pub fn add_decimated(&self, m: &[Vec<f64>; 4]) -> [Vec<f64>; 4] {
+        std::array::from_fn(|c| {
+            let mut v = m[c].clone();
+            add(&mut v, &self.decimated[c]);
+            v
+        })
+    }
+}
+
+fn add(a: &mut [f64], b: &[f64]) {
+    a.iter_mut().zip(b).for_each(|(a, b)| *a += b);
+}
+
+/// A channel as a sentence names it.
+pub(crate) fn channel_words(c: usize) -> &'static str {
+    ["the load cell", "Fz", "Mx", "My"][c]
+}
+
+/// Which library term (or catalogue entry met at another stage through a term).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TermKind {
+    OffsetStep,
+    StuckChannel,
+    Line,
+    TemperatureSpan,
+    SpeedPower,
+    PermanentSet,
+    OutputRelaxation,
+    LoadLag,
+    /// Not a finding: the channel's offset and scale refitted with the terms on it, as the
+    /// calibration would refit them jointly (no parameter the nested model does not have).
+    Recalibration,
+}
+
+impl TermKind {
+    pub const ALL: [TermKind; 8] = [
+        TermKind::OffsetStep,
+        TermKind::StuckChannel,
+        TermKind::Line,
+        TermKind::TemperatureSpan,
+        TermKind::SpeedPower,
+        TermKind::PermanentSet,
+        TermKind::OutputRelaxation,
+        TermKind::LoadLag,
+    ];
+
+    /// Whether the term can act on channel `c` (0 the load cell, 1..4 the outputs).
+    pub fn acts_on(self, c: usize) -> bool {
+        match self {
+            TermKind::OutputRelaxation | TermKind::TemperatureSpan => c > 0,
+            TermKind::LoadLag | TermKind::PermanentSet => c == 0,
+            _ => true,
+        }
+    }
+
+    /// The channel's refitted offset and scale on channel `c` (see [`TermKind::Recalibration`]).
+    pub fn recalibration(ctx: &Context, c: usize) -> Term {
+        Term {
+            kind: TermKind::Recalibration,
+            channel: c,
+            shape: Vec::new(),
+            columns: fitting::Columns {
+                x: vec![vec![1.0; ctx.len()], ctx.signal(c)],
+                fixed: None,
+            },
+            beta: vec![0.0, 0.0],
+            n_params: 0,
+        }
+    }
+
+    /// The best shape and amplitudes of the term on channel `c`, given the other terms'
+    /// columns on that channel already in the model (`others`).
+    pub fn fit(self, ctx: &Context, c: usize, others: &fitting::Columns) -> Option<Term> {
+        match self {
+            TermKind::OffsetStep => offset_step::fit(ctx, c, others),
+            TermKind::StuckChannel => stuck_channel::fit(ctx, c, others),
+            TermKind::Line => line::fit(ctx, c, others),
+            TermKind::TemperatureSpan => temperature_span::fit(ctx, c, others),
+            TermKind::SpeedPower => speed_power::fit(ctx, c, others),
+            TermKind::PermanentSet => permanent_set::fit(ctx, c, others),
+            TermKind::OutputRelaxation => output_relaxation::fit(ctx, c, others),
+            TermKind::LoadLag => load_lag::fit(ctx, c, others),
+            TermKind::Recalibration => None,
+        }
+    }
+}
+
+/// A fitted term in the contract's words: its name, parameters (primary first, with units),
+/// the recorded quantities it is a function of, and its expression.
+pub(crate) struct Description {
+    pub name: &'static str,
+    pub params: Vec<(&'static str, f64, String)>,
+    pub depends_on: Vec<&'static str>,
+    pub form: String,
+}
+
+impl Description {
+    /// Whether the name is a catalogue entry met at another stage (the sensing element's own
+    /// relaxation, the load cell's lag) rather than a term of the library's own.
+    pub fn is_catalogue(&self) -> bool {
+        sim::effects::EffectKind::from_name(self.name).is_some()
+    }
+}
+
+/// One term fitted on one channel.
+#[derive(Debug, Clone)]
+pub(crate) struct Term {
+    pub kind: TermKind,
+    pub channel: usize,
+    /// The shape parameters chosen on their grid (a time, a frequency, ...).
+    pub shape: Vec<f64>,
+    /// Its columns and fixed part on the decimated series.
+    pub columns: fitting::Columns,
+    /// The amplitudes, in the order of the columns.
+    pub beta: Vec<f64>,
+    /// Parameters the criterion counts: the amplitudes plus the shape's grid dimensions.
+    pub n_params: usize,
+}
+
+impl Term {
+    /// Its contribution on the decimated series.
+    pub fn contribution(&self) -> Vec<f64> {
+        self.columns.contribution(&self.beta)
+    }
+
+    /// Its contribution at the full rate's times `t_s` (a line at its own instants; every other
+    /// term, a function of slow recorded quantities, interpolated from the decimated series).
+    pub fn at_full(&self, ctx: &Context, t_s: &[f64]) -> Vec<f64> {
+        if self.kind == TermKind::Line {
+            return line::at_times(self, t_s);
+        }
+        if self.kind == TermKind::Recalibration {
+            let c = self.channel;
+            let full = &ctx.data.full.y[c];
+            return full
+                .iter()
+                .zip(&ctx.full_residual[c])
+                .map(|(y, r)| self.beta[0] + self.beta[1] * (y - r - ctx.offset[c]))
+                .collect();
+        }
+        let dec = self.contribution();
+        t_s.iter()
+            .map(|&t| sim::effects::interpolate(ctx.t_s(), &dec, t))
+            .collect()
+    }
+
+    /// The term in the contract's words.
+    pub fn describe(&self) -> Description {
+        let unit = if self.channel == 0 { "N" } else { "V" };
+        match self.kind {
+            TermKind::OffsetStep => offset_step::describe(self, unit),
+            TermKind::StuckChannel => stuck_channel::describe(self, unit),
+            TermKind::Line => line::describe(self, unit),
+            TermKind::TemperatureSpan => temperature_span::describe(self),
+            TermKind::SpeedPower => speed_power::describe(self),
+            TermKind::PermanentSet => permanent_set::describe(self),
+            TermKind::OutputRelaxation => output_relaxation::describe(self),
+            TermKind::LoadLag => load_lag::describe(self),
+            TermKind::Recalibration => Description {
+                name: "recalibration",
+                params: Vec::new(),
+                depends_on: Vec::new(),
+                form: String::new(),
+            },
+        }
+    }
+
+    /// The stage where the term acts.
+    pub fn stage(&self) -> Stage {
+        match self.kind {
+            TermKind::OffsetStep
+            | TermKind::StuckChannel
+            | TermKind::LoadLag
+            | TermKind::Recalibration => Stage::Electronics,
+            TermKind::Line => line::stage(self),
+            TermKind::TemperatureSpan | TermKind::OutputRelaxation => Stage::Transducer,
+            TermKind::SpeedPower | TermKind::PermanentSet => {
+                if self.channel == 0 {
+                    Stage::Material
+                } else {
+                    Stage::Transducer
+                }
+            }
+        }
+    }
+}

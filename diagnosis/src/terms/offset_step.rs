@@ -1,0 +1,44 @@
+//! An offset step: a connector knock, a zero jump of the amplifier, a load cell re-zeroed.
+//!
+//!     y(t) = model(t) + a H(t - t0),     H the unit step
+//!
+//! acting after the transduction (`electronics`), a function of time alone. t0 is searched over
+//! the fitting stretch's samples; a step that the held-out stretch does not carry on is not
+//! confirmed there, and the search drops it.
+
+use super::fitting::{best_step, solve, Columns, Context};
+use super::{Description, Term, TermKind};
+
+/// The best step on channel `c`.
+pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
+    let (t0, columns) = best_step(ctx, c, others, false)?;
+    let (beta, _) = solve(ctx, c, &columns.joined(others))?;
+    let (shape, beta) = (vec![t0], beta[..1].to_vec());
+    Some(Term {
+        kind: TermKind::OffsetStep,
+        channel: c,
+        shape,
+        columns,
+        beta,
+        n_params: 2,
+    })
+}
+
+pub(crate) fn describe(t: &Term, unit: &str) -> Description {
+    let (t0, a) = (t.shape[0], t.beta[0]);
+    Description {
+        name: "offset_step",
+        params: vec![("step", a, unit.into()), ("t0_s", t0, "s".into())],
+        depends_on: vec!["time"],
+        form: format!("offset step of {} at t = {t0:.2} s", with_unit(a, unit)),
+    }
+}
+
+/// A value with its unit, volts in mV.
+pub(crate) fn with_unit(v: f64, unit: &str) -> String {
+    if unit == "V" {
+        format!("{:+.2} mV", 1e3 * v)
+    } else {
+        format!("{v:+.3} {unit}")
+    }
+}

@@ -1,0 +1,118 @@
+//! The described terms and the calibration's findings as effects of OUT.json: a term seen on
+//! several channels (one line on the load cell and the outputs, one relaxation of two outputs)
+//! is one effect on all of them, located by where it acts.
+
+use super::sanity::SanityFinding;
+use super::{line, Found, Term, TermKind};
+use crate::data::CHANNELS;
+use crate::output::{EffectReport, Numbers, ParamDetail};
+use sim::effects::Stage;
+
+/// The effects the search kept, strongest evidence first.
+pub(crate) fn effects(found: &Found) -> Vec<EffectReport> {
+    let mut order: Vec<usize> = (0..found.terms.len())
+        .filter(|&i| found.terms[i].kind != TermKind::Recalibration)
+        .collect();
+    order.sort_by(|&a, &b| found.evidence[b].0.total_cmp(&found.evidence[a].0));
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for i in order {
+        match groups
+            .iter_mut()
+            .find(|g| same_physics(&found.terms[g[0]], &found.terms[i]))
+        {
+            Some(g) => g.push(i),
+            None => groups.push(vec![i]),
+        }
+    }
+    groups
+        .iter()
+        .map(|g| {
+            let lead = &found.terms[g[0]];
+            let mut channels: Vec<usize> = g.iter().map(|&i| found.terms[i].channel).collect();
+            channels.sort_unstable();
+            let stage = stage_of(lead, &channels);
+            let (bic_gain, ratio) = found.evidence[g[0]];
+            effect(lead, stage, &channels, bic_gain, ratio)
+        })
+        .collect()
+}
+
+/// Two terms are one piece of physics: the same description and, for a line, one frequency
+/// (within the periodogram's resolution over a hundred seconds).
+fn same_physics(a: &Term, b: &Term) -> bool {
+    a.kind == b.kind
+        && a.describe().name == b.describe().name
+        && (a.kind != TermKind::Line || (a.shape[0] - b.shape[0]).abs() < 0.01)
+}
+
+/// Where a term seen on `channels` acts.
+fn stage_of(t: &Term, channels: &[usize]) -> Stage {
+    match t.kind {
+        TermKind::Line => line::merged_stage(channels),
+        TermKind::SpeedPower if channels.contains(&0) => Stage::Material,
+        _ => t.stage(),
+    }
+}
+
+fn effect(t: &Term, stage: Stage, channels: &[usize], bic_gain: f64, ratio: f64) -> EffectReport {
+    let d = t.describe();
+    let catalogue = d.is_catalogue();
+    let on: Vec<&str> = channels.iter().map(|&c| super::channel_words(c)).collect();
+    let evidence = format!(
+        "{} on {}: {}. (Against the model without it: BIC lower by {:.0}, held-out misfit {:.1} times smaller.)",
+        if catalogue {
+            "A catalogue effect at a stage of its own"
+        } else {
+            "Not in the catalogue, described"
+        },
+        on.join(", "),
+        d.form,
+        bic_gain,
+        ratio
+    );
+    let parameters: Vec<ParamDetail> = d
+        .params
+        .iter()
+        .map(|(name, value, unit)| ParamDetail {
+            name: name.to_string(),
+            value: *value,
+            stderr: None,
+            unit: unit.clone(),
+            lower: f64::NEG_INFINITY,
+            upper: f64::INFINITY,
+            at_bound: false,
+            note: None,
+        })
+        .collect();
+    EffectReport {
+        name: d.name.to_string(),
+        stage,
+        channels: channels.iter().map(|&c| CHANNELS[c].to_string()).collect(),
+        params: Numbers(d.params.iter().map(|p| (p.0.to_string(), p.1)).collect()),
+        param_stderr: Numbers::default(),
+        evidence,
+        catalogue,
+        depends_on: (!catalogue).then(|| d.depends_on.iter().map(|s| s.to_string()).collect()),
+        form: (!catalogue).then_some(d.form),
+        parameters,
+    }
+}
+
+/// A finding of the calibration's sanity as an effect the catalogue lacks.
+pub(crate) fn sanity_effect(f: &SanityFinding) -> EffectReport {
+    EffectReport {
+        name: f.name.to_string(),
+        stage: f.stage,
+        channels: f.channels.iter().map(|&c| CHANNELS[c].to_string()).collect(),
+        params: Numbers(f.params.iter().map(|p| (p.0.to_string(), p.1)).collect()),
+        param_stderr: Numbers::default(),
+        evidence: format!(
+            "{} (Against the model without it: BIC lower by {:.0}, held-out misfit {:.1} times smaller.)",
+            f.evidence, f.bic_gain, f.heldout_ratio
+        ),
+        catalogue: false,
+        depends_on: Some(f.depends_on.iter().map(|s| s.to_string()).collect()),
+        form: Some(f.form.clone()),
+        parameters: Vec::new(),
+    }
+}

@@ -1,0 +1,220 @@
+//! The forward–backward search over the library's terms, with the catalogue's two tests: add
+//! the term with the largest BIC gain while it exceeds [`MIN_BIC_GAIN`]; then drop, one at a
+//! time, any term that no longer beats the model without it by that criterion *and* on the
+//! held-out stretch by more than twice its own noise and 0.5 % of the misfit left
+//! ([`heldout_needed`]). A term that only fits the stretch it was fitted on is not reported.
+
+use super::fitting::{solve, Columns, Context};
+use super::{Term, TermKind};
+use crate::candidate::{heldout_needed, MIN_BIC_GAIN};
+
+/// At most this many terms: what remains after the catalogue is described by a few terms, or
+/// it is not described (a long list of small terms would be a fit, not a finding).
+const MAX_TERMS: usize = 4;
+
+/// The chosen model's scores the terms are weighed against.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Nested {
+    /// Weighted residuals on the fitting stretch (all compared channels).
+    pub n: usize,
+    /// Free parameters of the chosen model.
+    pub k: usize,
+    /// Its chi-square on the fitting stretch and on the held-out stretch.
+    pub fit_chi2: f64,
+    pub heldout_chi2: f64,
+}
+
+/// The terms kept, each with the comparison that kept it.
+#[derive(Default)]
+pub(crate) struct Found {
+    pub terms: Vec<Term>,
+    /// Per term: BIC gain and held-out chi-square ratio against the model without it.
+    pub evidence: Vec<(f64, f64)>,
+    /// The BIC of the nested model with the terms.
+    pub bic: f64,
+}
+
+/// Search the library on the compared channels of `ctx`.
+pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
+    let mut terms: Vec<Term> = Vec::new();
+    while terms
+        .iter()
+        .filter(|t| t.kind != TermKind::Recalibration)
+        .count()
+        < MAX_TERMS
+    {
+        let current = bic(ctx, nested, &terms);
+        let best = candidates(ctx, &terms)
+            .into_iter()
+            .map(|t| {
+                let mut with = terms.clone();
+                if !with.iter().any(|w| w.channel == t.channel) {
+                    with.push(TermKind::recalibration(ctx, t.channel));
+                }
+                with.push(t);
+                refit(ctx, &mut with);
+                (current - bic(ctx, nested, &with), with)
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        match best {
+            Some((gain, with)) if gain > MIN_BIC_GAIN => terms = with,
+            _ => break,
+        }
+    }
+    // Backward: every term must beat the model without it on both tests.
+    loop {
+        let tests: Vec<(f64, f64, f64)> = (0..terms.len())
+            .map(|i| {
+                if terms[i].kind == TermKind::Recalibration {
+                    (f64::INFINITY, f64::INFINITY, 0.0)
+                } else {
+                    compare_without(ctx, nested, &terms, i)
+                }
+            })
+            .collect();
+        let worst = tests
+            .iter()
+            .enumerate()
+            .filter(|(_, (bic_gain, held_gain, needed))| {
+                !(*bic_gain > MIN_BIC_GAIN && held_gain > needed)
+            })
+            .min_by(|a, b| (a.1 .1 - a.1 .2).total_cmp(&(b.1 .1 - b.1 .2)))
+            .map(|(i, _)| i);
+        match worst {
+            Some(i) => terms = without(ctx, &terms, i),
+            None => {
+                let evidence = (0..terms.len())
+                    .map(|i| {
+                        let (bic_gain, _, _) = tests[i];
+                        let without = without(ctx, &terms, i);
+                        let ratio = heldout(ctx, nested, &without)
+                            / heldout(ctx, nested, &terms).max(1e-300);
+                        (bic_gain, ratio)
+                    })
+                    .collect();
+                let bic = bic(ctx, nested, &terms);
+                return Found {
+                    terms,
+                    evidence,
+                    bic,
+                };
+            }
+        }
+    }
+}
+
+/// Every library term on every compared channel it can act on, fitted with the channel's
+/// terms already in the model.
+fn candidates(ctx: &Context, terms: &[Term]) -> Vec<Term> {
+    let jobs: Vec<(TermKind, usize)> = TermKind::ALL
+        .iter()
+        .flat_map(|&k| (0..4).map(move |c| (k, c)))
+        .filter(|&(k, c)| ctx.used[c] && k.acts_on(c))
+        .collect();
+    use rayon::prelude::*;
+    jobs.par_iter()
+        .filter_map(|&(k, c)| {
+            let mut others = columns_on(terms, c, None);
+            if others.x.is_empty() {
+                others = TermKind::recalibration(ctx, c).columns;
+            }
+            k.fit(ctx, c, &others)
+        })
+        .collect()
+}
+
+/// The columns of the terms on channel `c`, leaving out term number `skip`.
+fn columns_on(terms: &[Term], c: usize, skip: Option<usize>) -> Columns {
+    terms
+        .iter()
+        .enumerate()
+        .filter(|(i, t)| t.channel == c && Some(*i) != skip)
+        .fold(Columns::default(), |acc, (_, t)| acc.joined(&t.columns))
+}
+
+/// Refit the amplitudes of each channel's terms jointly.
+fn refit(ctx: &Context, terms: &mut [Term]) {
+    for c in 0..4 {
+        let cols = columns_on(terms, c, None);
+        if cols.x.is_empty() {
+            continue;
+        }
+        let Some((beta, _)) = solve(ctx, c, &cols) else {
+            continue;
+        };
+        let mut at = 0;
+        for t in terms.iter_mut().filter(|t| t.channel == c) {
+            let k = t.columns.x.len();
+            t.beta = beta[at..at + k].to_vec();
+            at += k;
+        }
+    }
+}
+
+/// Channel `c`'s contribution of `terms` on the decimated series.
+fn contribution(ctx: &Context, terms: &[Term], c: usize) -> Vec<f64> {
+    let mut sum = vec![0.0; ctx.len()];
+    for t in terms.iter().filter(|t| t.channel == c) {
+        for (s, v) in sum.iter_mut().zip(t.contribution()) {
+            *s += v;
+        }
+    }
+    sum
+}
+
+/// The chi-square of the chosen model plus `terms` on `mask` (the untouched channels as the
+/// nested model has them).
+fn chi2(ctx: &Context, base: f64, terms: &[Term], mask: &[bool]) -> f64 {
+    let mut total = base;
+    for c in (0..4).filter(|&c| terms.iter().any(|t| t.channel == c)) {
+        let part = contribution(ctx, terms, c);
+        total += ctx.chi2(c, Some(&part), mask) - ctx.chi2(c, None, mask);
+    }
+    total
+}
+
+fn heldout(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
+    chi2(ctx, nested.heldout_chi2, terms, ctx.heldout_mask)
+}
+
+fn bic(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
+    let n = nested.n as f64;
+    let sse = chi2(ctx, nested.fit_chi2, terms, ctx.fit_mask).max(1e-300);
+    let k = nested.k + terms.iter().map(|t| t.n_params).sum::<usize>();
+    n * (sse / n).ln() + k as f64 * n.ln()
+}
+
+/// `terms` without number `i`, the rest refitted.
+fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
+    let mut w: Vec<Term> = terms.to_vec();
+    let c = w.remove(i).channel;
+    let alone = |t: &Term| t.channel == c && t.kind != TermKind::Recalibration;
+    if !w.iter().any(alone) {
+        w.retain(|t| t.channel != c);
+    }
+    refit(ctx, &mut w);
+    w
+}
+
+/// Term `i` against the model without it: BIC gain, held-out chi-square gain and the gain it
+/// needed (twice the deviation of sum (m_l - m_s) e under the channel's noise model, and 0.5 %
+/// of the misfit left), as `Candidate::compare` weighs a catalogue effect.
+fn compare_without(ctx: &Context, nested: Nested, terms: &[Term], i: usize) -> (f64, f64, f64) {
+    let w = without(ctx, terms, i);
+    let bic_gain = bic(ctx, nested, &w) - bic(ctx, nested, terms);
+    let (h_small, h_large) = (heldout(ctx, nested, &w), heldout(ctx, nested, terms));
+    let c = terms[i].channel;
+    let (with_c, without_c) = (contribution(ctx, terms, c), contribution(ctx, &w, c));
+    let rows: Vec<usize> = (0..ctx.len()).filter(|&k| ctx.heldout_mask[k]).collect();
+    let blocks: Vec<(usize, usize)> = rows.iter().map(|&k| ctx.data.bounds[k]).collect();
+    // (m_l - m_s) in noise units, times the weight again: the coefficient of each block mean.
+    let coefficients: Vec<f64> = rows
+        .iter()
+        .map(|&k| (with_c[k] - without_c[k]) * ctx.data.weight(c, k).powi(2))
+        .collect();
+    let diff = ctx.data.noise[c]
+        .block_means_variance(&blocks, &coefficients)
+        .max(0.0)
+        .sqrt();
+    (bic_gain, h_small - h_large, heldout_needed(diff, h_small))
+}
