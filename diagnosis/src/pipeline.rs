@@ -140,26 +140,8 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         stretches.heldout,
         mains_allowed,
     );
-    let mut effects = evidence::effect_reports(&sel, &data);
-    effects.extend(
-        full.mains
-            .as_ref()
-            .map(|line| evidence::mains_report(line, &data)),
-    );
-    effects.extend(
-        full.load_mains
-            .as_ref()
-            .map(|line| evidence::load_mains_report(line, &data)),
-    );
-    effects.extend(described.effects);
-    // A moment read with its sign inverted turns the calibrated moment vector as a rotated
-    // chip would; it is found as such, so the turn is not also left undecided.
-    let inverted = effects.iter().any(|e| e.name == "inverted_sign");
-    let ambiguous = moment_phi
-        .filter(|_| setup.used[2] && setup.used[3] && !named(&effects, EffectKind::Crosstalk))
-        .filter(|_| !inverted)
-        .and_then(|phi| undecided::crosstalk_or_gains(&details, phi, &setup.fit_bounds));
-    let gains = terms::sanity::gains_off(&details);
+    let effects = all_effects(&sel, &full, described.effects, &data);
+    let undecided = undecided_findings(&setup, &effects, &details, moment_phi);
     let report = Report {
         format: FORMAT,
         recording: name.to_string(),
@@ -171,7 +153,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         },
         mismatches: local.mismatches,
         effects,
-        undecided: ambiguous.into_iter().chain(gains).collect(),
+        undecided,
         fit: full.fit,
         localisation: Localisation {
             channels: local.channels,
@@ -307,6 +289,48 @@ fn describe(
 }
 
 /// Whether `effects` names `kind`.
+/// The effects to report: the chosen catalogue effects, the mains lines on the outputs and on
+/// the load cell, and what was described beyond the catalogue.
+fn all_effects(
+    sel: &crate::select::Selection,
+    full: &FullRate,
+    described: Vec<EffectReport>,
+    data: &Data,
+) -> Vec<EffectReport> {
+    let mut effects = evidence::effect_reports(sel, data);
+    effects.extend(
+        full.mains
+            .as_ref()
+            .map(|line| evidence::mains_report(line, data)),
+    );
+    effects.extend(
+        full.load_mains
+            .as_ref()
+            .map(|line| evidence::load_mains_report(line, data)),
+    );
+    effects.extend(described);
+    effects
+}
+
+/// What the data leaves open: a turn of the moment scales that crosstalk or the gains would
+/// explain alike, and gains far off the metadata.
+fn undecided_findings(
+    setup: &Setup,
+    effects: &[EffectReport],
+    details: &[ParamDetail],
+    moment_phi: Option<f64>,
+) -> Vec<Undecided> {
+    // A moment read with its sign inverted turns the calibrated moment vector as a rotated
+    // chip would; it is found as such, so the turn is not also left undecided.
+    let inverted = effects.iter().any(|e| e.name == "inverted_sign");
+    let ambiguous = moment_phi
+        .filter(|_| setup.used[2] && setup.used[3] && !named(effects, EffectKind::Crosstalk))
+        .filter(|_| !inverted)
+        .and_then(|phi| undecided::crosstalk_or_gains(details, phi, &setup.fit_bounds));
+    let gains = terms::sanity::gains_off(details);
+    ambiguous.into_iter().chain(gains).collect()
+}
+
 fn named(effects: &[EffectReport], kind: EffectKind) -> bool {
     effects.iter().any(|e| e.name == kind.name())
 }
