@@ -1,7 +1,9 @@
 //! A line at any frequency: a frame or table that vibrates, a pump, a slow wander of the zero
 //! (a period of tens of seconds), pickup other than the mains:
 //!
-//!     y(t) = model(t) + a sin(2 pi f t) + b cos(2 pi f t)
+//! ```text
+//! y(t) = model(t) + a sin(2 pi f t) + b cos(2 pi f t)
+//! ```
 //!
 //! a function of time alone. f is the strongest peak of the residual's periodogram over the
 //! fitting stretch (at least two periods in it, at most 10 Hz, what the decimated blocks still

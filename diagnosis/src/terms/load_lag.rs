@@ -2,7 +2,9 @@
 //! catalogue's `time_offset` at the electronics of the load cell. For a lag small against the
 //! signal's time scales,
 //!
-//!     y(t) = m(t - lag) ~ m(t) - lag dm/dt
+//! ```text
+//! y(t) = m(t - lag) ~ m(t) - lag dm/dt
+//! ```
 //!
 //! so the column is -dm/dt and its amplitude the lag (positive: the load cell lags).
 

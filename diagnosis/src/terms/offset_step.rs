@@ -1,6 +1,8 @@
 //! An offset step: a connector knock, a zero jump of the amplifier, a load cell re-zeroed.
 //!
-//!     y(t) = model(t) + a H(t - t0),     H the unit step
+//! ```text
+//! y(t) = model(t) + a H(t - t0),     H the unit step
+//! ```
 //!
 //! acting after the transduction (`electronics`), a function of time alone. t0 is searched over
 //! the fitting stretch's samples; a step that the held-out stretch does not carry on is not

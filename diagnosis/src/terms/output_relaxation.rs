@@ -3,7 +3,9 @@
 //! `viscoelastic_relaxation` (`sim::effects::ViscoelasticRelaxation`, the same operator) at the
 //! transducer, on that output alone:
 //!
-//!     y = offset + (1 - g) s + g h_tau(s)
+//! ```text
+//! y = offset + (1 - g) s + g h_tau(s)
+//! ```
 //!
 //! with s the model's signal and h_tau its first-order high-pass. Linear in g for each tau, so
 //! the column is h_tau(s) - s; tau on a logarithmic grid from 0.2 s to 500 s.

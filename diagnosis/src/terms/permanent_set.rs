@@ -2,7 +2,9 @@
 //! its first shape, so from the first reversal on the load at a travel d is the first loading's
 //! load at d - delta. For a set small against the travel,
 //!
-//!     F(d, t) = F(d) - H(t - t_rev) delta dF/dd
+//! ```text
+//! F(d, t) = F(d) - H(t - t_rev) delta dF/dd
+//! ```
 //!
 //! in the material, a function of the rod's travel; dF/dd from the model's load along its
 //! first loading, t_rev the rod's first reversal.

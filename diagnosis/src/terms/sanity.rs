@@ -7,7 +7,9 @@
 //!   that keeps the model's sign, which for a scale that wants to be negative is the scale at
 //!   zero, the channel a constant (its weighted mean over the fitting stretch):
 //!
-//!       y = offset - |s| m(t)   against   y = c
+//!   ```text
+//!   y = offset - |s| m(t)   against   y = c
+//!   ```
 //!
 //! - A dead channel: an output whose recorded range stays within ten noise deviations (so it is
 //!   not compared) while the model, at the metadata's gains, swings well beyond them. It must

@@ -1,8 +1,10 @@
 //! A force or output that depends on a power of the rod's speed: a viscous or inertial
 //! contribution, a gel stiffer when pressed faster, a rate-sensitive sensing element:
 //!
-//!     y = offset + s (1 + a |v / v_max|^p)            (even: the same on loading and unloading)
-//!     y = offset + s (1 + a sign(v) |v / v_max|^p)    (odd: more on loading, less on unloading)
+//! ```text
+//! y = offset + s (1 + a |v / v_max|^p)            (even: the same on loading and unloading)
+//! y = offset + s (1 + a sign(v) |v / v_max|^p)    (odd: more on loading, less on unloading)
+//! ```
 //!
 //! with s the model's signal, v the rod's speed and v_max its largest magnitude on the fitting
 //! stretch; p on a grid from 0.5 to 3. On the load cell it acts in the material; on an output

@@ -1,7 +1,9 @@
 //! A channel that freezes: a converter that stops updating, a wire that comes loose, an
 //! amplifier stuck at a rail. From t0 on it reads a constant whatever the load:
 //!
-//!     y(t) = model(t) + H(t - t0) (a - model(t))
+//! ```text
+//! y(t) = model(t) + H(t - t0) (a - model(t))
+//! ```
 //!
 //! after the transduction (`electronics`), a function of time alone. Fitted as the column
 //! H(t - t0) with the fixed part -H(t - t0) model(t); t0 over the fitting stretch's samples.

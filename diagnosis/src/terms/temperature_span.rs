@@ -1,7 +1,9 @@
 //! A span that follows the temperature: the bridges' sensitivity changes with temperature
 //! (piezoresistive coefficients fall as the chip warms), so the output per unit load does:
 //!
-//!     y(t) = offset + s(t) (1 + k (T(t) - T0))
+//! ```text
+//! y(t) = offset + s(t) (1 + k (T(t) - T0))
+//! ```
 //!
 //! with s the model's signal (its output less its offset) and T0 the mean temperature over the
 //! fitting stretch. At the transducer, a function of temperature and load; only where the
