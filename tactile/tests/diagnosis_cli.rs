@@ -158,3 +158,38 @@ fn missing_recording_is_no_input() {
         .unwrap();
     assert_eq!(out.status.code(), Some(66));
 }
+
+/// The contract's own command lines with nothing added: `simulate` writes the baseline model's
+/// own recording, noise-free, so its diagnosis has nothing to report. Its residual is the
+/// arithmetic's (about 1e-11 of each range), structured but no mismatch.
+#[test]
+fn the_baselines_own_noise_free_recording_is_no_mismatch() {
+    let rec = temp("own.csv");
+    let out = tactile()
+        .args(["simulate", "--contact-angle", "10", "--azimuth", "0"])
+        .args(["--peak-load", "60", "--rate", "250", "--out"])
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json = temp("own.json");
+    let out = tactile()
+        .arg("diagnose")
+        .arg(&rec)
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(v["verdict"], "no_significant_mismatch", "{v}");
+    assert!(v["effects"].as_array().unwrap().is_empty(), "{v}");
+}
