@@ -1,5 +1,5 @@
 //! The reported effects as other tools read them: through the contract's JSON keys
-//! (`shared/contracts/diagnosis-v1.md`), not the diagnosis's types, so the proof scores any
+//! (`docs/diagnosis-format.md`), not the diagnosis's types, so the proof scores any
 //! report that follows the contract, keys added by its amendments included, and a key a report
 //! lacks reads as not given.
 

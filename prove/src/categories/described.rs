@@ -1,5 +1,5 @@
 //! Physics the catalogue lacks, and catalogue physics at a stage other than its usual one
-//! (`shared/contracts/diagnosis-v1.md`, "Where the physics acts, and physics the catalogue
+//! (`docs/diagnosis-format.md`, "Where the physics acts, and physics the catalogue
 //! lacks"). Each recording hides one [`Physics`], placed at its stage, on the fingertip of the
 //! project's model or of another one ([`super::OtherFingertip`]), with or without sensor outputs
 //! (a test of the material alone: load cell only), under several protocols, some with a
