@@ -13,11 +13,18 @@ use super::{Description, Term, TermKind};
 
 /// The best step on channel `c`.
 pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
-    let (t0, columns) = best_step(ctx, c, others, false)?;
+    fit_step(ctx, c, others, TermKind::OffsetStep)
+}
+
+/// The best step of `kind` on channel `c`: an offset added from t0 on, or, for a stuck
+/// channel, the model replaced by a constant from t0 on. Both are a time and one amplitude.
+pub(crate) fn fit_step(ctx: &Context, c: usize, others: &Columns, kind: TermKind) -> Option<Term> {
+    let freezes = kind == TermKind::StuckChannel;
+    let (t0, columns) = best_step(ctx, c, others, freezes)?;
     let (beta, _) = solve(ctx, c, &columns.joined(others))?;
     let (shape, beta) = (vec![t0], beta[..1].to_vec());
     Some(Term {
-        kind: TermKind::OffsetStep,
+        kind,
         channel: c,
         shape,
         columns,

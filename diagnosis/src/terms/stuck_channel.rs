@@ -8,23 +8,13 @@
 //! after the transduction (`electronics`), a function of time alone. Fitted as the column
 //! H(t - t0) with the fixed part -H(t - t0) model(t); t0 over the fitting stretch's samples.
 
-use super::fitting::{best_step, solve, Columns, Context};
-use super::offset_step::with_unit;
+use super::fitting::{Columns, Context};
+use super::offset_step::{fit_step, with_unit};
 use super::{Description, Term, TermKind};
 
 /// The best freeze on channel `c`.
 pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
-    let (t0, columns) = best_step(ctx, c, others, true)?;
-    let (beta, _) = solve(ctx, c, &columns.joined(others))?;
-    let (shape, beta) = (vec![t0], beta[..1].to_vec());
-    Some(Term {
-        kind: TermKind::StuckChannel,
-        channel: c,
-        shape,
-        columns,
-        beta,
-        n_params: 2,
-    })
+    fit_step(ctx, c, others, TermKind::StuckChannel)
 }
 
 pub(crate) fn describe(t: &Term, unit: &str) -> Description {
