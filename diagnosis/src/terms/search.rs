@@ -32,20 +32,67 @@ pub(crate) struct Found {
     pub evidence: Vec<(f64, f64)>,
     /// The BIC of the nested model with the terms.
     pub bic: f64,
+    /// Its chi-square on the held-out stretch.
+    pub heldout_chi2: f64,
 }
+
+/// Rounds of forward and backward steps: a term the backward step drops is not offered again,
+/// so the next forward step can reach the term it stood in front of (a load cell's lag that
+/// fits the loading but not the held-out stretch, before the set that does).
+const MAX_ROUNDS: usize = 3;
 
 /// Search the library on the compared channels of `ctx`.
 pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
     let mut terms: Vec<Term> = Vec::new();
-    while terms
-        .iter()
-        .filter(|t| t.kind != TermKind::Recalibration)
-        .count()
-        < MAX_TERMS
-    {
+    let mut banned: Vec<(TermKind, usize)> = Vec::new();
+    for _ in 0..MAX_ROUNDS {
+        let added = forward(ctx, nested, terms, &banned);
+        let (kept, dropped) = backward(ctx, nested, added);
+        terms = kept;
+        if dropped.is_empty() {
+            break;
+        }
+        banned.extend(dropped);
+    }
+    let evidence = (0..terms.len())
+        .map(|i| {
+            let bic_gain = if terms[i].kind == TermKind::Recalibration {
+                f64::INFINITY
+            } else {
+                compare_without(ctx, nested, &terms, i).0
+            };
+            let without = without(ctx, &terms, i);
+            let ratio = heldout(ctx, nested, &without) / heldout(ctx, nested, &terms).max(1e-300);
+            (bic_gain, ratio)
+        })
+        .collect();
+    Found {
+        bic: bic(ctx, nested, &terms),
+        heldout_chi2: heldout(ctx, nested, &terms),
+        terms,
+        evidence,
+    }
+}
+
+/// Add the term with the largest BIC gain while it exceeds [`MIN_BIC_GAIN`], up to
+/// [`MAX_TERMS`], leaving out the `banned` kinds on their channels.
+fn forward(
+    ctx: &Context,
+    nested: Nested,
+    mut terms: Vec<Term>,
+    banned: &[(TermKind, usize)],
+) -> Vec<Term> {
+    let own = |terms: &[Term]| {
+        terms
+            .iter()
+            .filter(|t| t.kind != TermKind::Recalibration)
+            .count()
+    };
+    while own(&terms) < MAX_TERMS {
         let current = bic(ctx, nested, &terms);
         let best = candidates(ctx, &terms)
             .into_iter()
+            .filter(|t| !banned.contains(&(t.kind, t.channel)))
             .map(|t| {
                 let mut with = terms.clone();
                 if !with.iter().any(|w| w.channel == t.channel) {
@@ -61,44 +108,32 @@ pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
             _ => break,
         }
     }
-    // Backward: every term must beat the model without it on both tests.
+    terms
+}
+
+/// Drop, one at a time, the term that fails either test by the most, until every term beats
+/// the model without it on both: the terms kept and the (kind, channel) of those dropped.
+fn backward(
+    ctx: &Context,
+    nested: Nested,
+    mut terms: Vec<Term>,
+) -> (Vec<Term>, Vec<(TermKind, usize)>) {
+    let mut dropped = Vec::new();
     loop {
-        let tests: Vec<(f64, f64, f64)> = (0..terms.len())
-            .map(|i| {
-                if terms[i].kind == TermKind::Recalibration {
-                    (f64::INFINITY, f64::INFINITY, 0.0)
-                } else {
-                    compare_without(ctx, nested, &terms, i)
-                }
-            })
-            .collect();
-        let worst = tests
-            .iter()
-            .enumerate()
+        let worst = (0..terms.len())
+            .filter(|&i| terms[i].kind != TermKind::Recalibration)
+            .map(|i| (i, compare_without(ctx, nested, &terms, i)))
             .filter(|(_, (bic_gain, held_gain, needed))| {
                 !(*bic_gain > MIN_BIC_GAIN && held_gain > needed)
             })
             .min_by(|a, b| (a.1 .1 - a.1 .2).total_cmp(&(b.1 .1 - b.1 .2)))
             .map(|(i, _)| i);
         match worst {
-            Some(i) => terms = without(ctx, &terms, i),
-            None => {
-                let evidence = (0..terms.len())
-                    .map(|i| {
-                        let (bic_gain, _, _) = tests[i];
-                        let without = without(ctx, &terms, i);
-                        let ratio = heldout(ctx, nested, &without)
-                            / heldout(ctx, nested, &terms).max(1e-300);
-                        (bic_gain, ratio)
-                    })
-                    .collect();
-                let bic = bic(ctx, nested, &terms);
-                return Found {
-                    terms,
-                    evidence,
-                    bic,
-                };
+            Some(i) => {
+                dropped.push((terms[i].kind, terms[i].channel));
+                terms = without(ctx, &terms, i);
             }
+            None => return (terms, dropped),
         }
     }
 }
@@ -123,13 +158,39 @@ fn candidates(ctx: &Context, terms: &[Term]) -> Vec<Term> {
         .collect()
 }
 
-/// The columns of the terms on channel `c`, leaving out term number `skip`.
+/// The columns of the terms on channel `c`, leaving out term number `skip`, each reaching only
+/// the samples where the channel is [`live`].
 fn columns_on(terms: &[Term], c: usize, skip: Option<usize>) -> Columns {
+    let live = live(terms, c, skip);
     terms
         .iter()
         .enumerate()
         .filter(|(i, t)| t.channel == c && Some(*i) != skip)
-        .fold(Columns::default(), |acc, (_, t)| acc.joined(&t.columns))
+        .fold(Columns::default(), |acc, (_, t)| {
+            acc.joined(&masked(&t.columns, t, live.as_deref()))
+        })
+}
+
+/// The share of each sample of channel `c` that its model and terms still reach: none from a
+/// stuck channel's time on (it reads its constant whatever they give), leaving out term `skip`.
+pub(crate) fn live(terms: &[Term], c: usize, skip: Option<usize>) -> Option<Vec<f64>> {
+    terms
+        .iter()
+        .enumerate()
+        .find(|(i, t)| t.channel == c && t.kind == TermKind::StuckChannel && Some(*i) != skip)
+        .map(|(_, t)| t.columns.x[0].iter().map(|h| 1.0 - h).collect())
+}
+
+/// `cols` of term `t` where the channel is live (the stuck term itself is what replaces it).
+fn masked(cols: &Columns, t: &Term, live: Option<&[f64]>) -> Columns {
+    let Some(live) = live.filter(|_| t.kind != TermKind::StuckChannel) else {
+        return cols.clone();
+    };
+    let times = |v: &Vec<f64>| v.iter().zip(live).map(|(a, l)| a * l).collect();
+    Columns {
+        x: cols.x.iter().map(times).collect(),
+        fixed: cols.fixed.as_ref().map(times),
+    }
 }
 
 /// Refit the amplitudes of each channel's terms jointly.
@@ -152,14 +213,17 @@ fn refit(ctx: &Context, terms: &mut [Term]) {
 }
 
 /// Channel `c`'s contribution of `terms` on the decimated series.
-fn contribution(ctx: &Context, terms: &[Term], c: usize) -> Vec<f64> {
-    let mut sum = vec![0.0; ctx.len()];
-    for t in terms.iter().filter(|t| t.channel == c) {
-        for (s, v) in sum.iter_mut().zip(t.contribution()) {
-            *s += v;
-        }
+pub(crate) fn contribution(ctx: &Context, terms: &[Term], c: usize) -> Vec<f64> {
+    let cols = columns_on(terms, c, None);
+    if cols.x.is_empty() && cols.fixed.is_none() {
+        return vec![0.0; ctx.len()];
     }
-    sum
+    let beta: Vec<f64> = terms
+        .iter()
+        .filter(|t| t.channel == c)
+        .flat_map(|t| t.beta.iter().copied())
+        .collect();
+    cols.contribution(&beta)
 }
 
 /// The chi-square of the chosen model plus `terms` on `mask` (the untouched channels as the
