@@ -23,6 +23,12 @@ use sim::effects::Stage;
 const MAX_FREQ_HZ: f64 = 10.0;
 /// A line with a period beyond this is reported as a slow wander of the zero.
 const WANDER_PERIOD_S: f64 = 10.0;
+/// A frequency at which the rod's own periodogram stands this far above its median over the
+/// octave either side is one the rod is driven at. A rod moved in ramps and holds has a smooth
+/// spectrum (within a few times across two octaves); a periodic drive's line stands orders of
+/// magnitude above it. A residual at a drive frequency is the material's response to the drive
+/// (a loss, a lag), not a vibration that is a function of time alone, so it is not offered.
+const DRIVE_PROMINENCE: f64 = 20.0;
 
 /// The block means of sin and cos at `f`.
 fn columns(ctx: &Context, f: f64) -> Columns {
@@ -135,21 +141,78 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
             count[b] += 1;
         }
     }
-    let mean = sum.iter().sum::<f64>() / count.iter().sum::<usize>().max(1) as f64;
-    let x: Vec<f64> = (0..bins)
-        .map(|b| match count[b] {
-            0 => 0.0,
-            n => sum[b] / n as f64 - mean,
+    let size = (2 * bins).next_power_of_two();
+    let power = periodogram(&binned(&sum, &count), size);
+    let mut rod_sum = vec![0.0; bins];
+    for (t, d) in full.t_s.iter().zip(&full.rod_mm) {
+        let b = ((t - t0) / dt) as usize;
+        if b < bins {
+            rod_sum[b] += d;
+        }
+    }
+    // The rod's speed: a ramp is a plateau in it and a hold zero, so a small periodic drive
+    // under a large ramp stands out where the travel's 1/f^2 leakage would hide it (and where
+    // the acceleration's would be the position readout's noise).
+    let travel = binned(&rod_sum, &count);
+    let speed: Vec<f64> = (0..bins)
+        .map(|b| {
+            if b == 0 {
+                0.0
+            } else {
+                travel[b] - travel[b - 1]
+            }
         })
         .collect();
-    let size = (2 * bins).next_power_of_two();
-    let power = periodogram(&x, size);
+    let rod = periodogram(&speed, size);
     let df = 1.0 / (size as f64 * dt);
     let f_lo = 2.0 / span;
+    // The drive's fundamental: the peak of the lowest line that stands out (the first bin
+    // found may be on its flank).
+    let drive = (1..size / 2).find(|&k| driven_at(&rod, k)).map(|k0| {
+        (k0..(k0 + k0 / 2 + 3).min(size / 2))
+            .max_by(|&a, &b| rod[a].total_cmp(&rod[b]))
+            .unwrap_or(k0)
+    });
     let k = (1..size / 2)
         .filter(|&k| (f_lo..=f_hi).contains(&(k as f64 * df)))
+        .filter(|&k| !drive.is_some_and(|d| harmonic_of(k, d)))
         .max_by(|&a, &b| power[a].total_cmp(&power[b]))?;
     Some((k as f64 * df, df))
+}
+
+/// The bins' means less their mean (an empty bin is zero).
+fn binned(sum: &[f64], count: &[usize]) -> Vec<f64> {
+    let mean = sum.iter().sum::<f64>() / count.iter().sum::<usize>().max(1) as f64;
+    sum.iter()
+        .zip(count)
+        .map(|(s, &n)| if n == 0 { 0.0 } else { s / n as f64 - mean })
+        .collect()
+}
+
+/// Whether bin `k` is a multiple of the drive's bin `d`: a periodic drive makes the material's
+/// whole response periodic (a stiffening or a loss bends the sinusoid into its harmonics), so
+/// a residual at any multiple is the response. The bin of the n-th harmonic is known to n/2
+/// bins from `d`'s rounding, and zero padding spreads a line over two bins either side.
+fn harmonic_of(k: usize, d: usize) -> bool {
+    let n = ((k as f64) / (d as f64)).round();
+    n >= 1.0 && (k as f64 - n * d as f64).abs() <= 2.0 + 0.5 * n
+}
+
+/// Whether the rod's periodogram `rod` holds a line at bin `k` (within the two bins either
+/// side that zero padding spreads a line over): [`DRIVE_PROMINENCE`] above its median over
+/// the octave either side.
+fn driven_at(rod: &[f64], k: usize) -> bool {
+    let (lo, hi) = ((k / 2).max(1), (2 * k).min(rod.len() / 2 - 1));
+    if hi <= lo + 4 {
+        return false;
+    }
+    let mut octave: Vec<f64> = rod[lo..=hi].to_vec();
+    octave.sort_by(f64::total_cmp);
+    let median = octave[octave.len() / 2];
+    let peak = rod[k.saturating_sub(2).max(1)..=(k + 2).min(hi)]
+        .iter()
+        .fold(0.0_f64, |m, &p| m.max(p));
+    peak > DRIVE_PROMINENCE * median
 }
 
 /// |X_k|^2 of `x` zero-padded to `size` (a power of two). An in-place radix-2 FFT of our own:
