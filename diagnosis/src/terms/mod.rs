@@ -68,12 +68,9 @@ impl Described {
         };
         effects.extend(report::effects(&found));
         let full_t = &ctx.data.full.t_s;
-        let mut decimated: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; ctx.len()]);
-        let mut full: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; full_t.len()]);
-        for t in &found.terms {
-            add(&mut decimated[t.channel], &t.contribution());
-            add(&mut full[t.channel], &t.at_full(ctx, full_t));
-        }
+        let decimated: [Vec<f64>; 4] =
+            std::array::from_fn(|c| search::contribution(ctx, &found.terms, c));
+        let full: [Vec<f64>; 4] = std::array::from_fn(|c| at_full(ctx, &found.terms, c, full_t));
         Self {
             found,
             effects,
@@ -100,6 +97,27 @@ impl Described {
             v
         })
     }
+}
+
+/// Channel `c`'s terms at the full rate's times `t_s`, each where the channel is live.
+fn at_full(ctx: &Context, terms: &[Term], c: usize, t_s: &[f64]) -> Vec<f64> {
+    let live = search::live(terms, c, None).map(|l| {
+        t_s.iter()
+            .map(|&t| sim::effects::interpolate(ctx.t_s(), &l, t))
+            .collect::<Vec<f64>>()
+    });
+    let mut sum = vec![0.0; t_s.len()];
+    for t in terms.iter().filter(|t| t.channel == c) {
+        let part = t.at_full(ctx, t_s);
+        match live.as_ref().filter(|_| t.kind != TermKind::StuckChannel) {
+            Some(l) => sum
+                .iter_mut()
+                .zip(part.iter().zip(l))
+                .for_each(|(s, (p, l))| *s += p * l),
+            None => add(&mut sum, &part),
+        }
+    }
+    sum
 }
 
 fn add(a: &mut [f64], b: &[f64]) {

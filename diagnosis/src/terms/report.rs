@@ -16,10 +16,12 @@ pub(crate) fn effects(found: &Found) -> Vec<EffectReport> {
     order.sort_by(|&a, &b| found.evidence[b].0.total_cmp(&found.evidence[a].0));
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for i in order {
-        match groups
-            .iter_mut()
-            .find(|g| same_physics(&found.terms[g[0]], &found.terms[i]))
-        {
+        match groups.iter_mut().find(|g| {
+            // Two of one kind on one channel (two knocks) are two findings.
+            same_physics(&found.terms[g[0]], &found.terms[i])
+                && g.iter()
+                    .all(|&j| found.terms[j].channel != found.terms[i].channel)
+        }) {
             Some(g) => g.push(i),
             None => groups.push(vec![i]),
         }
