@@ -90,6 +90,22 @@ fn bound_note(parameters: &[ParamDetail]) -> String {
     }
 }
 
+/// The channels `kind` acts on that the recording measured: the gel's relaxation in a test of
+/// the material alone acts on its load cell only.
+fn measured_channels(kind: EffectKind, data: &Data) -> Vec<String> {
+    const COLUMNS: [&str; 4] = ["load_N", "fz_V", "mx_V", "my_V"];
+    kind.channels()
+        .iter()
+        .filter(|name| {
+            COLUMNS
+                .iter()
+                .position(|c| c == *name)
+                .is_none_or(|c| data.compared(c))
+        })
+        .map(|c| c.to_string())
+        .collect()
+}
+
 /// Each effect of the chosen model: parameters with standard errors and bounds, and the
 /// evidence against the model without it. A second relaxation term joins the first as
 /// `tau2_s`, `fraction2` (one effect, two time scales).
@@ -123,7 +139,7 @@ pub fn effect_reports(sel: &Selection, data: &Data) -> Vec<EffectReport> {
         out.push(EffectReport {
             name: kind.name().to_string(),
             stage: kind.stage(),
-            channels: kind.channels().iter().map(|c| c.to_string()).collect(),
+            channels: measured_channels(kind, data),
             evidence: sentence(kind, &params, cmp.bic_gain, cmp.heldout_ratio, data)
                 + &bound_note(&parameters),
             params,
