@@ -63,7 +63,16 @@ fn shape(physics: Physics, on: Vec<&'static str>, with_outputs: Vec<&'static str
             vec!["time"],
             None,
         ),
-        FrameVibration => (vec![MATERIAL], on, vec![], vec!["time"], vec!["time"], None),
+        // The frame's vibration moves the force on the fingertip, so the outputs follow it;
+        // with the load cell alone nothing tells it from the load cell's own pickup.
+        FrameVibration => {
+            let stages = if with_outputs.is_empty() {
+                vec![MATERIAL, ELECTRONICS]
+            } else {
+                vec![MATERIAL]
+            };
+            (stages, on, with_outputs, vec!["time"], vec!["time"], None)
+        }
         StuckChannel => {
             let mut allowed = vec!["time", "load_N", "rod_mm"];
             allowed.extend(on.iter().copied());
@@ -304,13 +313,36 @@ fn line(
     let phase = u(0.0, TAU);
     p.push(("freq_hz", freq_hz));
     let t = ctx.clean.channels.t_s.clone();
-    for col in inj.target.columns() {
-        let amplitude = size * ctx.sigma(col);
+    let mut lines: Vec<(&str, f64)> = inj
+        .target
+        .columns()
+        .into_iter()
+        .map(|col| (col, size * ctx.sigma(col)))
+        .collect();
+    if inj.physics == Physics::FrameVibration && !inj.material_alone {
+        lines.extend(followers(ctx, size * ctx.sigma("load_N")));
+    }
+    for (col, amplitude) in lines {
         p.push(("amplitude", amplitude));
         for (x, ts) in column_mut(rec, col).iter_mut().zip(&t) {
             *x += amplitude * (TAU * freq_hz * ts + phase).sin();
         }
     }
+}
+
+/// The outputs' share of a force oscillation of `load_amplitude` N: each output's swing per
+/// newton of the clean recording's first loading.
+fn followers(ctx: &Ctx, load_amplitude: f64) -> Vec<(&'static str, f64)> {
+    let load = &ctx.clean.channels.load_n;
+    let (at_peak, _) = argmax(load);
+    let swing = load[at_peak] - load[0];
+    OUTPUTS
+        .iter()
+        .map(|&col| {
+            let out = column(ctx.clean, col);
+            (col, load_amplitude * (out[at_peak] - out[0]) / swing)
+        })
+        .collect()
 }
 
 /// The sensing element's set s: it follows the normalised load with `tau_up_s` while the load
