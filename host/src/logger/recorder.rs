@@ -8,7 +8,7 @@ use std::time::{Instant, SystemTime};
 use protocol::Info;
 
 use super::cdr::CdrWriter;
-use super::rows::RowWriter;
+use super::rows::{decimals_for, RowWriter};
 use super::{
     clock_key, gap_code, metadata, unix_s, FileError, Setup, SharedMcap, EXTRA_COLUMNS,
     FLUSH_EVERY, PENDING,
@@ -56,6 +56,33 @@ mod col {
     pub const SATURATED: usize = 10;
 }
 
+/// Times are written to the µs: the device stamps its frames in µs, and the time base is good
+/// to a few hundred (docs/hand.md).
+const TIME_DECIMALS: Option<u8> = Some(6);
+
+/// Decimals of each column in row order (the required six, `temp_C` if there is a sensor,
+/// [`EXTRA_COLUMNS`]): the times to the µs; the ADC's outputs, the loads and the temperature
+/// to a tenth of what one code of the ADC moves them by (the finest channel's, for a load),
+/// which tells every code from its neighbours; whole numbers as they are.
+fn decimals(scale: &Scale, temp_sensor: Option<sim::frontend::TempSensor>) -> Vec<Option<u8>> {
+    let volts = scale.volts_per_code.map(decimals_for);
+    // The least a load moves by: one code of the channel that weighs least in its row.
+    let loads = scale.calibration.map(|row| {
+        let steps = row.iter().zip(scale.volts_per_code).map(|(c, v)| (c * v).abs());
+        decimals_for(steps.filter(|s| *s > 0.0).fold(f64::INFINITY, f64::min))
+    });
+    let mut d = vec![TIME_DECIMALS, None, None, volts[0], volts[1], volts[2]];
+    if let Some(t) = temp_sensor {
+        d.push(decimals_for(scale.temp_volts_per_code / t.slope_v_per_c.abs()));
+    }
+    let mut extra = [None; EXTRA_COLUMNS.len()];
+    extra[col::T_DEVICE] = TIME_DECIMALS;
+    extra[col::T_HOST] = TIME_DECIMALS;
+    extra[col::LOADS..col::LOADS + 3].copy_from_slice(&loads);
+    d.extend(extra);
+    d
+}
+
 impl Recorder {
     pub fn create(
         path: &Path,
@@ -82,11 +109,13 @@ impl Recorder {
         let mut csv = RowWriter::new(out, &meta, with_temp, &EXTRA_COLUMNS)
             .map_err(|e| FileError::write(path, e))?;
         csv.flush().map_err(|e| FileError::write(path, e))?;
+        let scale = Scale::from_info(info);
+        csv.set_decimals(&decimals(&scale, setup.temp_sensor));
         Ok(Self {
             path: path.to_path_buf(),
             csv,
             patchable: false,
-            scale: Scale::from_info(info),
+            scale,
             temp_sensor: setup.temp_sensor,
             rate_hz: f64::from(info.sample_rate_hz.max(1)),
             start,
@@ -134,6 +163,8 @@ impl Recorder {
                     }
                 }
                 self.scale = Scale::from_info(i);
+                self.csv
+                    .set_decimals(&decimals(&self.scale, self.temp_sensor));
                 self.rate_hz = f64::from(i.sample_rate_hz.max(1));
                 Ok(())
             }
