@@ -209,30 +209,34 @@ impl RowWriter {
 /// (nothing written) when `v·10^d` is too large for an exact integer.
 fn fixed(slot: &mut [u8; TEXT], v: f64, d: u8) -> Option<usize> {
     let d = usize::from(d);
-    let unit = POW10[d];
-    let scaled = v * unit as f64;
+    let scaled = v * POW10[d] as f64;
     if !(scaled.abs() < FIXED_LIMIT) {
         return None;
     }
     // `as` truncates toward zero; the half added first makes it round.
     let m = (scaled + 0.5f64.copysign(scaled)) as i64;
-    let (whole, frac) = (m.unsigned_abs() / unit, m.unsigned_abs() % unit);
+    let mut u = m.unsigned_abs();
     let sign = usize::from(m < 0);
-    // Digits of the whole part: one more for each power of ten it reaches.
-    let wd = 1 + POW10[1..].iter().take_while(|p| whole >= **p).count();
+    // At least one digit before the point: `0.05`, not `.05`.
+    let n = (u.checked_ilog10().map_or(1, |l| l as usize + 1)).max(d + 1);
+    let len = sign + n + usize::from(d > 0);
     // The sign first; without one the digits overwrite it.
     slot[0] = b'-';
-    digits(&mut slot[sign..sign + wd], whole);
-    if d == 0 {
-        return Some(sign + wd);
+    // Digits from the last, by constant divisors (no division by 10^d).
+    let mut end = len;
+    if d > 0 {
+        let point = len - 1 - d;
+        u = digits(&mut slot[point + 1..end], u);
+        slot[point] = b'.';
+        end = point;
     }
-    slot[sign + wd] = b'.';
-    digits(&mut slot[sign + wd + 1..sign + wd + 1 + d], frac);
-    Some(sign + wd + 1 + d)
+    digits(&mut slot[sign..end], u);
+    Some(len)
 }
 
-/// The last `out.len()` decimal digits of `u` (zero-padded), two at a time.
-fn digits(out: &mut [u8], mut u: u64) {
+/// The last `out.len()` decimal digits of `u` (zero-padded), two at a time; what is left of
+/// `u` above them.
+fn digits(out: &mut [u8], mut u: u64) -> u64 {
     let mut end = out.len();
     while end >= 2 {
         let r = (u % 100) as usize * 2;
@@ -242,7 +246,9 @@ fn digits(out: &mut [u8], mut u: u64) {
     }
     if end == 1 {
         out[0] = b'0' + (u % 10) as u8;
+        u /= 10;
     }
+    u
 }
 
 /// `v` in `slot` in its shortest form: a whole number by `itoa`, any other by `ryu` (the
