@@ -210,7 +210,7 @@ impl RowWriter {
 fn fixed(slot: &mut [u8; TEXT], v: f64, d: u8) -> Option<usize> {
     let d = usize::from(d);
     let scaled = v * POW10[d] as f64;
-    if !(scaled.abs() < FIXED_LIMIT) {
+    if scaled.is_nan() || scaled.abs() >= FIXED_LIMIT {
         return None;
     }
     // `as` truncates toward zero; the half added first makes it round.
