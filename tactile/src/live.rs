@@ -149,8 +149,9 @@ impl SensorView {
 /// redraw builds the whole screen, so its cost is the rate times the terminal's size: a
 /// sixteen-finger screen of 200x150 took 1.7 % of a core at five a second (issue #29).
 const REFRESH_EVERY: Duration = Duration::from_millis(500);
-/// How often the screen thread looks at the keyboard between refreshes.
-const KEY_POLL: Duration = Duration::from_millis(50);
+/// How often the screen thread looks at the keyboard between refreshes: a key is answered
+/// within a tenth of a second, and the thread wakes ten times a second, not twenty.
+const KEY_POLL: Duration = Duration::from_millis(100);
 /// Bytes of screen output gathered before a write (a full refresh of a large terminal fits).
 const SCREEN_BUFFER: usize = 256 * 1024;
 /// How long closing the dashboard waits for the screen thread to restore the terminal.

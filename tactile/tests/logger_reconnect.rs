@@ -89,8 +89,9 @@ fn reconnects_after_the_emulator_dies_and_marks_the_gap() {
 }
 
 /// Decode every CDR message of an MCAP file through the schema its channel declares (the schema
-/// text parsed, not offsets known in advance); the number of samples, whose log time must be the
-/// recording's origin plus their `t_s`.
+/// text parsed, not offsets known in advance); the number of samples (one message per frame,
+/// an array element per sample), whose times must be the recording's origin plus their `t_s`
+/// (a message is logged at its first sample's).
 fn decoded_samples(bytes: &[u8]) -> u64 {
     use host::logger::cdr::{decode, parse_schema};
     let (mut samples, mut origin) = (0u64, None::<f64>);
@@ -106,11 +107,25 @@ fn decoded_samples(bytes: &[u8]) -> u64 {
         if !m.channel.topic.ends_with("/sample") {
             continue;
         }
-        samples += 1;
-        let get = |name: &str| v.iter().find(|(n, _)| n == name).unwrap().1.num();
-        assert!(get("fz_v").is_finite() && get("t_device_s").is_finite());
-        assert!(get("t_host_s") > 1e9, "a Unix time");
-        let o = m.log_time as f64 * 1e-9 - get("t_s");
+        let get = |name: &str| v.iter().find(|(n, _)| n == name).unwrap().1.nums();
+        let t_s = get("t_s");
+        for name in [
+            "t_device_s",
+            "fz_v",
+            "mx_v",
+            "my_v",
+            "fz_n",
+            "mx_nm",
+            "my_nm",
+        ] {
+            let x = get(name);
+            assert_eq!(x.len(), t_s.len(), "{name}: one element per sample");
+            assert!(x.iter().all(|x| x.is_finite()), "{name}");
+        }
+        assert!(get("t_host_s")[0] > 1e9, "a Unix time");
+        assert!(t_s.windows(2).all(|w| w[0] <= w[1]), "t_s never decreases");
+        samples += t_s.len() as u64;
+        let o = m.log_time as f64 * 1e-9 - t_s[0];
         let o0 = *origin.get_or_insert(o);
         assert!((o - o0).abs() < 1e-5, "log time off t_s by {} s", o - o0);
     }

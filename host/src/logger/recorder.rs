@@ -8,7 +8,7 @@ use std::time::{Instant, SystemTime};
 use protocol::Info;
 
 use super::cdr::CdrWriter;
-use super::rows::RowWriter;
+use super::rows::{decimals_for, RowWriter};
 use super::{
     clock_key, gap_code, metadata, unix_s, FileError, Setup, SharedMcap, EXTRA_COLUMNS,
     FLUSH_EVERY, PENDING,
@@ -36,6 +36,9 @@ pub struct Recorder {
     last_flush: Instant,
     mcap: Option<SharedMcap>,
     cdr: CdrWriter,
+    /// The frame being written, per sample, in the arrays of [`super::cdr::SAMPLE_SCHEMA`]: `t_s`,
+    /// `t_device_s`, the three volts and the three loads.
+    columns: [Vec<f64>; 8],
     pub rows: u64,
 }
 
@@ -54,6 +57,38 @@ mod col {
     pub const LOADS: usize = 6;
     pub const TEMP_CODE: usize = 9;
     pub const SATURATED: usize = 10;
+}
+
+/// Times are written to the µs: the device stamps its frames in µs, and the time base is good
+/// to a few hundred (docs/hand.md).
+const TIME_DECIMALS: Option<u8> = Some(6);
+
+/// Decimals of each column in row order (the required six, `temp_C` if there is a sensor,
+/// [`EXTRA_COLUMNS`]): the times to the µs; the ADC's outputs, the loads and the temperature
+/// to a tenth of what one code of the ADC moves them by (the finest channel's, for a load),
+/// which tells every code from its neighbours; whole numbers as they are.
+fn decimals(scale: &Scale, temp_sensor: Option<sim::frontend::TempSensor>) -> Vec<Option<u8>> {
+    let volts = scale.volts_per_code.map(decimals_for);
+    // The least a load moves by: one code of the channel that weighs least in its row.
+    let loads = scale.calibration.map(|row| {
+        let steps = row
+            .iter()
+            .zip(scale.volts_per_code)
+            .map(|(c, v)| (c * v).abs());
+        decimals_for(steps.filter(|s| *s > 0.0).fold(f64::INFINITY, f64::min))
+    });
+    let mut d = vec![TIME_DECIMALS, None, None, volts[0], volts[1], volts[2]];
+    if let Some(t) = temp_sensor {
+        d.push(decimals_for(
+            scale.temp_volts_per_code / t.slope_v_per_c.abs(),
+        ));
+    }
+    let mut extra = [None; EXTRA_COLUMNS.len()];
+    extra[col::T_DEVICE] = TIME_DECIMALS;
+    extra[col::T_HOST] = TIME_DECIMALS;
+    extra[col::LOADS..col::LOADS + 3].copy_from_slice(&loads);
+    d.extend(extra);
+    d
 }
 
 impl Recorder {
@@ -82,11 +117,13 @@ impl Recorder {
         let mut csv = RowWriter::new(out, &meta, with_temp, &EXTRA_COLUMNS)
             .map_err(|e| FileError::write(path, e))?;
         csv.flush().map_err(|e| FileError::write(path, e))?;
+        let scale = Scale::from_info(info);
+        csv.set_decimals(&decimals(&scale, setup.temp_sensor));
         Ok(Self {
             path: path.to_path_buf(),
             csv,
             patchable: false,
-            scale: Scale::from_info(info),
+            scale,
             temp_sensor: setup.temp_sensor,
             rate_hz: f64::from(info.sample_rate_hz.max(1)),
             start,
@@ -98,6 +135,7 @@ impl Recorder {
             last_flush: Instant::now(),
             mcap: None,
             cdr: CdrWriter::default(),
+            columns: Default::default(),
             rows: 0,
         })
     }
@@ -134,6 +172,8 @@ impl Recorder {
                     }
                 }
                 self.scale = Scale::from_info(i);
+                self.csv
+                    .set_decimals(&decimals(&self.scale, self.temp_sensor));
                 self.rate_hz = f64::from(i.sample_rate_hz.max(1));
                 Ok(())
             }
@@ -208,6 +248,7 @@ impl Recorder {
         extra[col::MISSING] = 0.0;
         extra[col::TEMP_CODE] = f64::from(f.frame.temp);
         extra[col::SATURATED] = f64::from(f.frame.status.saturated);
+        self.columns.iter_mut().for_each(Vec::clear);
         for (k, s) in f.frame.samples().iter().enumerate() {
             let t_dev_s = t_dev0_s + k as f64 / self.rate_hz;
             let t_s = base(&self.clock, t_dev_s).max(self.last_t_s);
@@ -218,21 +259,33 @@ impl Recorder {
             extra[col::LOADS..col::LOADS + 3].copy_from_slice(&l);
             self.write_row(&[t_s, f64::NAN, f64::NAN, v[0], v[1], v[2]], temp_c, &extra)?;
             self.rows += 1;
-            if let Some((m, ch)) = &self.mcap {
-                self.cdr.begin().f64(t_s).f64(t_dev_s).f64(t_host);
-                for x in v.iter().chain(&l) {
-                    self.cdr.f64(*x);
-                }
-                self.cdr
-                    .u32(f.seq)
-                    .u32(f.session)
-                    .i32(f.frame.temp)
-                    .u8(f.frame.status.saturated);
-                m.borrow_mut()
-                    .write(ch.sample, ns(start + t_s), ns(t_host), &self.cdr.buf)?;
+            let values = [t_s, t_dev_s, v[0], v[1], v[2], l[0], l[1], l[2]];
+            for (c, x) in self.columns.iter_mut().zip(values) {
+                c.push(x);
             }
         }
-        Ok(())
+        self.write_samples(f, t_host)
+    }
+
+    /// The frame's samples as one MCAP message (schema [`super::cdr::SAMPLE_SCHEMA`]), logged at
+    /// its first sample's time.
+    fn write_samples(&mut self, f: &Frame, t_host: f64) -> Result<(), FileError> {
+        let (Some((m, ch)), Some(t_s)) = (&self.mcap, self.columns[0].first()) else {
+            return Ok(());
+        };
+        let log = ns(unix_s(self.start) + t_s);
+        self.cdr
+            .begin()
+            .f64(t_host)
+            .u32(f.seq)
+            .u32(f.session)
+            .i32(f.frame.temp)
+            .u8(f.frame.status.saturated);
+        for c in &self.columns {
+            self.cdr.f64s(c);
+        }
+        m.borrow_mut()
+            .write(ch.sample, log, ns(t_host), &self.cdr.buf)
     }
 
     /// A gap is a row with the time and the gap columns only: every required value is missing,
