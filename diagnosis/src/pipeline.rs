@@ -319,6 +319,7 @@ fn all_effects(
             .as_ref()
             .map(|line| evidence::load_mains_report(line, data)),
     );
+    effects.extend(terms::report::fast_lines(&full.fast));
     effects.extend(described);
     effects
 }
@@ -439,6 +440,8 @@ struct FullRate {
     mains: Option<Line>,
     /// The mains line on the load cell, if it passed both tests.
     load_mains: Option<Line>,
+    /// Lines faster than the decimated series shows, each on its channel.
+    fast: Vec<terms::FastLine>,
     /// RMSE of the baseline per compared channel.
     baseline_rmse: Numbers,
     /// RMSEs before and after, whole recording and held-out stretch.
@@ -467,7 +470,11 @@ fn full_rate(
     let load_mains = line_in_residual(data, &with_mains, &full_fit, &LOAD_CELL)
         .filter(|_| mains_allowed && setup.used[0])
         .filter(|l| mains_helps(data, &with_mains, l, (&full_fit, &full_heldout), &LOAD_CELL));
-    let final_full = add_line(data, &with_mains, load_mains.as_ref(), &LOAD_CELL);
+    let with_load_mains = add_line(data, &with_mains, load_mains.as_ref(), &LOAD_CELL);
+    let fast = fast_lines(setup, &with_load_mains, (&full_fit, &full_heldout));
+    let final_full = fast.iter().fold(with_load_mains, |o, f| {
+        add_line(data, &o, Some(&f.line), &[f.channel])
+    });
     let all_rows = vec![true; data.full.len()];
     let rmse = |o: &Outputs, mask: &[bool]| contract_rmse(data, o, mask);
     let baseline_rmse = Numbers(
@@ -493,6 +500,7 @@ fn full_rate(
         baseline_line,
         mains,
         load_mains,
+        fast,
         baseline_rmse,
         fit,
     }
@@ -688,11 +696,23 @@ fn mains_helps(
     data: &Data,
     o: &Outputs,
     line: &Line,
-    (fit, heldout): (&[bool], &[bool]),
+    masks: (&[bool], &[bool]),
     chans: &[usize],
 ) -> bool {
+    line_evidence(data, o, line, masks, chans).is_some()
+}
+
+/// The line's BIC gain and held-out chi-square ratio against the model without it, where it
+/// is prominent and passes both tests.
+fn line_evidence(
+    data: &Data,
+    o: &Outputs,
+    line: &Line,
+    (fit, heldout): (&[bool], &[bool]),
+    chans: &[usize],
+) -> Option<(f64, f64)> {
     if line.prominence < mains::MIN_LINE_PROMINENCE {
-        return false;
+        return None;
     }
     let with = add_line(data, o, Some(line), chans);
     let chi2 = |m: &Outputs, mask: &[bool]| -> f64 {
@@ -725,7 +745,37 @@ fn mains_helps(
     // The frequency, and per channel sine and cosine at f and 3f.
     let k = 1.0 + 4.0 * chans.len() as f64;
     let bic_gain = n * (f0 / f1).ln() - k * n.ln();
-    bic_gain > MIN_BIC_GAIN && h0 - h1 > heldout_needed(diff, h0)
+    (bic_gain > MIN_BIC_GAIN && h0 - h1 > heldout_needed(diff, h0))
+        .then(|| (bic_gain, h0 / h1.max(1e-300)))
+}
+
+/// Lines faster than the decimated series shows ([`terms::line::MAX_FREQ_HZ`]), outside the
+/// mains band, searched channel by channel in the residual of `o`: each with its channel and
+/// evidence, where it passes both tests.
+fn fast_lines(setup: &Setup, o: &Outputs, masks: (&[bool], &[bool])) -> Vec<terms::FastLine> {
+    let data = setup.data;
+    let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
+    let rate = (data.full.len() - 1) as f64 / span.max(1e-9);
+    (0..4)
+        .filter(|&c| setup.used[c])
+        .filter_map(|c| {
+            let r = diff(&data.full.y[c], o.channel(c));
+            let line = mains::find_fast_line(
+                &data.full.t_s,
+                &[&r],
+                masks.0,
+                rate,
+                terms::line::MAX_FREQ_HZ,
+            )?;
+            let (bic_gain, ratio) = line_evidence(data, o, &line, masks, &[c])?;
+            Some(terms::FastLine {
+                channel: c,
+                line,
+                bic_gain,
+                heldout_ratio: ratio,
+            })
+        })
+        .collect()
 }
 
 fn channel_localisation(

@@ -1,7 +1,9 @@
 //! Statistics the diagnosis tests and estimates with, written out where no kept crate has
 //! them in this form (each a few lines): tests of whiteness (Ljung–Box with the chi-square
 //! tail, an autoregression's evidence by BIC through Levinson–Durbin), erfc, lag-1 and Pearson
-//! correlations.
+//! correlations, a periodogram.
+
+use std::f64::consts::TAU;
 
 /// Ljung–Box statistic over lags 1..=m and its p-value (chi-square with m degrees of freedom,
 /// Wilson–Hilferty approximation).
@@ -151,9 +153,54 @@ pub fn levinson_durbin(c: &[f64]) -> (Vec<f64>, Vec<f64>) {
     (a, errors)
 }
 
+/// |X_k|^2 of `x` zero-padded to `size` (a power of two). An in-place radix-2 FFT of our own:
+/// none of the crates the workspace keeps has one, and a periodogram needs nothing more.
+pub fn periodogram(x: &[f64], size: usize) -> Vec<f64> {
+    let mut re: Vec<f64> = x
+        .iter()
+        .copied()
+        .chain(std::iter::repeat(0.0))
+        .take(size)
+        .collect();
+    let mut im = vec![0.0; size];
+    let bits = size.trailing_zeros();
+    for i in 0..size {
+        let j = i.reverse_bits() >> (usize::BITS - bits);
+        if j > i {
+            re.swap(i, j);
+            im.swap(i, j);
+        }
+    }
+    let mut len = 2;
+    while len <= size {
+        let (ws, wc) = (-TAU / len as f64).sin_cos();
+        for start in (0..size).step_by(len) {
+            let (mut ur, mut ui) = (1.0, 0.0);
+            for k in 0..len / 2 {
+                let (a, b) = (start + k, start + k + len / 2);
+                let (tr, ti) = (re[b] * ur - im[b] * ui, re[b] * ui + im[b] * ur);
+                (re[b], im[b]) = (re[a] - tr, im[a] - ti);
+                (re[a], im[a]) = (re[a] + tr, im[a] + ti);
+                (ur, ui) = (ur * wc - ui * ws, ur * ws + ui * wc);
+            }
+        }
+        len *= 2;
+    }
+    re.iter().zip(&im).map(|(r, i)| r * r + i * i).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The periodogram of a sampled sinusoid peaks at its frequency's bin.
+    #[test]
+    fn the_periodogram_peaks_at_the_line() {
+        let x: Vec<f64> = (0..1000).map(|k| (TAU * 0.125 * k as f64).sin()).collect();
+        let p = periodogram(&x, 2048);
+        let k = (1..1024).max_by(|&a, &b| p[a].total_cmp(&p[b])).unwrap();
+        assert_eq!(k, 256);
+    }
 
     #[test]
     fn ljung_box_accepts_noise_and_rejects_a_ramp() {

@@ -20,7 +20,7 @@ use sim::effects::Stage;
 
 /// The highest frequency searched: the decimated blocks (up to 200 ms) average faster lines
 /// towards nothing, and the mains band has its own search (`crate::mains`).
-const MAX_FREQ_HZ: f64 = 10.0;
+pub(crate) const MAX_FREQ_HZ: f64 = 10.0;
 /// A line with a period beyond this is reported as a slow wander of the zero.
 const WANDER_PERIOD_S: f64 = 10.0;
 /// A frequency at which the rod's own periodogram stands this far above its median over the
@@ -142,7 +142,7 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
         }
     }
     let size = (2 * bins).next_power_of_two();
-    let power = periodogram(&binned(&sum, &count), size);
+    let power = crate::stats::periodogram(&binned(&sum, &count), size);
     let mut rod_sum = vec![0.0; bins];
     for (t, d) in full.t_s.iter().zip(&full.rod_mm) {
         let b = ((t - t0) / dt) as usize;
@@ -163,7 +163,7 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
             }
         })
         .collect();
-    let rod = periodogram(&speed, size);
+    let rod = crate::stats::periodogram(&speed, size);
     let df = 1.0 / (size as f64 * dt);
     let f_lo = 2.0 / span;
     // The drive's fundamental: the peak of the lowest line that stands out (the first bin
@@ -213,54 +213,4 @@ fn driven_at(rod: &[f64], k: usize) -> bool {
         .iter()
         .fold(0.0_f64, |m, &p| m.max(p));
     peak > DRIVE_PROMINENCE * median
-}
-
-/// |X_k|^2 of `x` zero-padded to `size` (a power of two). An in-place radix-2 FFT of our own:
-/// none of the crates the workspace keeps has one, and a periodogram needs nothing more.
-fn periodogram(x: &[f64], size: usize) -> Vec<f64> {
-    let mut re: Vec<f64> = x
-        .iter()
-        .copied()
-        .chain(std::iter::repeat(0.0))
-        .take(size)
-        .collect();
-    let mut im = vec![0.0; size];
-    let bits = size.trailing_zeros();
-    for i in 0..size {
-        let j = i.reverse_bits() >> (usize::BITS - bits);
-        if j > i {
-            re.swap(i, j);
-            im.swap(i, j);
-        }
-    }
-    let mut len = 2;
-    while len <= size {
-        let (ws, wc) = (-TAU / len as f64).sin_cos();
-        for start in (0..size).step_by(len) {
-            let (mut ur, mut ui) = (1.0, 0.0);
-            for k in 0..len / 2 {
-                let (a, b) = (start + k, start + k + len / 2);
-                let (tr, ti) = (re[b] * ur - im[b] * ui, re[b] * ui + im[b] * ur);
-                (re[b], im[b]) = (re[a] - tr, im[a] - ti);
-                (re[a], im[a]) = (re[a] + tr, im[a] + ti);
-                (ur, ui) = (ur * wc - ui * ws, ur * ws + ui * wc);
-            }
-        }
-        len *= 2;
-    }
-    re.iter().zip(&im).map(|(r, i)| r * r + i * i).collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The periodogram of a sampled sinusoid peaks at its frequency's bin.
-    #[test]
-    fn the_periodogram_peaks_at_the_line() {
-        let x: Vec<f64> = (0..1000).map(|k| (TAU * 0.125 * k as f64).sin()).collect();
-        let p = periodogram(&x, 2048);
-        let k = (1..1024).max_by(|&a, &b| p[a].total_cmp(&p[b])).unwrap();
-        assert_eq!(k, 256);
-    }
 }

@@ -43,6 +43,15 @@ use crate::output::{EffectReport, ParamDetail};
 use baseline::Outputs;
 use sim::effects::Stage;
 
+/// A line faster than the decimated series shows, found at the full rate on one channel
+/// (`crate::mains::find_fast_line`), with its evidence against the model without it.
+pub(crate) struct FastLine {
+    pub channel: usize,
+    pub line: crate::mains::Line,
+    pub bic_gain: f64,
+    pub heldout_ratio: f64,
+}
+
 /// What was described beyond the catalogue: the effects to report and the terms' contributions
 /// to the model, on the decimated series and at the full rate.
 pub(crate) struct Described {

@@ -100,6 +100,55 @@ fn effect(t: &Term, stage: Stage, channels: &[usize], bic_gain: f64, ratio: f64)
     }
 }
 
+/// The fast lines, one effect per frequency (within a hundredth of a hertz) on every channel
+/// that holds it, located as a slow line is ([`line::merged_stage`]).
+pub(crate) fn fast_lines(lines: &[super::FastLine]) -> Vec<EffectReport> {
+    let mut groups: Vec<Vec<&super::FastLine>> = Vec::new();
+    for l in lines {
+        match groups
+            .iter_mut()
+            .find(|g| (g[0].line.freq_hz - l.line.freq_hz).abs() < 0.01)
+        {
+            Some(g) => g.push(l),
+            None => groups.push(vec![l]),
+        }
+    }
+    groups.iter().map(|g| fast_line_effect(g)).collect()
+}
+
+fn fast_line_effect(g: &[&super::FastLine]) -> EffectReport {
+    let channels: Vec<usize> = g.iter().map(|l| l.channel).collect();
+    let lead = g[0];
+    let f = lead.line.freq_hz;
+    let unit = if lead.channel == 0 { "N" } else { "V" };
+    let amplitude = lead.line.amplitude();
+    let form = format!(
+        "a sinusoid of {amplitude:.4} {unit} amplitude at {f:.3} Hz (period {:.4} s), faster than the fitting series shows",
+        1.0 / f
+    );
+    let finding = SanityFinding {
+        name: "periodic_line",
+        stage: line::merged_stage(&channels),
+        channels,
+        params: vec![
+            ("freq_hz", f, "Hz".into()),
+            ("amplitude", amplitude, unit.into()),
+        ],
+        depends_on: vec!["time"],
+        evidence: format!(
+            "Not in the catalogue, described on {}: {form}.",
+            g.iter()
+                .map(|l| super::channel_words(l.channel))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        form,
+        bic_gain: lead.bic_gain,
+        heldout_ratio: lead.heldout_ratio,
+    };
+    sanity_effect(&finding)
+}
+
 /// A finding of the calibration's sanity as an effect the catalogue lacks.
 pub(crate) fn sanity_effect(f: &SanityFinding) -> EffectReport {
     EffectReport {
