@@ -295,7 +295,8 @@ impl Term {
             | TermKind::LoadLag
             | TermKind::Recalibration => Stage::Electronics,
             TermKind::Line => line::stage(self),
-            TermKind::TemperatureSpan | TermKind::OutputRelaxation => Stage::Transducer,
+            TermKind::TemperatureSpan => temperature_span::stage(self),
+            TermKind::OutputRelaxation => Stage::Transducer,
             TermKind::SpeedPower | TermKind::PermanentSet => {
                 if self.channel == 0 {
                     Stage::Material

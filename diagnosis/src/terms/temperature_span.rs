@@ -6,11 +6,21 @@
 //! ```
 //!
 //! with s the model's signal (its output less its offset) and T0 the mean temperature over the
-//! fitting stretch. At the transducer, a function of temperature and load; only where the
+//! fitting stretch: at the transducer, a function of temperature and load. An amplifier whose
+//! gain follows the temperature multiplies the bridge's offset as well,
+//!
+//! ```text
+//! y(t) = (offset + s(t)) (1 + k (T(t) - T0))
+//! ```
+//!
+//! in the electronics; the form that fits better is kept (where the offset is small against
+//! the signal the two cannot be told apart, and the transducer's is reported). Only where the
 //! recording's temperature moves.
 
-use super::fitting::{Columns, Context};
+use super::fitting::{solve, Columns, Context};
 use super::{Description, Term, TermKind};
+use crate::candidate::MIN_BIC_GAIN;
+use sim::effects::Stage;
 
 /// The temperature over the decimated series and its mean over the fitting stretch.
 fn temperature<'c>(ctx: &'c Context) -> Option<(&'c [f64], f64)> {
@@ -26,20 +36,46 @@ fn temperature<'c>(ctx: &'c Context) -> Option<(&'c [f64], f64)> {
 
 pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
     let (temp, t0) = temperature(ctx)?;
-    let s = ctx.signal(c);
-    let columns = Columns {
-        x: vec![temp.iter().zip(&s).map(|(t, s)| (t - t0) * s).collect()],
-        fixed: None,
+    let signal = ctx.signal(c);
+    let form = |whole: f64| columns_of(temp, t0, &signal, whole * ctx.offset[c]);
+    let bridges = solve(ctx, c, &form(0.0).joined(others))?;
+    let amplifier = solve(ctx, c, &form(1.0).joined(others))?;
+    // The amplifier's form where it fits better than the bridges' by more than the criterion's
+    // margin: else the two are one description, and the bridges' is the simpler.
+    let whole = if bridges.1 - amplifier.1 > MIN_BIC_GAIN {
+        1.0
+    } else {
+        0.0
     };
-    let (beta, _) = super::fitting::solve(ctx, c, &columns.joined(others))?;
+    let beta = if whole == 1.0 { amplifier.0 } else { bridges.0 };
     Some(Term {
         kind: TermKind::TemperatureSpan,
         channel: c,
-        shape: vec![t0],
-        columns,
+        shape: vec![t0, whole],
+        columns: form(whole),
         beta: beta[..1].to_vec(),
         n_params: 1,
     })
+}
+
+/// Whether the fitted span multiplies the whole output (the amplifier's gain).
+pub(crate) fn stage(t: &Term) -> Stage {
+    if t.shape[1] == 1.0 {
+        Stage::Electronics
+    } else {
+        Stage::Transducer
+    }
+}
+
+fn columns_of(temp: &[f64], t0: f64, signal: &[f64], offset: f64) -> Columns {
+    Columns {
+        x: vec![temp
+            .iter()
+            .zip(signal)
+            .map(|(t, s)| (t - t0) * (s + offset))
+            .collect()],
+        fixed: None,
+    }
 }
 
 pub(crate) fn describe(t: &Term) -> Description {
@@ -49,7 +85,12 @@ pub(crate) fn describe(t: &Term) -> Description {
         params: vec![("span_per_K", k, "1/K".into()), ("t0_C", t0, "°C".into())],
         depends_on: vec!["temp_C", "load_N"],
         form: format!(
-            "output = offset + signal x (1 {:+.3} % per K x (T - {t0:.2} °C))",
+            "output = {} x (1 {:+.3} % per K x (T - {t0:.2} °C))",
+            if t.shape[1] == 1.0 {
+                "(offset + signal)"
+            } else {
+                "offset + signal"
+            },
             100.0 * k
         ),
     }
