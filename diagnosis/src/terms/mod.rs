@@ -18,12 +18,16 @@
 //! cell), [`temperature_span`] (a span that follows the temperature), [`speed_power`] (a force
 //! or output depending on a power of the rod speed), [`permanent_set`] (a set after the first
 //! loading), [`output_relaxation`] (the sensing element creeps where the load does not),
-//! [`load_lag`] (the load cell's stream shifted in time). The calibration's own checks, an
-//! inverted sign and a dead channel, are in [`sanity`].
+//! [`load_lag`] (the load cell's stream shifted in time), [`load_stiffening`] (the material
+//! stiffening against the rod, on the load cell) and [`load_saturation`] (the load cell's
+//! amplifier clipping). The last four are catalogue entries met at a stage of their own. The
+//! calibration's own checks, an inverted sign and a dead channel, are in [`sanity`].
 
 mod fitting;
 pub(crate) mod line;
 pub(crate) mod load_lag;
+pub(crate) mod load_saturation;
+pub(crate) mod load_stiffening;
 pub(crate) mod offset_step;
 pub(crate) mod output_relaxation;
 pub(crate) mod permanent_set;
@@ -149,13 +153,15 @@ pub(crate) enum TermKind {
     PermanentSet,
     OutputRelaxation,
     LoadLag,
+    LoadStiffening,
+    LoadSaturation,
     /// Not a finding: the channel's offset and scale refitted with the terms on it, as the
     /// calibration would refit them jointly (no parameter the nested model does not have).
     Recalibration,
 }
 
 impl TermKind {
-    pub const ALL: [TermKind; 8] = [
+    pub const ALL: [TermKind; 10] = [
         TermKind::OffsetStep,
         TermKind::StuckChannel,
         TermKind::Line,
@@ -164,13 +170,18 @@ impl TermKind {
         TermKind::PermanentSet,
         TermKind::OutputRelaxation,
         TermKind::LoadLag,
+        TermKind::LoadStiffening,
+        TermKind::LoadSaturation,
     ];
 
     /// Whether the term can act on channel `c` (0 the load cell, 1..4 the outputs).
     pub fn acts_on(self, c: usize) -> bool {
         match self {
             TermKind::OutputRelaxation | TermKind::TemperatureSpan => c > 0,
-            TermKind::LoadLag | TermKind::PermanentSet => c == 0,
+            TermKind::LoadLag
+            | TermKind::PermanentSet
+            | TermKind::LoadStiffening
+            | TermKind::LoadSaturation => c == 0,
             _ => true,
         }
     }
@@ -202,6 +213,8 @@ impl TermKind {
             TermKind::PermanentSet => permanent_set::fit(ctx, c, others),
             TermKind::OutputRelaxation => output_relaxation::fit(ctx, c, others),
             TermKind::LoadLag => load_lag::fit(ctx, c, others),
+            TermKind::LoadStiffening => load_stiffening::fit(ctx, c, others),
+            TermKind::LoadSaturation => load_saturation::fit(ctx, c, others),
             TermKind::Recalibration => None,
         }
     }
@@ -278,6 +291,8 @@ impl Term {
             TermKind::PermanentSet => permanent_set::describe(self),
             TermKind::OutputRelaxation => output_relaxation::describe(self),
             TermKind::LoadLag => load_lag::describe(self),
+            TermKind::LoadStiffening => load_stiffening::describe(self),
+            TermKind::LoadSaturation => load_saturation::describe(self),
             TermKind::Recalibration => Description {
                 name: "recalibration",
                 params: Vec::new(),
@@ -293,7 +308,9 @@ impl Term {
             TermKind::OffsetStep
             | TermKind::StuckChannel
             | TermKind::LoadLag
+            | TermKind::LoadSaturation
             | TermKind::Recalibration => Stage::Electronics,
+            TermKind::LoadStiffening => Stage::Material,
             TermKind::Line => line::stage(self),
             TermKind::TemperatureSpan => temperature_span::stage(self),
             TermKind::OutputRelaxation => Stage::Transducer,

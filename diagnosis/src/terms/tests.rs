@@ -268,3 +268,26 @@ fn a_permanent_set_gives_its_size() {
     let s = only(&terms, TermKind::PermanentSet, 0);
     assert!((s.beta[0] - 0.05).abs() < 0.015, "{:?}", s.beta);
 }
+
+#[test]
+fn a_load_that_stiffens_gives_its_exponent() {
+    // The load becomes the catalogue's stiffening law of itself: peak (load / peak)^2.5.
+    let peak = 5.0 * 4.0_f64.powf(1.5);
+    let terms = found(|_, c, m| {
+        if c == 0 {
+            peak * (m / peak).powf(2.5) - m
+        } else {
+            0.0
+        }
+    });
+    let s = only(&terms, TermKind::LoadStiffening, 0);
+    assert!((s.shape[0] - 2.5).abs() < 0.15, "{:?}", s.shape);
+    assert!((s.beta[0] - 1.0).abs() < 0.1, "{:?}", s.beta);
+}
+
+#[test]
+fn a_load_cell_that_clips_gives_its_limit() {
+    let terms = found(|_, c, m| if c == 0 { m.min(25.0) - m } else { 0.0 });
+    let s = only(&terms, TermKind::LoadSaturation, 0);
+    assert!((s.shape[0] - 25.0).abs() < 0.1, "{:?}", s.shape);
+}

@@ -1,0 +1,74 @@
+//! The material stiffening against the rod, seen on the load cell: the catalogue's
+//! `stiffening` met in the material, where a test of the material alone (or a fingertip whose
+//! gel stiffens beyond the contact law) shows it on the load. The catalogue's law
+//! (`sim::effects::Stiffening`) on the load's signal s, with F its largest value:
+//!
+//! ```text
+//! F(t) = F sign(s) (|s| / F)^p
+//! ```
+//!
+//! as a column whose amplitude is fitted beside the channel's refitted scale (the law's share
+//! of the load), the exponent p from a grid.
+
+use super::fitting::{best_shape, Columns, Context};
+use super::{Description, Term, TermKind};
+
+/// The exponents tried: from a mild stiffening to a strong one (the catalogue's bounds).
+const EXPONENTS: (f64, f64, usize) = (1.1, 3.5, 25);
+
+fn law(signal: &[f64], p: f64) -> Vec<f64> {
+    let peak = signal.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
+    signal
+        .iter()
+        .map(|&s| {
+            if peak > 0.0 {
+                peak * s.signum() * (s.abs() / peak).powf(p)
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
+    let signal = ctx.signal(c);
+    let (lo, hi, n) = EXPONENTS;
+    let shapes = (0..n).map(|i| {
+        let p = lo + (hi - lo) * i as f64 / (n - 1) as f64;
+        (
+            vec![p],
+            Columns {
+                x: vec![law(&signal, p)],
+                fixed: None,
+            },
+        )
+    });
+    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes)?;
+    // A law that takes load away where the load is high is a softening: not this physics.
+    if beta[0] <= 0.0 {
+        return None;
+    }
+    Some(Term {
+        kind: TermKind::LoadStiffening,
+        channel: c,
+        shape,
+        columns,
+        beta,
+        n_params: 2,
+    })
+}
+
+pub(crate) fn describe(t: &Term) -> Description {
+    Description {
+        name: "stiffening",
+        params: vec![
+            ("exponent", t.shape[0], String::new()),
+            ("share", t.beta[0], String::new()),
+        ],
+        depends_on: vec!["rod_mm"],
+        form: format!(
+            "the load stiffens against the rod: {:.2} of it follows (load / peak)^{:.2}",
+            t.beta[0], t.shape[0]
+        ),
+    }
+}
