@@ -18,6 +18,7 @@
 //! cell), [`temperature_span`] (a span that follows the temperature), [`speed_power`] (a force
 //! or output depending on a power of the rod speed), [`permanent_set`] (a set after the first
 //! loading), [`output_relaxation`] (the sensing element creeps where the load does not),
+//! [`output_set`] (the sensing element takes a set under load and recovers more slowly),
 //! [`load_lag`] (the load cell's stream shifted in time), [`load_stiffening`] (the material
 //! stiffening against the rod, on the load cell) and [`load_saturation`] (the load cell's
 //! amplifier clipping). The last four are catalogue entries met at a stage of their own. The
@@ -30,6 +31,7 @@ pub(crate) mod load_saturation;
 pub(crate) mod load_stiffening;
 pub(crate) mod offset_step;
 pub(crate) mod output_relaxation;
+pub(crate) mod output_set;
 pub(crate) mod permanent_set;
 pub(crate) mod report;
 pub(crate) mod sanity;
@@ -152,6 +154,7 @@ pub(crate) enum TermKind {
     SpeedPower,
     PermanentSet,
     OutputRelaxation,
+    OutputSet,
     LoadLag,
     LoadStiffening,
     LoadSaturation,
@@ -161,7 +164,7 @@ pub(crate) enum TermKind {
 }
 
 impl TermKind {
-    pub const ALL: [TermKind; 10] = [
+    pub const ALL: [TermKind; 11] = [
         TermKind::OffsetStep,
         TermKind::StuckChannel,
         TermKind::Line,
@@ -169,6 +172,7 @@ impl TermKind {
         TermKind::SpeedPower,
         TermKind::PermanentSet,
         TermKind::OutputRelaxation,
+        TermKind::OutputSet,
         TermKind::LoadLag,
         TermKind::LoadStiffening,
         TermKind::LoadSaturation,
@@ -177,7 +181,7 @@ impl TermKind {
     /// Whether the term can act on channel `c` (0 the load cell, 1..4 the outputs).
     pub fn acts_on(self, c: usize) -> bool {
         match self {
-            TermKind::OutputRelaxation | TermKind::TemperatureSpan => c > 0,
+            TermKind::OutputRelaxation | TermKind::OutputSet | TermKind::TemperatureSpan => c > 0,
             TermKind::LoadLag
             | TermKind::PermanentSet
             | TermKind::LoadStiffening
@@ -212,6 +216,7 @@ impl TermKind {
             TermKind::SpeedPower => speed_power::fit(ctx, c, others),
             TermKind::PermanentSet => permanent_set::fit(ctx, c, others),
             TermKind::OutputRelaxation => output_relaxation::fit(ctx, c, others),
+            TermKind::OutputSet => output_set::fit(ctx, c, others),
             TermKind::LoadLag => load_lag::fit(ctx, c, others),
             TermKind::LoadStiffening => load_stiffening::fit(ctx, c, others),
             TermKind::LoadSaturation => load_saturation::fit(ctx, c, others),
@@ -290,6 +295,7 @@ impl Term {
             TermKind::SpeedPower => speed_power::describe(self),
             TermKind::PermanentSet => permanent_set::describe(self),
             TermKind::OutputRelaxation => output_relaxation::describe(self),
+            TermKind::OutputSet => output_set::describe(self, unit),
             TermKind::LoadLag => load_lag::describe(self),
             TermKind::LoadStiffening => load_stiffening::describe(self),
             TermKind::LoadSaturation => load_saturation::describe(self),
@@ -313,7 +319,7 @@ impl Term {
             TermKind::LoadStiffening => Stage::Material,
             TermKind::Line => line::stage(self),
             TermKind::TemperatureSpan => temperature_span::stage(self),
-            TermKind::OutputRelaxation => Stage::Transducer,
+            TermKind::OutputRelaxation | TermKind::OutputSet => Stage::Transducer,
             TermKind::SpeedPower | TermKind::PermanentSet => {
                 if self.channel == 0 {
                     Stage::Material

@@ -291,3 +291,25 @@ fn a_load_cell_that_clips_gives_its_limit() {
     let s = only(&terms, TermKind::LoadSaturation, 0);
     assert!((s.shape[0] - 25.0).abs() < 0.1, "{:?}", s.shape);
 }
+
+#[test]
+fn a_sensing_element_set_gives_its_times() {
+    // The Fz output gains 0.002 V x a set that follows the load with 3 s and recovers with 75 s.
+    let peak = GAINS[1] * 5.0 * 4.0_f64.powf(1.5);
+    // The state at every sample of the recording, integrated once.
+    let n = (120.0 * RATE_HZ) as usize + 1;
+    let mut x = 0.0;
+    let states: Vec<f64> = (0..n)
+        .map(|k| {
+            let u = clean(k as f64 / RATE_HZ, 1) / peak;
+            let tau = if u > x { 3.0 } else { 75.0 };
+            x += (u - x) * (1.0 - (-1.0 / (RATE_HZ * tau)).exp());
+            x
+        })
+        .collect();
+    let set = |t: f64| states[(t * RATE_HZ).round() as usize];
+    let terms = found(|t, c, _| if c == 1 { 0.002 * set(t) } else { 0.0 });
+    let s = only(&terms, TermKind::OutputSet, 1);
+    assert_eq!((s.shape[0], s.shape[1]), (3.0, 75.0), "{:?}", s.shape);
+    assert!((s.beta[0] - 0.002).abs() < 3e-4, "{:?}", s.beta);
+}
