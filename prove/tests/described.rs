@@ -264,6 +264,13 @@ fn the_span_follows_the_temperature() {
     assert!(swing > 1.5, "the temperature swings: {swing}");
 }
 
+/// The least-squares ratio of `a` to `b`.
+fn stats_ratio(a: &[f64], b: &[f64]) -> f64 {
+    let num: f64 = a.iter().zip(b).map(|(a, b)| a * b).sum();
+    let den: f64 = b.iter().map(|b| b * b).sum();
+    num / den
+}
+
 /// A sinusoid of the truth's frequency and amplitude added to `column` and nothing else.
 fn line_is_there(x: &Injected, column: &str, amplitude_key: &str) {
     let get = |r: &Recording| r.column(column).unwrap().to_vec();
@@ -288,7 +295,16 @@ fn lines_sit_at_their_frequency_on_their_channel() {
         false,
     );
     line_is_there(&x, "load_N", "amplitude");
-    assert_eq!(x.rec.channels.fz_v, x.plain.channels.fz_v);
+    // The frame moves the force, so Fz follows the load's line by its swing per newton.
+    let d_load = diff(&x.rec.channels.load_n, &x.plain.channels.load_n);
+    let d_fz = diff(&x.rec.channels.fz_v, &x.plain.channels.fz_v);
+    let ratio = stats_ratio(&d_fz, &d_load);
+    let (load, fz) = (&x.plain.channels.load_n, &x.plain.channels.fz_v);
+    let peak = (0..load.len())
+        .max_by(|&a, &b| load[a].total_cmp(&load[b]))
+        .unwrap();
+    let swing = (fz[peak] - fz[0]) / (load[peak] - load[0]);
+    assert!((ratio / swing - 1.0).abs() < 0.05, "{ratio} vs {swing}");
     let f = param(&x.truth, "freq_hz");
     assert!((2.5..=4.5).contains(&f));
 
