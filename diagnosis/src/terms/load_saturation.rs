@@ -28,8 +28,10 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         best = Some((shape, columns, beta));
     }
     let (shape, columns, beta) = best?;
-    // A cell that reads more above its limit is not clipping.
-    if beta[0] <= 0.0 {
+    // A cell that reads more above its limit is not clipping; nor is one whose recording goes
+    // above the limit (beyond three deviations of its noise, in more than one sample in a
+    // hundred: a spike is not a reading): a clip is a ceiling the recording shows.
+    if beta[0] <= 0.0 || above_limit(ctx, c, shape[0]) > 0.01 {
         return None;
     }
     Some(Term {
@@ -40,6 +42,18 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         beta,
         n_params: 2,
     })
+}
+
+/// The share of the fitting stretch's samples of channel `c` recorded above `limit` by more
+/// than three deviations of their noise.
+fn above_limit(ctx: &Context, c: usize, limit: f64) -> f64 {
+    let y = &ctx.data.fit.y[c];
+    let rows: Vec<usize> = (0..ctx.len()).filter(|&k| ctx.fit_mask[k]).collect();
+    let above = rows
+        .iter()
+        .filter(|&&k| (y[k] - limit) * ctx.data.weight(c, k) > 3.0)
+        .count();
+    above as f64 / rows.len().max(1) as f64
 }
 
 /// The best limit for a cell that would read `reads`: a grid over their range, then a
