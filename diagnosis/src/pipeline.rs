@@ -197,19 +197,21 @@ fn described_model(
     sel: &mut crate::select::Selection,
     drive: &Drive,
 ) -> (terms::Described, Outputs) {
-    let of = |i: usize| {
+    // Candidate `i` described: its sanity findings, and with `search` the library's terms
+    // where its residual stays structured.
+    let of = |i: usize, search: bool| {
         let c = &sel.all[i];
         let full = c.outputs(drive);
         let dec: [Vec<f64>; 4] = std::array::from_fn(|k| c.outputs.channel(k).to_vec());
         let details = params::baseline(c, setup.data);
-        let structured = !white(setup, &dec);
+        let structured = search && !white(setup, &dec);
         let d = describe(setup, c, &full, &details, !structured);
         (d, full)
     };
     let chosen = sel.chosen;
     let kinds = sel.chosen().kinds.clone();
     if kinds.is_empty() {
-        return of(chosen);
+        return of(chosen, true);
     }
     let (bic, held) = (sel.chosen().bic, sel.chosen().heldout_chi2);
     let mut best: Option<(f64, usize, terms::Described, Outputs, EffectKind)> = None;
@@ -218,7 +220,7 @@ fn described_model(
         if w == chosen || sel.all[w].kinds.len() + 1 != kinds.len() {
             continue;
         }
-        let (d_w, full_w) = of(w);
+        let (d_w, full_w) = of(w, true);
         if d_w.found.terms.is_empty() {
             continue;
         }
@@ -239,13 +241,7 @@ fn described_model(
             );
             (d_w, full_w)
         }
-        None => {
-            let (full, details) = (
-                sel.chosen().outputs(drive),
-                params::baseline(sel.chosen(), setup.data),
-            );
-            (describe(setup, sel.chosen(), &full, &details, true), full)
-        }
+        None => of(chosen, false),
     }
 }
 
@@ -666,9 +662,7 @@ fn line_in_residual(data: &Data, o: &Outputs, mask: &[bool], chans: &[usize]) ->
         .map(|&c| diff(&data.full.y[c], o.channel(c)))
         .collect();
     let refs: Vec<&[f64]> = res.iter().map(|r| r.as_slice()).collect();
-    let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
-    let rate = (data.full.len() - 1) as f64 / span.max(1e-9);
-    mains::find_line(&data.full.t_s, &refs, mask, rate)
+    mains::find_line(&data.full.t_s, &refs, mask, data.rate_hz)
 }
 
 /// Outputs plus the fitted line on the channels `chans` it was fitted on (full rate).
@@ -754,8 +748,6 @@ fn line_evidence(
 /// evidence, where it passes both tests.
 fn fast_lines(setup: &Setup, o: &Outputs, masks: (&[bool], &[bool])) -> Vec<terms::FastLine> {
     let data = setup.data;
-    let span = data.full.t_s[data.full.len() - 1] - data.full.t_s[0];
-    let rate = (data.full.len() - 1) as f64 / span.max(1e-9);
     (0..4)
         .filter(|&c| setup.used[c])
         .filter_map(|c| {
@@ -764,7 +756,7 @@ fn fast_lines(setup: &Setup, o: &Outputs, masks: (&[bool], &[bool])) -> Vec<term
                 &data.full.t_s,
                 &[&r],
                 masks.0,
-                rate,
+                data.rate_hz,
                 terms::line::MAX_FREQ_HZ,
             )?;
             let (bic_gain, ratio) = line_evidence(data, o, &line, masks, &[c])?;

@@ -12,22 +12,16 @@
 
 use super::fitting::{best_shape, Columns, Context};
 use super::{Description, Term, TermKind};
+use sim::effects::Stiffening;
 
 /// The exponents tried: from a mild stiffening to a strong one (the catalogue's bounds).
 const EXPONENTS: (f64, f64, usize) = (1.1, 3.5, 25);
 
+/// The catalogue's law on the signal, as the emulator applies it.
 fn law(signal: &[f64], p: f64) -> Vec<f64> {
-    let peak = signal.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
-    signal
-        .iter()
-        .map(|&s| {
-            if peak > 0.0 {
-                peak * s.signum() * (s.abs() / peak).powf(p)
-            } else {
-                0.0
-            }
-        })
-        .collect()
+    let mut x = signal.to_vec();
+    Stiffening { exponent: p }.apply(&mut x);
+    x
 }
 
 pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {

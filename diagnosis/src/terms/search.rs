@@ -56,14 +56,13 @@ pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
     }
     let evidence = (0..terms.len())
         .map(|i| {
+            let cmp = compare_without(ctx, nested, &terms, i);
             let bic_gain = if terms[i].kind == TermKind::Recalibration {
                 f64::INFINITY
             } else {
-                compare_without(ctx, nested, &terms, i).0
+                cmp.bic_gain
             };
-            let without = without(ctx, &terms, i);
-            let ratio = heldout(ctx, nested, &without) / heldout(ctx, nested, &terms).max(1e-300);
-            (bic_gain, ratio)
+            (bic_gain, cmp.heldout_without / cmp.heldout_with.max(1e-300))
         })
         .collect();
     Found {
@@ -123,10 +122,8 @@ fn backward(
         let worst = (0..terms.len())
             .filter(|&i| terms[i].kind != TermKind::Recalibration)
             .map(|i| (i, compare_without(ctx, nested, &terms, i)))
-            .filter(|(_, (bic_gain, held_gain, needed))| {
-                !(*bic_gain > MIN_BIC_GAIN && held_gain > needed)
-            })
-            .min_by(|a, b| (a.1 .1 - a.1 .2).total_cmp(&(b.1 .1 - b.1 .2)))
+            .filter(|(_, cmp)| !(cmp.bic_gain > MIN_BIC_GAIN && cmp.margin() > 0.0))
+            .min_by(|a, b| a.1.margin().total_cmp(&b.1.margin()))
             .map(|(i, _)| i);
         match worst {
             Some(i) => {
@@ -260,10 +257,25 @@ fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
     w
 }
 
-/// Term `i` against the model without it: BIC gain, held-out chi-square gain and the gain it
-/// needed (twice the deviation of sum (m_l - m_s) e under the channel's noise model, and 0.5 %
-/// of the misfit left), as `Candidate::compare` weighs a catalogue effect.
-fn compare_without(ctx: &Context, nested: Nested, terms: &[Term], i: usize) -> (f64, f64, f64) {
+/// Term `i` against the model without it, as `Candidate::compare` weighs a catalogue effect.
+struct Comparison {
+    bic_gain: f64,
+    /// Held-out chi-square without the term and with it.
+    heldout_without: f64,
+    heldout_with: f64,
+    /// The held-out gain the term needs: twice the deviation of sum (m_l - m_s) e under the
+    /// channel's noise model, and 0.5 % of the misfit left.
+    needed: f64,
+}
+
+impl Comparison {
+    /// How far the held-out gain clears what it needs (negative: it fails).
+    fn margin(&self) -> f64 {
+        self.heldout_without - self.heldout_with - self.needed
+    }
+}
+
+fn compare_without(ctx: &Context, nested: Nested, terms: &[Term], i: usize) -> Comparison {
     let w = without(ctx, terms, i);
     let bic_gain = bic(ctx, nested, &w) - bic(ctx, nested, terms);
     let (h_small, h_large) = (heldout(ctx, nested, &w), heldout(ctx, nested, terms));
@@ -280,5 +292,10 @@ fn compare_without(ctx: &Context, nested: Nested, terms: &[Term], i: usize) -> (
         .block_means_variance(&blocks, &coefficients)
         .max(0.0)
         .sqrt();
-    (bic_gain, h_small - h_large, heldout_needed(diff, h_small))
+    Comparison {
+        bic_gain,
+        heldout_without: h_small,
+        heldout_with: h_large,
+        needed: heldout_needed(diff, h_small),
+    }
 }
