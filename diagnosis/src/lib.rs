@@ -20,6 +20,7 @@ mod candidate;
 mod data;
 mod evidence;
 mod fit;
+pub mod joint;
 mod lm;
 mod localise;
 mod mains;

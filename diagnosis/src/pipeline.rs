@@ -100,20 +100,14 @@ pub struct Diagnosis {
 /// Diagnose `rec`; `name` is what OUT.json calls the recording.
 pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis, DataError> {
     let started = Instant::now();
-    let data = Data::new(rec)?;
-    let stretches = Stretches::detect(&data);
-    let meta = &rec.meta;
-    let fingertip = opt.fe.response(
-        meta.fingertip_radius_mm,
-        meta.contact_angle_deg,
-        meta.azimuth_deg,
-    )?;
-    let setup = calibration_setup(&data, meta, &fingertip, &stretches, opt);
+    let prepared = prepare(rec, opt)?;
+    let (data, stretches) = (&prepared.data, &prepared.stretches);
+    let setup = prepared.setup(opt);
     // The baseline's moment direction: whether the moment scales can turn it (a precondition
     // of crosstalk) and, after the search, what a turn they made would mean.
     let moment_phi = moment_direction(&setup.drive);
     let protocol = Features::of(
-        &data,
+        data,
         &stretches.segments,
         setup.used,
         setup.thermal.is_some(),
@@ -121,12 +115,11 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     .with_moment_direction(moment_phi, setup.fit_bounds.jig_azimuth_tolerance_deg);
     let mains_allowed = protocol.allows(EffectKind::MainsInterference).is_ok();
     let mut sel = select(&setup, protocol, opt.progress.as_deref());
-    let drive = Drive::new(&fingertip, data.full.t_s.clone(), &data.full.rod_mm)
-        .with_temperature(setup.thermal.and(data.full.temp_c.clone()));
+    let drive = prepared.full_drive(&setup);
     let (described, chosen_full) = described_model(&setup, &mut sel, &drive);
     let (base, chosen) = (sel.base(), sel.chosen());
     let base_full = base.outputs(&drive);
-    let details = params::baseline(chosen, &data);
+    let details = params::baseline(chosen, data);
     let chosen_full = described.add_full(&chosen_full, &data.full.t_s);
     let mut local = localise_residual(&setup, base, chosen, &stretches.segments);
     if !described.found.terms.is_empty() {
@@ -140,7 +133,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         stretches.heldout,
         mains_allowed,
     );
-    let effects = all_effects(&sel, &full, described.effects, &data);
+    let effects = all_effects(&sel, &full, described.effects, data);
     let undecided = undecided_findings(&setup, &effects, &details, moment_phi);
     let report = Report {
         format: FORMAT,
@@ -153,7 +146,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         baseline: Baseline {
             params: baseline_params(base),
             rmse: full.baseline_rmse,
-            parameters: params::baseline(base, &data),
+            parameters: params::baseline(base, data),
         },
         mismatches: local.mismatches,
         effects,
@@ -173,7 +166,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         // At the fitting rate a mains line averages out over whole periods, so the improved
         // model plotted there is the slow model alone.
         improved: local.chosen,
-        segments: stretches.segments,
+        segments: stretches.segments.clone(),
         heldout: stretches.heldout,
         used: setup.used,
     };
@@ -351,6 +344,80 @@ fn moment_direction(drive: &Drive) -> Option<f64> {
             .total_cmp(&b.chip[1].hypot(b.chip[2]))
     })?;
     (m.chip[1] != 0.0 || m.chip[2] != 0.0).then(|| m.chip[2].atan2(m.chip[1]))
+}
+
+/// One recording read and ready to fit: its data, stretches and fingertip. A single diagnosis
+/// and each member of a joint one (`crate::joint`) set up their fits from it alike.
+pub(crate) struct Prepared {
+    pub data: Data,
+    stretches: Stretches,
+    fingertip: AngleBlend,
+    pub meta: Meta,
+}
+
+/// Read `rec` and look up its fingertip's response at its contact angle and azimuth.
+pub(crate) fn prepare(rec: &Recording, opt: &Options) -> Result<Prepared, DataError> {
+    let data = Data::new(rec)?;
+    let stretches = Stretches::detect(&data);
+    let meta = rec.meta.clone();
+    let fingertip = opt.fe.response(
+        meta.fingertip_radius_mm,
+        meta.contact_angle_deg,
+        meta.azimuth_deg,
+    )?;
+    Ok(Prepared {
+        data,
+        stretches,
+        fingertip,
+        meta,
+    })
+}
+
+impl Prepared {
+    /// The calibration setup of this recording's fits.
+    pub fn setup(&self, opt: &Options) -> Setup<'_> {
+        calibration_setup(
+            &self.data,
+            &self.meta,
+            &self.fingertip,
+            &self.stretches,
+            opt,
+        )
+    }
+
+    /// The drive at the full rate, for the contract's RMSEs.
+    pub fn full_drive(&self, setup: &Setup) -> Drive {
+        let data = &self.data;
+        Drive::new(&self.fingertip, data.full.t_s.clone(), &data.full.rod_mm)
+            .with_temperature(setup.thermal.and(data.full.temp_c.clone()))
+    }
+
+    /// What the recording's protocol shows, for the effects' preconditions.
+    pub fn features(&self, setup: &Setup) -> Features {
+        let phi = moment_direction(&setup.drive);
+        Features::of(
+            &self.data,
+            &self.stretches.segments,
+            setup.used,
+            setup.thermal.is_some(),
+        )
+        .with_moment_direction(phi, setup.fit_bounds.jig_azimuth_tolerance_deg)
+    }
+
+    /// The held-out stretch (start, end), s.
+    pub fn heldout(&self) -> (f64, f64) {
+        self.stretches.heldout
+    }
+
+    /// The contract's RMSEs of `o` (full rate): the whole recording, the held-out stretch.
+    pub fn rmse(&self, o: &Outputs) -> (f64, f64) {
+        let mask = heldout_mask(&self.data.full.t_s, self.stretches.heldout.0);
+        let all = vec![true; mask.len()];
+        (
+            contract_rmse(&self.data, o, &all),
+            contract_rmse(&self.data, o, &mask),
+        )
+    }
 }
 
 /// The regimes of the test (found at the full rate with the load, carried onto the decimated

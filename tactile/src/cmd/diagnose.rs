@@ -1,6 +1,8 @@
 //! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`), and a
 //! whole session at once: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
-//! recordings) through `diagnosis::session`.
+//! recordings) through `diagnosis::session`; or jointly, one model for the session:
+//! `tactile diagnose --joint A.csv B.csv ... --json OUT.json [--report OUT.html]`
+//! (`docs/session-format.md`) through `diagnosis::joint`.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -30,6 +32,10 @@ pub struct Args {
     /// and `summary.html`.
     #[arg(long, value_name = "DIR")]
     pub out_dir: Option<PathBuf>,
+    /// Diagnose the recordings jointly, one sensor and gel for all (tactile-session-diagnosis/1
+    /// JSON into --json, the session's page into --report).
+    #[arg(long)]
+    pub joint: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -41,6 +47,12 @@ enum Config {
     /// One recording to `--json` (and `--report`).
     Single {
         recording: PathBuf,
+        json: PathBuf,
+        report: Option<PathBuf>,
+    },
+    /// Recordings and folders of them diagnosed jointly into one OUT.json (and page).
+    Joint {
+        inputs: Vec<PathBuf>,
         json: PathBuf,
         report: Option<PathBuf>,
     },
@@ -64,6 +76,21 @@ impl ExitStatus for UsageError {
 
 impl Config {
     fn of(args: Args) -> Result<Self, UsageError> {
+        if args.joint {
+            if args.out_dir.is_some() {
+                return Err(UsageError(
+                    "--joint writes one session's diagnosis to --json OUT.json, not --out-dir",
+                ));
+            }
+            let json = args
+                .json
+                .ok_or(UsageError("--joint needs --json OUT.json"))?;
+            return Ok(Self::Joint {
+                inputs: args.recordings,
+                json,
+                report: args.report,
+            });
+        }
         if let Some(out_dir) = args.out_dir {
             if args.json.is_some() || args.report.is_some() {
                 return Err(UsageError(
@@ -101,7 +128,58 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             report,
         } => single(&recording, &json, report.as_deref(), show),
         Config::Session { inputs, out_dir } => whole_session(&inputs, &out_dir, show),
+        Config::Joint {
+            inputs,
+            json,
+            report,
+        } => joint(&inputs, &json, report.as_deref(), show),
     }
+}
+
+/// The session diagnosed jointly; [`exit::DATA`] after writing when a file could not be
+/// analysed (its row says why).
+fn joint(
+    inputs: &[PathBuf],
+    json: &Path,
+    report_path: Option<&Path>,
+    show: bool,
+) -> anyhow::Result<()> {
+    let inputs = session::expand_inputs(inputs).coded()?;
+    let opt = options()?;
+    let bar = progress_bar(show, "diagnosing the session");
+    bar.set_length(1);
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    let diagnosed = diagnosis::joint::diagnose_session(&inputs, &opt);
+    bar.finish_and_clear();
+    let d = diagnosed.coded()?;
+    let text = serde_json::to_string_pretty(&d.report).context("encoding the diagnosis")? + "\n";
+    std::fs::write(json, text).with_context(|| format!("writing {}", json.display()))?;
+    if let Some(path) = report_path {
+        let file = report_file(path);
+        diagnosis::joint::write_report(&file, &d)
+            .with_context(|| format!("writing {}", file.display()))?;
+    }
+    let bad: Vec<&str> = d
+        .report
+        .recordings
+        .iter()
+        .filter_map(|r| r.error.as_deref())
+        .collect();
+    for line in &bad {
+        eprintln!("tactile: error: {line}");
+    }
+    if bad.is_empty() {
+        return Ok(());
+    }
+    Err(exit::Reported {
+        code: exit::DATA,
+        what: format!(
+            "{} of {} recordings could not be analysed",
+            bad.len(),
+            d.report.recordings.len()
+        ),
+    }
+    .into())
 }
 
 fn options() -> anyhow::Result<Options> {

@@ -1,0 +1,69 @@
+//! Leave-one-recording-out validation: the session's shared physics fitted to the other
+//! recordings alone, then held while only the left-out recording's own calibration (offsets,
+//! its own effects and per-recording scales) is fitted to its fitting stretch; its held-out
+//! stretch is then predicted. The baseline calibrated to that recording alone, on the same
+//! stretch, is the comparison.
+
+use rayon::prelude::*;
+
+use super::model::{JointFit, Layout};
+use super::output::{LeaveOneOut, Validation};
+use super::search::{Fitted, Search};
+use super::Members;
+use crate::fit::{Model, N_BASE};
+
+/// The validation of `fitted` over the session's recordings (none below two).
+pub(crate) fn leave_one_out(m: &Members, fitted: &Fitted) -> Validation {
+    let n = m.setups.len();
+    if n < 2 {
+        return Validation {
+            leave_one_out: Vec::new(),
+            note: Some(
+                "one recording analysed: there is no other to fit the shared physics to".into(),
+            ),
+        };
+    }
+    let rows = (0..n).into_par_iter().map(|r| one(m, fitted, r)).collect();
+    Validation {
+        leave_one_out: rows,
+        note: None,
+    }
+}
+
+fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
+    let keep: Vec<usize> = (0..m.setups.len()).filter(|&i| i != r).collect();
+    let sub = |l: &Layout, idx: &[usize]| Layout {
+        shared: l.shared.clone(),
+        own: idx.iter().map(|&i| l.own[i].clone()).collect(),
+        own_scales: l.own_scales.clone(),
+    };
+    let layout = sub(&fitted.layout, &keep);
+    let from = Fitted {
+        layout: layout.clone(),
+        fit: JointFit::start(keep.iter().map(|&i| fitted.fit.full[i].clone()).collect()),
+    };
+    let others = Search {
+        setups: keep.iter().map(|&i| m.setups[i]).collect(),
+        tried: Vec::new(),
+    }
+    .fit(layout, &from);
+    let alone = sub(&fitted.layout, &[r]);
+    let from = Fitted {
+        layout: alone.clone(),
+        fit: JointFit::start(vec![fitted.fit.full[r].clone()]),
+    };
+    let own = Search {
+        setups: vec![m.setups[r]],
+        tried: Vec::new(),
+    }
+    .fit_frozen(alone.clone(), &from, others.fit.shared_values());
+    let full = &own.fit.full[0];
+    let setup = m.setups[r];
+    let model = Model::new(setup, &alone.kinds(0), &full[..N_BASE]);
+    let predicted = model.outputs(full, &m.prepared[r].full_drive(setup));
+    LeaveOneOut {
+        file: m.files[r].clone(),
+        rmse_before: m.diags[r].report.fit.heldout.rmse_before,
+        rmse_after: m.prepared[r].rmse(&predicted).1,
+    }
+}

@@ -1,0 +1,294 @@
+//! A session diagnosed jointly (`docs/session-format.md`): one model of the sensor and the gel
+//! for every recording of a session, its effects shared or per recording as the data decide,
+//! and each recording predicted from the shared physics of the others (leave-one-out).
+//!
+//! The steps: each recording diagnosed alone ([`crate::diagnose`]: its own effects, its
+//! held-out stretch, its baseline's RMSEs) -> each calibrated alone (the session's starting
+//! point) -> the session's search ([`search`]) -> the leave-one-out validation ([`loo`]) -> the
+//! report ([`assemble`]).
+
+mod assemble;
+mod html;
+mod loo;
+mod model;
+pub mod output;
+mod search;
+
+pub use html::write_report;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use rayon::prelude::*;
+use recording::Recording;
+use sim::effects::EffectKind;
+
+use crate::fit::{Model, Setup};
+use crate::pipeline::{diagnose, prepare, Diagnosis, Options, Prepared};
+use model::{JointFit, Layout};
+use output::{Protocol, SessionReport};
+use search::{Fitted, Search, OWN_ALWAYS};
+
+/// Iterations of each recording's own calibration, the session's start.
+const BASE_ITERATIONS: usize = 80;
+
+/// Why a session could not be analysed at all.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum JointError {
+    /// No input could be read and diagnosed; each file's reason follows.
+    #[error("no recording of the session could be analysed: {0}")]
+    NothingUsable(String),
+}
+
+impl sysexit::ExitStatus for JointError {
+    fn exit_code(&self) -> u8 {
+        sysexit::DATA
+    }
+}
+
+/// A session's diagnosis: the contract's report and each recording's own diagnosis (`Err`:
+/// the one-line reason it could not be analysed).
+pub struct SessionDiagnosis {
+    pub report: SessionReport,
+    pub singles: Vec<(String, Result<Diagnosis, String>)>,
+}
+
+/// The name a recording has in the session's output: its file name.
+pub fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    )
+}
+
+/// Diagnose the recordings at `inputs` (files) jointly.
+pub fn diagnose_session(inputs: &[PathBuf], opt: &Options) -> Result<SessionDiagnosis, JointError> {
+    let started = Instant::now();
+    let loaded: Vec<Result<(Recording, Diagnosis), String>> = inputs
+        .par_iter()
+        .map(|path| {
+            let rec = recording::read(path).map_err(|e| e.to_string())?;
+            let name = file_name(path);
+            let d = diagnose(&rec, &name, opt).map_err(|e| format!("{name}: {e}"))?;
+            Ok((rec, d))
+        })
+        .collect();
+    let files: Vec<String> = inputs.iter().map(|p| file_name(p)).collect();
+    let ok: Vec<usize> = (0..loaded.len()).filter(|&i| loaded[i].is_ok()).collect();
+    if ok.is_empty() {
+        let reasons: Vec<String> = loaded
+            .iter()
+            .filter_map(|l| l.as_ref().err().cloned())
+            .collect();
+        return Err(JointError::NothingUsable(reasons.join("; ")));
+    }
+    let mut prepared = Vec::new();
+    for &i in &ok {
+        let (rec, _) = loaded[i].as_ref().expect("ok");
+        let p = prepare(rec, opt)
+            .map_err(|e| JointError::NothingUsable(format!("{}: {e}", files[i])))?;
+        prepared.push(p);
+    }
+    let setups: Vec<Setup> = prepared.iter().map(|p| p.setup(opt)).collect();
+    let diags: Vec<&Diagnosis> = ok
+        .iter()
+        .map(|&i| &loaded[i].as_ref().expect("ok").1)
+        .collect();
+    let recs: Vec<&Recording> = ok
+        .iter()
+        .map(|&i| &loaded[i].as_ref().expect("ok").0)
+        .collect();
+    let members = Members {
+        files: ok.iter().map(|&i| files[i].clone()).collect(),
+        prepared: &prepared,
+        setups: setups.iter().collect(),
+        diags,
+        protocols: recs
+            .iter()
+            .zip(&prepared)
+            .map(|(r, p)| protocol(r, p))
+            .collect(),
+    };
+    let outcome = members.search();
+    let loo = loo::leave_one_out(&members, &outcome.fitted);
+    let mut report = assemble::report(&members, &outcome, loo);
+    report.recordings = merge_rows(&files, &loaded, report.recordings);
+    report.seconds = started.elapsed().as_secs_f64();
+    let singles = files
+        .into_iter()
+        .zip(loaded)
+        .map(|(f, l)| (f, l.map(|(_, d)| d)))
+        .collect();
+    Ok(SessionDiagnosis { report, singles })
+}
+
+/// The analysed recordings' rows in input order, with an error row for each file that could
+/// not be analysed.
+fn merge_rows(
+    files: &[String],
+    loaded: &[Result<(Recording, Diagnosis), String>],
+    analysed: Vec<output::RecordingRow>,
+) -> Vec<output::RecordingRow> {
+    let mut analysed = analysed.into_iter();
+    files
+        .iter()
+        .zip(loaded)
+        .map(|(f, l)| match l {
+            Ok(_) => analysed.next().expect("one row per analysed recording"),
+            Err(e) => output::RecordingRow {
+                file: f.clone(),
+                verdict: None,
+                effects: None,
+                fit: None,
+                protocol: None,
+                error: Some(e.replace(['\r', '\n'], " ")),
+            },
+        })
+        .collect()
+}
+
+/// The analysed recordings of a session, in input order.
+pub(crate) struct Members<'s, 'a> {
+    pub files: Vec<String>,
+    pub prepared: &'a [Prepared],
+    pub setups: Vec<&'s Setup<'a>>,
+    pub diags: Vec<&'s Diagnosis>,
+    pub protocols: Vec<Protocol>,
+}
+
+/// What the session's search found.
+pub(crate) struct Outcome {
+    pub fitted: Fitted,
+    pub tried: Vec<output::SessionCandidate>,
+    /// Per shared effect, its gain over the session without it.
+    pub gains: Vec<(EffectKind, search::Gain)>,
+}
+
+impl Members<'_, '_> {
+    fn search(&self) -> Outcome {
+        let own: Vec<Vec<EffectKind>> = self.diags.iter().map(|d| own_kinds(d)).collect();
+        let base: Vec<Vec<f64>> = self
+            .setups
+            .par_iter()
+            .map(|s| {
+                Model::new(s, &[], s.initial_baseline())
+                    .fit(BASE_ITERATIONS)
+                    .full
+            })
+            .collect();
+        let empty = Layout {
+            shared: Vec::new(),
+            own: vec![Vec::new(); self.setups.len()],
+            own_scales: Vec::new(),
+        };
+        let start = Fitted {
+            layout: empty.clone(),
+            fit: JointFit::start(base),
+        };
+        let mut search = Search {
+            setups: self.setups.clone(),
+            tried: Vec::new(),
+        };
+        let null = search.fit(Layout { own, ..empty }, &start);
+        let scales: Vec<usize> = (0..3)
+            .filter(|&c| self.setups.iter().filter(|s| s.used[c + 1]).count() >= 2)
+            .collect();
+        // Effects first, with one scale per output: a scale per recording would take up part
+        // of what a rotated chip does at each azimuth. The effects are searched again with the
+        // scales the data chose; the backward step then drops what a per-recording scale made
+        // redundant.
+        let candidates = self.candidates();
+        let cur = search.forward(null, &candidates);
+        let cur = search.scales(cur, &scales);
+        let cur = search.forward(cur, &candidates);
+        let (cur, gains) = search.backward(cur);
+        let fitted = search.per_recording(cur);
+        Outcome {
+            fitted,
+            tried: search.tried,
+            gains,
+        }
+    }
+
+    /// The catalogue effects a session may share: those some recording's protocol allows, and
+    /// those only the session's variation shows (a lag across rod speeds, a rotated chip
+    /// across azimuths).
+    fn candidates(&self) -> Vec<EffectKind> {
+        let speeds = distinct(self.protocols.iter().map(|p| p.rod_speed_mm_per_min), 0.2);
+        let azimuths = distinct(self.protocols.iter().map(|p| p.azimuth_deg), 0.0);
+        let moments = self.setups.iter().any(|s| s.used[2] && s.used[3]);
+        EffectKind::ALL
+            .into_iter()
+            .filter(|k| !OWN_ALWAYS.contains(k))
+            .filter(|&k| {
+                let alone = self
+                    .setups
+                    .iter()
+                    .zip(self.prepared)
+                    .any(|(s, p)| p.features(s).allows(k).is_ok());
+                let across = match k {
+                    EffectKind::TimeOffset | EffectKind::ViscoelasticRelaxation => speeds.len() > 1,
+                    EffectKind::Crosstalk => azimuths.len() > 1 && moments,
+                    _ => false,
+                };
+                alone || across
+            })
+            .collect()
+    }
+}
+
+/// The catalogue effects a recording's own diagnosis found that belong to it alone (its drift,
+/// its saturation): fitted per recording in every session model.
+fn own_kinds(d: &Diagnosis) -> Vec<EffectKind> {
+    d.report
+        .effects
+        .iter()
+        .filter(|e| e.catalogue && !e.channels.iter().any(|c| c == "load_N"))
+        .filter_map(|e| EffectKind::from_name(&e.name))
+        .filter(|k| *k != EffectKind::MainsInterference && OWN_ALWAYS.contains(k))
+        .fold(Vec::new(), |mut v, k| {
+            if !v.contains(&k) {
+                v.push(k);
+            }
+            v
+        })
+}
+
+/// A recording's contact angle, azimuth and rod speed (the metadata's, else the median speed
+/// of the rod while it moves).
+fn protocol(rec: &Recording, p: &Prepared) -> Protocol {
+    let speed = rec.meta.rod_speed_mm_per_min.unwrap_or_else(|| {
+        let (t, rod) = (&p.data.fit.t_s, &p.data.fit.rod_mm);
+        let mut v: Vec<f64> = t
+            .windows(2)
+            .zip(rod.windows(2))
+            .map(|(t, r)| ((r[1] - r[0]) / (t[1] - t[0]).max(1e-12)).abs() * 60.0)
+            .filter(|v| *v > 1e-3)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(0.0)
+    });
+    Protocol {
+        contact_angle_deg: rec.meta.contact_angle_deg,
+        azimuth_deg: rec.meta.azimuth_deg,
+        rod_speed_mm_per_min: speed,
+    }
+}
+
+/// The distinct values of `v`, sorted: values within `rel` of each other (relative) or 0.5 of
+/// a unit are one.
+pub(crate) fn distinct(v: impl Iterator<Item = f64>, rel: f64) -> Vec<f64> {
+    let mut all: Vec<f64> = v.filter(|x| x.is_finite()).collect();
+    all.sort_by(f64::total_cmp);
+    let mut out: Vec<f64> = Vec::new();
+    for x in all {
+        let same = out
+            .last()
+            .is_some_and(|&y| (x - y).abs() <= 0.5_f64.max(rel * y.abs()));
+        if !same {
+            out.push(x);
+        }
+    }
+    out
+}

@@ -1,0 +1,361 @@
+//! One model of the sensor and the gel for every recording of a session: each recording keeps its
+//! own [`Model`] (its drive, front end and effects), and a layout says which of its free
+//! parameters are the session's (one value for all) and which are its own.
+//!
+//! A recording's effects are laid out shared first, in the session's order, then its own, so a
+//! shared parameter has the same index in every recording's vector. What is shared: every
+//! baseline parameter but the four offsets (the modulus and contact law, the outputs' scales and
+//! maps), unless a scale is made per recording ([`Layout::own_scales`]), and every parameter of
+//! the shared effects.
+
+use std::collections::BTreeMap;
+
+use sim::effects::EffectKind;
+
+use crate::fit::{Model, Setup, N_BASE, OFFSET_AT, SCALE_AT};
+use crate::lm::{self, Problem};
+use crate::specs::starts;
+
+/// Which effects and scales are shared, and which each recording has alone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layout {
+    /// Effects with one parameter set for the session.
+    pub shared: Vec<EffectKind>,
+    /// Each recording's own effects (one list per recording).
+    pub own: Vec<Vec<EffectKind>>,
+    /// Output scales (0 = Fz, 1 = Mx, 2 = My) fitted per recording instead of shared.
+    pub own_scales: Vec<usize>,
+}
+
+impl Layout {
+    /// Recording `r`'s effects: the shared ones, then its own.
+    pub fn kinds(&self, r: usize) -> Vec<EffectKind> {
+        [self.shared.as_slice(), &self.own[r]].concat()
+    }
+
+    fn shared_len(&self) -> usize {
+        N_BASE
+            + self
+                .shared
+                .iter()
+                .map(|k| k.param_names().len())
+                .sum::<usize>()
+    }
+
+    /// Whether index `i` of a recording's vector is the session's.
+    pub fn is_shared(&self, i: usize) -> bool {
+        let offset = (OFFSET_AT..OFFSET_AT + 4).contains(&i);
+        let own_scale = self.own_scales.iter().any(|&c| i == SCALE_AT + c);
+        i < self.shared_len() && !offset && !own_scale
+    }
+}
+
+/// Where a free parameter of the session's vector lives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Slot {
+    Shared(usize),
+    Own(usize, usize),
+}
+
+/// The session's least-squares problem over its recordings.
+pub struct Joint<'s, 'a> {
+    pub layout: Layout,
+    pub models: Vec<Model<'s, 'a>>,
+    /// Per recording: the session-vector index of each of its free parameters.
+    map: Vec<Vec<usize>>,
+    slots: Vec<Slot>,
+    /// Shared values held fixed (leave-one-out: the shared physics of the other recordings).
+    frozen: BTreeMap<usize, f64>,
+    /// Each recording's number of residuals on its fitting stretch.
+    block_len: Vec<usize>,
+}
+
+/// A fitted session: each recording's full vector and the fit's statistics.
+#[derive(Debug, Clone)]
+pub struct JointFit {
+    pub full: Vec<Vec<f64>>,
+    /// Sum of squares on the fitting stretches (noise units), and the number of residuals.
+    pub sse: f64,
+    pub n: usize,
+    /// Free parameters of the session's vector.
+    pub k: usize,
+    /// Each recording's sum of squares on its held-out stretch (noise units).
+    pub heldout_chi2: Vec<f64>,
+    /// The held-out residuals of all recordings, one after the other (noise units).
+    pub heldout_r: Vec<f64>,
+    /// (JᵀJ)⁻¹ of the session's vector, and which recording index each of its entries is.
+    pub jtj_inv: Option<nalgebra::DMatrix<f64>>,
+    slots: Vec<Slot>,
+    /// The session's vector at the optimum.
+    p: Vec<f64>,
+}
+
+impl<'s, 'a> Joint<'s, 'a> {
+    /// The session's problem: `base[r]` is recording `r`'s starting baseline (internal units).
+    /// Shared values in `frozen` (by index of a recording's vector) are held, not fitted.
+    pub fn new(
+        setups: &[&'s Setup<'a>],
+        layout: Layout,
+        base: &[Vec<f64>],
+        frozen: BTreeMap<usize, f64>,
+    ) -> Self {
+        let models: Vec<Model> = setups
+            .iter()
+            .enumerate()
+            .map(|(r, s)| Model::new(s, &layout.kinds(r), &base[r][..N_BASE]))
+            .collect();
+        let mut slots: Vec<Slot> = Vec::new();
+        let mut map = Vec::new();
+        for (r, m) in models.iter().enumerate() {
+            let mut own_map = Vec::new();
+            for i in m.free_indices() {
+                if layout.is_shared(i) && frozen.contains_key(&i) {
+                    own_map.push(usize::MAX);
+                    continue;
+                }
+                let slot = if layout.is_shared(i) {
+                    Slot::Shared(i)
+                } else {
+                    Slot::Own(r, i)
+                };
+                let at = slots.iter().position(|&s| s == slot).unwrap_or_else(|| {
+                    slots.push(slot);
+                    slots.len() - 1
+                });
+                own_map.push(at);
+            }
+            map.push(own_map);
+        }
+        let block_len = models
+            .iter()
+            .map(|m| {
+                let n = m.setup.fit_mask.iter().filter(|&&f| f).count();
+                n * m.setup.used.iter().filter(|&&u| u).count()
+            })
+            .collect();
+        Self {
+            layout,
+            models,
+            map,
+            slots,
+            frozen,
+            block_len,
+        }
+    }
+
+    /// Recording `r`'s full vector from the session's vector `p`.
+    fn full_of(&self, r: usize, p: &[f64]) -> Vec<f64> {
+        let m = &self.models[r];
+        let free: Vec<f64> = m
+            .free_indices()
+            .iter()
+            .zip(&self.map[r])
+            .map(|(i, &at)| {
+                if at == usize::MAX {
+                    self.frozen[i]
+                } else {
+                    p[at]
+                }
+            })
+            .collect();
+        m.expand(&free)
+    }
+
+    /// The session's vector read from recordings' full vectors: a shared value is the median
+    /// of the recordings' values.
+    fn vector_of(&self, full: &[Vec<f64>]) -> Vec<f64> {
+        self.slots
+            .iter()
+            .map(|&s| match s {
+                Slot::Own(r, i) => full[r][i],
+                Slot::Shared(i) => median(full.iter().map(|f| f[i]).collect()),
+            })
+            .collect()
+    }
+
+    /// Bounds and step of each entry of the session's vector (from the first recording that
+    /// has it).
+    fn options(&self, max_iterations: usize) -> lm::Options {
+        let spec = |s: &Slot| {
+            let (r, i) = match *s {
+                Slot::Own(r, i) => (r, i),
+                Slot::Shared(i) => (
+                    (0..self.models.len())
+                        .find(|&r| self.models[r].free_indices().contains(&i))
+                        .unwrap_or(0),
+                    i,
+                ),
+            };
+            &self.models[r].specs()[i]
+        };
+        lm::Options {
+            max_iterations,
+            step: self.slots.iter().map(|s| spec(s).step).collect(),
+            lower: self.slots.iter().map(|s| spec(s).lower).collect(),
+            upper: self.slots.iter().map(|s| spec(s).upper).collect(),
+        }
+    }
+
+    /// Fit from each of `starts` (recordings' full vectors, internal units); the best is kept.
+    pub fn fit(&self, starts: &[Vec<Vec<f64>>], max_iterations: usize) -> JointFit {
+        let opt = self.options(max_iterations);
+        let best = starts
+            .iter()
+            .map(|full| lm::solve(self, &self.vector_of(full), &opt))
+            .min_by(|a, b| a.sse.total_cmp(&b.sse))
+            .expect("at least one start");
+        let full: Vec<Vec<f64>> = (0..self.models.len())
+            .map(|r| self.full_of(r, &best.p))
+            .collect();
+        let mut heldout_r = Vec::new();
+        let heldout_chi2 = self
+            .models
+            .iter()
+            .zip(&full)
+            .map(|(m, f)| {
+                let mut r = Vec::new();
+                m.weighted(f, &m.setup.heldout_mask, &mut r);
+                heldout_r.extend_from_slice(&r);
+                r.iter().map(|v| v * v).sum()
+            })
+            .collect();
+        JointFit {
+            full,
+            sse: best.sse,
+            n: best.n,
+            k: self.slots.len(),
+            heldout_chi2,
+            heldout_r,
+            jtj_inv: best.jtj_inv,
+            slots: self.slots.clone(),
+            p: best.p,
+        }
+    }
+
+    /// Starting vectors for the recordings: `previous` (a fitted session with fewer effects,
+    /// or the recordings' own baselines) with each new effect at each of its catalogue starts.
+    pub fn starts_from(&self, previous: &[Vec<f64>], before: &Layout) -> Vec<Vec<Vec<f64>>> {
+        let n_starts = self
+            .layout
+            .shared
+            .iter()
+            .filter(|k| !before.shared.contains(k))
+            .map(|&k| starts(k, &self.specs_of(0, k), &[]).len())
+            .max()
+            .unwrap_or(1);
+        (0..n_starts)
+            .map(|s| {
+                (0..self.models.len())
+                    .map(|r| self.carry(r, &previous[r], before, s))
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn specs_of(&self, r: usize, kind: EffectKind) -> Vec<crate::specs::ParamSpec> {
+        let m = &self.models[r];
+        let at = crate::fit::param_index(&m.kinds, kind, 0).unwrap_or(N_BASE);
+        m.specs()[at..at + kind.param_names().len()].to_vec()
+    }
+
+    /// Recording `r`'s vector: the baseline and each effect `before` had at their values in
+    /// `prev`, a new effect at its `s`-th catalogue start (its neutral one first).
+    fn carry(&self, r: usize, prev: &[f64], before: &Layout, s: usize) -> Vec<f64> {
+        let mut v = prev[..N_BASE].to_vec();
+        let before_kinds = before.kinds(r);
+        for k in self.layout.kinds(r) {
+            let n = k.param_names().len();
+            match crate::fit::param_index(&before_kinds, k, 0) {
+                Some(at) if at + n <= prev.len() => v.extend_from_slice(&prev[at..at + n]),
+                _ => {
+                    let all = starts(k, &self.specs_of(r, k), &[]);
+                    v.extend_from_slice(&all[s.min(all.len() - 1)]);
+                }
+            }
+        }
+        v
+    }
+}
+
+impl Problem for Joint<'_, '_> {
+    fn residuals(&self, p: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        let mut r = Vec::new();
+        for (i, m) in self.models.iter().enumerate() {
+            m.weighted(&self.full_of(i, p), &m.setup.fit_mask, &mut r);
+            out.extend_from_slice(&r);
+        }
+    }
+
+    /// A recording's own parameter moves only its block of residuals: only it is evaluated.
+    fn difference(&self, p: &[f64], i: usize, h: f64, r: &[f64]) -> Option<Vec<f64>> {
+        let Slot::Own(rec, _) = self.slots[i] else {
+            return None;
+        };
+        let mut q = p.to_vec();
+        q[i] += h;
+        let m = &self.models[rec];
+        let mut block = Vec::new();
+        m.weighted(&self.full_of(rec, &q), &m.setup.fit_mask, &mut block);
+        let start: usize = self.block_len[..rec].iter().sum();
+        let mut column = vec![0.0; r.len()];
+        for (k, v) in block.iter().enumerate() {
+            column[start + k] = (v - r[start + k]) / h;
+        }
+        Some(column)
+    }
+}
+
+impl JointFit {
+    /// Recordings calibrated alone (`full`), as the start of a search: no fit statistics.
+    pub fn start(full: Vec<Vec<f64>>) -> Self {
+        Self {
+            full,
+            sse: f64::INFINITY,
+            n: 0,
+            k: 0,
+            heldout_chi2: Vec::new(),
+            heldout_r: Vec::new(),
+            jtj_inv: None,
+            slots: Vec::new(),
+            p: Vec::new(),
+        }
+    }
+
+    /// BIC of the session's fit (the single fits' form, over all residuals).
+    pub fn bic(&self) -> f64 {
+        let n = self.n as f64;
+        n * (self.sse / n).max(1e-300).ln() + self.k as f64 * n.ln()
+    }
+
+    /// The fitted shared values, by index of a recording's vector (internal units).
+    pub fn shared_values(&self) -> BTreeMap<usize, f64> {
+        self.slots
+            .iter()
+            .zip(&self.p)
+            .filter_map(|(s, &v)| match *s {
+                Slot::Shared(i) => Some((i, v)),
+                Slot::Own(..) => None,
+            })
+            .collect()
+    }
+
+    /// Held-out chi-square summed over the recordings.
+    pub fn heldout(&self) -> f64 {
+        self.heldout_chi2.iter().sum()
+    }
+
+    /// Standard error of index `i` of a shared vector (internal units), residual variance
+    /// from the fit.
+    pub fn shared_stderr(&self, i: usize) -> Option<f64> {
+        let pos = self.slots.iter().position(|&s| s == Slot::Shared(i))?;
+        let cov = self.jtj_inv.as_ref()?;
+        let dof = (self.n as f64 - self.k as f64).max(1.0);
+        Some((self.sse / dof * cov[(pos, pos)]).max(0.0).sqrt())
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}

@@ -1,0 +1,234 @@
+//! The session's selection, by the single diagnosis's two tests (the criterion, then the
+//! held-out stretches), over session models ([`Layout`]s):
+//! 1. each output's scale shared or per recording (per recording: a sensitivity that changes
+//!    between tests, which is `angle_dependence` when the tests' contact angles differ);
+//! 2. forward: the shared effect that lowers the session's BIC most, while one does by more
+//!    than [`MIN_BIC_GAIN`];
+//! 3. backward: each shared effect must lower the held-out misfit beyond its noise;
+//! 4. each shared effect tried per recording: kept shared unless per recording passes both tests.
+
+use std::collections::BTreeMap;
+
+use rayon::prelude::*;
+use sim::effects::EffectKind;
+
+use super::model::{Joint, JointFit, Layout};
+use super::output::SessionCandidate;
+use crate::candidate::{heldout_needed, MIN_BIC_GAIN};
+use crate::fit::Setup;
+
+/// Iterations of a session fit (each starts at a fitted session or at calibrated recordings).
+const ITERATIONS: usize = 40;
+
+/// A fitted session model.
+#[derive(Clone)]
+pub struct Fitted {
+    pub layout: Layout,
+    pub fit: JointFit,
+}
+
+/// One model against a smaller one it contains.
+#[derive(Debug, Clone, Copy)]
+pub struct Gain {
+    /// BIC of the smaller minus the larger's.
+    pub bic: f64,
+    /// Held-out chi-square of the smaller minus the larger's, and the least that counts.
+    pub heldout: f64,
+    pub needed: f64,
+}
+
+impl Gain {
+    pub fn of(larger: &Fitted, smaller: &Fitted) -> Self {
+        let diff = larger
+            .fit
+            .heldout_r
+            .iter()
+            .zip(&smaller.fit.heldout_r)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>()
+            .sqrt();
+        Self {
+            bic: smaller.fit.bic() - larger.fit.bic(),
+            heldout: smaller.fit.heldout() - larger.fit.heldout(),
+            needed: heldout_needed(diff, smaller.fit.heldout()),
+        }
+    }
+
+    pub fn passes(&self) -> bool {
+        self.bic > MIN_BIC_GAIN && self.heldout > self.needed
+    }
+
+    pub fn words(&self, what: &str) -> String {
+        format!(
+            "BIC {:+.0} vs {what}, held-out misfit {:+.1} (noise {:.1})",
+            -self.bic, -self.heldout, self.needed
+        )
+    }
+}
+
+/// The session's search over its recordings' setups.
+pub struct Search<'s, 'a> {
+    pub setups: Vec<&'s Setup<'a>>,
+    pub tried: Vec<SessionCandidate>,
+}
+
+impl<'s, 'a> Search<'s, 'a> {
+    /// `layout` fitted, starting from `from` (its effects at their values, new ones at their
+    /// catalogue starts).
+    pub fn fit(&self, layout: Layout, from: &Fitted) -> Fitted {
+        self.fit_frozen(layout, from, BTreeMap::new())
+    }
+
+    /// As [`Self::fit`], with shared values `frozen` held.
+    pub fn fit_frozen(
+        &self,
+        layout: Layout,
+        from: &Fitted,
+        frozen: BTreeMap<usize, f64>,
+    ) -> Fitted {
+        let joint = Joint::new(&self.setups, layout.clone(), &from.fit.full, frozen);
+        let starts = joint.starts_from(&from.fit.full, &from.layout);
+        Fitted {
+            layout,
+            fit: joint.fit(&starts, ITERATIONS),
+        }
+    }
+
+    fn record(&mut self, f: &Fitted, accepted: bool, reason: String) {
+        let names = |v: &[EffectKind]| v.iter().map(|k| k.name().to_string()).collect();
+        let per_recording: Vec<EffectKind> = f
+            .layout
+            .own
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|k| !OWN_ALWAYS.contains(k))
+            .fold(Vec::new(), |mut v, k| {
+                if !v.contains(&k) {
+                    v.push(k);
+                }
+                v
+            });
+        self.tried.push(SessionCandidate {
+            shared: names(&f.layout.shared),
+            per_recording: names(&per_recording),
+            per_recording_scales: f
+                .layout
+                .own_scales
+                .iter()
+                .map(|&c| crate::data::CHANNELS[c + 1].to_string())
+                .collect(),
+            bic: f.fit.bic(),
+            heldout_chi2: f.fit.heldout(),
+            accepted,
+            reason,
+        });
+    }
+
+    /// Step 1: each output scale in `channels` (0 = Fz) made per recording where that passes
+    /// both tests.
+    pub fn scales(&mut self, mut cur: Fitted, channels: &[usize]) -> Fitted {
+        for &c in channels {
+            let mut layout = cur.layout.clone();
+            layout.own_scales.push(c);
+            let f = self.fit(layout, &cur);
+            let g = Gain::of(&f, &cur);
+            let reason = g.words("one scale for the session");
+            self.record(&f, g.passes(), reason);
+            if g.passes() {
+                cur = f;
+            }
+        }
+        cur
+    }
+
+    /// Step 2: forward selection of shared effects among `candidates`.
+    pub fn forward(&mut self, mut cur: Fitted, candidates: &[EffectKind]) -> Fitted {
+        loop {
+            let tries: Vec<(EffectKind, Fitted)> = candidates
+                .par_iter()
+                .filter(|k| !cur.layout.shared.contains(k))
+                .map(|&k| {
+                    let mut layout = cur.layout.clone();
+                    layout.shared.push(k);
+                    (k, self.fit(layout, &cur))
+                })
+                .collect();
+            let mut best: Option<(f64, Fitted)> = None;
+            for (k, f) in tries {
+                let g = Gain::of(&f, &cur);
+                let words = g.words(&format!("without {}", k.name()));
+                self.record(&f, false, words);
+                if g.bic > MIN_BIC_GAIN && best.as_ref().is_none_or(|b| g.bic > b.0) {
+                    best = Some((g.bic, f));
+                }
+            }
+            match best {
+                Some((_, f)) => {
+                    if let Some(last) =
+                        self.tried.iter_mut().rev().find(|t| {
+                            t.shared == names_of(&f.layout.shared) && t.bic == f.fit.bic()
+                        })
+                    {
+                        last.accepted = true;
+                    }
+                    cur = f;
+                }
+                None => return cur,
+            }
+        }
+    }
+
+    /// Step 3: drop a shared effect whose held-out gain is within its noise. The kept ones
+    /// come back with their gain over the session without them.
+    pub fn backward(&mut self, mut cur: Fitted) -> (Fitted, Vec<(EffectKind, Gain)>) {
+        let mut kept = Vec::new();
+        for k in cur.layout.shared.clone().into_iter().rev() {
+            let mut layout = cur.layout.clone();
+            layout.shared.retain(|&s| s != k);
+            let without = self.fit(layout, &cur);
+            let g = Gain::of(&cur, &without);
+            if g.passes() {
+                kept.push((k, g));
+            } else {
+                let reason = format!("{} dropped: {}", k.name(), g.words("without it"));
+                self.record(&without, true, reason);
+                cur = without;
+            }
+        }
+        (cur, kept)
+    }
+
+    /// Step 4: each shared effect per recording instead, where that passes both tests.
+    pub fn per_recording(&mut self, mut cur: Fitted) -> Fitted {
+        if self.setups.len() < 2 {
+            return cur;
+        }
+        for k in cur.layout.shared.clone() {
+            let mut layout = cur.layout.clone();
+            layout.shared.retain(|&s| s != k);
+            for own in &mut layout.own {
+                own.push(k);
+            }
+            let f = self.fit(layout, &cur);
+            let g = Gain::of(&f, &cur);
+            let reason = format!("{} per recording: {}", k.name(), g.words("shared"));
+            self.record(&f, g.passes(), reason);
+            if g.passes() {
+                cur = f;
+            }
+        }
+        cur
+    }
+}
+
+/// Effects that belong to one test whenever they are found: never shared.
+pub const OWN_ALWAYS: [EffectKind; 3] = [
+    EffectKind::ThermalDrift,
+    EffectKind::AmplifierSaturation,
+    EffectKind::MainsInterference,
+];
+
+pub fn names_of(kinds: &[EffectKind]) -> Vec<String> {
+    kinds.iter().map(|k| k.name().to_string()).collect()
+}
