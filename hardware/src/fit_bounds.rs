@@ -35,6 +35,9 @@ pub struct FitBounds {
     pub moment_gain_ratio_tolerance: f64,
     /// The jig's mounting accuracy about the load axis, deg.
     pub jig_azimuth_tolerance_deg: f64,
+    /// Relative difference between per-test sensitivities within which the model's angle law
+    /// stands.
+    pub angle_law_tolerance: f64,
     /// An offset's bound, in multiples of its channel's recorded range.
     pub offset_range_factor: f64,
 }
@@ -56,6 +59,7 @@ impl FitBounds {
             scale_max: r.f64("outputs.scale_max", 1.0..=1e6),
             moment_gain_ratio_tolerance: r.f64("outputs.moment_gain_ratio_tolerance", 0.0..=1.0),
             jig_azimuth_tolerance_deg: r.f64("outputs.jig_azimuth_tolerance_deg", 0.0..=45.0),
+            angle_law_tolerance: r.f64("outputs.angle_law_tolerance", 0.0..=1.0),
             offset_range_factor: r.f64("outputs.offset_range_factor", 0.0..=1e3),
         };
         r.finish()?;

@@ -6,6 +6,7 @@
 pub mod categories;
 pub mod real;
 pub mod reported;
+pub mod sessions;
 
 use std::fmt::Write as _;
 

@@ -20,10 +20,12 @@ pub(crate) fn report(m: &Members, outcome: &Outcome, validation: Validation) -> 
         rod_speeds_mm_per_min: distinct(m.protocols.iter().map(|p| p.rod_speed_mm_per_min), 0.2),
     };
     let mut shared = shared_effects(m, outcome);
+    let (rotation, turned) = rotation(m, outcome, &protocols);
+    shared.extend(rotation);
     let (angle, contradicted) = scales(m, outcome, &protocols);
     shared.extend(angle);
     let recordings: Vec<RecordingRow> = (0..m.setups.len())
-        .map(|r| row(m, outcome, r, !shared.is_empty()))
+        .map(|r| row(m, outcome, r, !shared.is_empty(), turned.contains(&r)))
         .collect();
     let verdict = session_verdict(&recordings, &shared);
     SessionReport {
@@ -139,6 +141,11 @@ fn scales(
                 m.protocols[r].azimuth_deg
             }
         };
+        let tolerance = m.setups[0].fit_bounds.angle_law_tolerance;
+        if !beyond_tolerance(f, &values, SCALE_AT + c, tolerance) {
+            // Within the model's own angle law's accuracy: no finding.
+            continue;
+        }
         let law = (by_angle || by_azimuth)
             .then(|| follows_axis(&values, &axis))
             .flatten();
@@ -230,12 +237,14 @@ fn angle_dependence(
 
 /// Recording `r`'s row: its own effects (those found alone that belong to one test, and shared
 /// effects the session fits per recording), its fit with the session's model, its verdict.
-fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool) -> RecordingRow {
+fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool, turned: bool) -> RecordingRow {
     let single = &m.diags[r].report;
     let f = &outcome.fitted;
+    let terms_hold = described_still_needed(m, outcome, r);
     let mut effects: Vec<EffectReport> = single
         .effects
         .iter()
+        .filter(|e| e.catalogue || terms_hold)
         .filter(|e| {
             !e.catalogue
                 || EffectKind::from_name(&e.name).is_none_or(|k| OWN_ALWAYS.contains(&k))
@@ -243,7 +252,14 @@ fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool) -> RecordingR
         })
         .cloned()
         .collect();
-    for &k in f.layout.own[r].iter().filter(|k| !OWN_ALWAYS.contains(k)) {
+    if turned {
+        let words = "the moment vector turned beyond the jig's mounting tolerance in this test, unlike the session's other tests".to_string();
+        effects.push(effect_report(m, outcome, r, EffectKind::Crosstalk, words));
+    }
+    let own_shared = f.layout.own[r]
+        .iter()
+        .filter(|k| !OWN_ALWAYS.contains(k) && **k != EffectKind::Crosstalk);
+    for &k in own_shared {
         let words = format!(
             "{} acts on this recording with its own parameters: one set for the session fails the criterion or the held-out test",
             k.name()
@@ -357,4 +373,136 @@ fn shared_gains_off(m: &Members, outcome: &Outcome) -> Option<Undecided> {
         })
         .collect();
     crate::terms::sanity::gains_off(&details)
+}
+
+/// The turn of the moment vector each recording was fitted with, deg (where both moments are
+/// measured).
+fn turns(m: &Members, outcome: &Outcome) -> Vec<(usize, f64)> {
+    let f = &outcome.fitted;
+    (0..m.setups.len())
+        .filter_map(|r| {
+            let kinds = f.layout.kinds(r);
+            let at = crate::fit::param_index(&kinds, EffectKind::Crosstalk, 0)?;
+            Some((r, f.fit.full[r][at]))
+        })
+        .collect()
+}
+
+/// A chip rotated on its mount: every recording's turn beyond the jig's mounting tolerance
+/// (`hardware/fit-bounds.toml`), the same way, the turns agreeing within it. Else the
+/// recordings whose own turn exceeds the tolerance (a jig set off in that test). A turn is
+/// only read where it is told from the moment gains: across azimuths, or where a recording's
+/// protocol alone allows it.
+fn rotation(
+    m: &Members,
+    outcome: &Outcome,
+    protocols: &Protocols,
+) -> (Option<SharedEffect>, Vec<usize>) {
+    let t = turns(m, outcome);
+    let tol = m.setups[0].fit_bounds.jig_azimuth_tolerance_deg;
+    let told = protocols.azimuths_deg.len() > 1
+        || t.iter().any(|&(r, _)| {
+            let s = m.setups[r];
+            m.prepared[r]
+                .features(s)
+                .allows(EffectKind::Crosstalk)
+                .is_ok()
+        });
+    if t.is_empty() || !told {
+        return (None, Vec::new());
+    }
+    let n = t.len() as f64;
+    let mean = t.iter().map(|x| x.1).sum::<f64>() / n;
+    let sd = (t.iter().map(|x| (x.1 - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
+    let agree = t.iter().all(|x| (x.1 - mean).abs() <= tol);
+    if mean.abs() > tol && agree {
+        let mut params = Numbers::default();
+        params.push("angle_deg", mean);
+        let mut stderr = Numbers::default();
+        if t.len() > 1 {
+            stderr.push("angle_deg", sd / n.sqrt());
+        }
+        let list: Vec<String> = t
+            .iter()
+            .map(|&(r, a)| format!("{}: {a:.1}°", m.files[r]))
+            .collect();
+        let mut effect = effect_report(m, outcome, t[0].0, EffectKind::Crosstalk, String::new());
+        effect.params = params;
+        effect.param_stderr = stderr;
+        effect.evidence = format!(
+            "the moment vector is turned the same way in every test ({}), beyond the jig's {tol:.0}° mounting tolerance and within it of one another: the chip is rotated on its mount; one turn with the session's shared moment gains fits every azimuth",
+            list.join(", ")
+        );
+        let shared = SharedEffect {
+            effect,
+            channel_param: None,
+            recordings: None,
+        };
+        return (Some(shared), Vec::new());
+    }
+    let beyond = t.iter().filter(|x| x.1.abs() > tol).map(|x| x.0).collect();
+    (None, beyond)
+}
+
+/// Whether the terms recording `r`'s own diagnosis described beyond the catalogue still earn
+/// their parameters against the session's model, on the channels they act on: the recording's
+/// own model with them fits those channels' fitting stretch better than the session's by the
+/// criterion (BIC, margin [`MIN_BIC_GAIN`](crate::candidate::MIN_BIC_GAIN)). A term that stood
+/// in for what the session decides (a sign read wrong where one recording cannot tell a turned
+/// moment from its scales) is then dropped. On the terms' channels alone, so a misfit of the
+/// shared model elsewhere does not keep them.
+fn described_still_needed(m: &Members, outcome: &Outcome, r: usize) -> bool {
+    let d = m.diags[r];
+    let terms: Vec<&EffectReport> = d.report.effects.iter().filter(|e| !e.catalogue).collect();
+    let k: usize = terms.iter().map(|e| e.params.0.len().max(1)).sum();
+    let s = m.setups[r];
+    let channels: Vec<usize> = (0..4)
+        .filter(|&c| s.used[c])
+        .filter(|&c| {
+            terms
+                .iter()
+                .any(|e| e.channels.iter().any(|n| n == CHANNELS[c]))
+        })
+        .collect();
+    if k == 0 || channels.is_empty() {
+        return k > 0;
+    }
+    let f = &outcome.fitted;
+    let session = model_of(m, &f.layout, &f.fit.full[r], r).outputs(&f.fit.full[r], &s.drive);
+    let p = &d.plots;
+    let (mut chi2_own, mut chi2_session, mut n) = (0.0, 0.0, 0usize);
+    for &c in &channels {
+        for (i, _) in s.fit_mask.iter().enumerate().filter(|x| *x.1) {
+            let w = s.data.weight(c, i);
+            chi2_own += ((p.recorded[c][i] - p.improved[c][i]) * w).powi(2);
+            chi2_session += ((s.data.fit.y[c][i] - session.channel(c)[i]) * w).powi(2);
+            n += 1;
+        }
+    }
+    let n = n as f64;
+    n * (chi2_session / chi2_own.max(1e-300)).ln() - k as f64 * n.ln()
+        > crate::candidate::MIN_BIC_GAIN
+}
+
+/// Whether two recordings' scales (index `i`) differ by more than `tolerance` (relative) plus
+/// twice their combined standard error: a scale barely determined (an output that carries
+/// little at one azimuth) is no evidence of an angle law.
+fn beyond_tolerance(
+    f: &super::search::Fitted,
+    values: &[(usize, f64)],
+    i: usize,
+    tolerance: f64,
+) -> bool {
+    let rel_se = |r: usize, v: f64| {
+        f.fit
+            .own_stderr(r, i)
+            .map_or(f64::INFINITY, |se| se / v.abs())
+    };
+    values.iter().any(|&(a, va)| {
+        values.iter().any(|&(b, vb)| {
+            let spread = (va / vb).ln().abs();
+            let se = rel_se(a, va).hypot(rel_se(b, vb));
+            va > 0.0 && vb > 0.0 && spread > (1.0 + tolerance).ln() + 2.0 * se
+        })
+    })
 }

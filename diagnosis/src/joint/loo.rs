@@ -10,7 +10,7 @@ use super::model::{JointFit, Layout};
 use super::output::{LeaveOneOut, Validation};
 use super::search::{Fitted, Search};
 use super::Members;
-use crate::fit::{Model, N_BASE};
+use crate::fit::{Model, N_BASE, SCALE_AT};
 
 /// The validation of `fitted` over the session's recordings (none below two).
 pub(crate) fn leave_one_out(m: &Members, fitted: &Fitted) -> Validation {
@@ -47,7 +47,22 @@ fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
         tried: Vec::new(),
     }
     .fit(layout, &from);
-    let alone = sub(&fitted.layout, &[r]);
+    // A scale per recording is the session's angle law, not a calibration: the left-out
+    // recording's is predicted from the others' along the contact angle (or azimuth).
+    let mut alone = sub(&fitted.layout, &[r]);
+    let mut frozen = others.fit.shared_values();
+    for c in std::mem::take(&mut alone.own_scales) {
+        let i = SCALE_AT + c;
+        let points: Vec<(f64, f64)> = keep
+            .iter()
+            .enumerate()
+            .filter(|&(_, &k)| m.setups[k].used[c + 1])
+            .map(|(j, &k)| (axis(m, k), others.fit.full[j][i]))
+            .collect();
+        if let Some(v) = line_at(&points, axis(m, r)) {
+            frozen.insert(i, v);
+        }
+    }
     let from = Fitted {
         layout: alone.clone(),
         fit: JointFit::start(vec![fitted.fit.full[r].clone()]),
@@ -56,7 +71,7 @@ fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
         setups: vec![m.setups[r]],
         tried: Vec::new(),
     }
-    .fit_frozen(alone.clone(), &from, others.fit.shared_values());
+    .fit_frozen(alone.clone(), &from, frozen);
     let full = &own.fit.full[0];
     let setup = m.setups[r];
     let model = Model::new(setup, &alone.kinds(0), &full[..N_BASE]);
@@ -66,4 +81,31 @@ fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
         rmse_before: m.diags[r].report.fit.heldout.rmse_before,
         rmse_after: m.prepared[r].rmse(&predicted).1,
     }
+}
+
+/// Where recording `k` lies along the session's variation: its contact angle when the session
+/// varies it, else its azimuth.
+fn axis(m: &Members, k: usize) -> f64 {
+    let angles = super::distinct(m.protocols.iter().map(|p| p.contact_angle_deg), 0.0);
+    if angles.len() > 1 {
+        m.protocols[k].contact_angle_deg
+    } else {
+        m.protocols[k].azimuth_deg
+    }
+}
+
+/// The least-squares line through `points` at `x`; their mean where they do not span the axis.
+fn line_at(points: &[(f64, f64)], x: f64) -> Option<f64> {
+    let n = points.len() as f64;
+    if points.is_empty() {
+        return None;
+    }
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    if sxx < 1e-9 {
+        return Some(my);
+    }
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    Some(my + sxy / sxx * (x - mx))
 }

@@ -64,17 +64,32 @@ pub fn file_name(path: &Path) -> String {
 
 /// Diagnose the recordings at `inputs` (files) jointly.
 pub fn diagnose_session(inputs: &[PathBuf], opt: &Options) -> Result<SessionDiagnosis, JointError> {
-    let started = Instant::now();
-    let loaded: Vec<Result<(Recording, Diagnosis), String>> = inputs
-        .par_iter()
+    let read = inputs
+        .iter()
         .map(|path| {
-            let rec = recording::read(path).map_err(|e| e.to_string())?;
-            let name = file_name(path);
+            let rec = recording::read(path).map_err(|e| e.to_string());
+            (file_name(path), rec)
+        })
+        .collect();
+    diagnose_recordings(read, opt)
+}
+
+/// Diagnose recordings already read (each named, or the one-line reason it could not be read)
+/// jointly.
+pub fn diagnose_recordings(
+    inputs: Vec<(String, Result<Recording, String>)>,
+    opt: &Options,
+) -> Result<SessionDiagnosis, JointError> {
+    let started = Instant::now();
+    let files: Vec<String> = inputs.iter().map(|(f, _)| f.clone()).collect();
+    let loaded: Vec<Result<(Recording, Diagnosis), String>> = inputs
+        .into_par_iter()
+        .map(|(name, rec)| {
+            let rec = rec?;
             let d = diagnose(&rec, &name, opt).map_err(|e| format!("{name}: {e}"))?;
             Ok((rec, d))
         })
         .collect();
-    let files: Vec<String> = inputs.iter().map(|p| file_name(p)).collect();
     let ok: Vec<usize> = (0..loaded.len()).filter(|&i| loaded[i].is_ok()).collect();
     if ok.is_empty() {
         let reasons: Vec<String> = loaded
@@ -167,7 +182,21 @@ pub(crate) struct Outcome {
 
 impl Members<'_, '_> {
     fn search(&self) -> Outcome {
-        let own: Vec<Vec<EffectKind>> = self.diags.iter().map(|d| own_kinds(d)).collect();
+        // The moment vector's turn is each recording's own: the jig is set anew for every
+        // test, within its mounting tolerance. A chip rotated on its mount is the turn all
+        // recordings share beyond that tolerance (`assemble`), so it is not searched shared.
+        let own: Vec<Vec<EffectKind>> = self
+            .diags
+            .iter()
+            .zip(&self.setups)
+            .map(|(d, s)| {
+                let mut k = own_kinds(d);
+                if s.used[2] && s.used[3] {
+                    k.push(EffectKind::Crosstalk);
+                }
+                k
+            })
+            .collect();
         let base: Vec<Vec<f64>> = self
             .setups
             .par_iter()
@@ -190,7 +219,7 @@ impl Members<'_, '_> {
             setups: self.setups.clone(),
             tried: Vec::new(),
         };
-        let null = search.fit(Layout { own, ..empty }, &start);
+        let null = search.fit_first(Layout { own, ..empty }, &start);
         let scales: Vec<usize> = (0..3)
             .filter(|&c| self.setups.iter().filter(|s| s.used[c + 1]).count() >= 2)
             .collect();
@@ -212,15 +241,13 @@ impl Members<'_, '_> {
     }
 
     /// The catalogue effects a session may share: those some recording's protocol allows, and
-    /// those only the session's variation shows (a lag across rod speeds, a rotated chip
-    /// across azimuths).
+    /// those only the session's variation shows (a lag or relaxation across rod speeds). A
+    /// rotated chip is read from the recordings' own turns (`assemble`).
     fn candidates(&self) -> Vec<EffectKind> {
         let speeds = distinct(self.protocols.iter().map(|p| p.rod_speed_mm_per_min), 0.2);
-        let azimuths = distinct(self.protocols.iter().map(|p| p.azimuth_deg), 0.0);
-        let moments = self.setups.iter().any(|s| s.used[2] && s.used[3]);
         EffectKind::ALL
             .into_iter()
-            .filter(|k| !OWN_ALWAYS.contains(k))
+            .filter(|k| !OWN_ALWAYS.contains(k) && *k != EffectKind::Crosstalk)
             .filter(|&k| {
                 let alone = self
                     .setups
@@ -229,7 +256,6 @@ impl Members<'_, '_> {
                     .any(|(s, p)| p.features(s).allows(k).is_ok());
                 let across = match k {
                     EffectKind::TimeOffset | EffectKind::ViscoelasticRelaxation => speeds.len() > 1,
-                    EffectKind::Crosstalk => azimuths.len() > 1 && moments,
                     _ => false,
                 };
                 alone || across

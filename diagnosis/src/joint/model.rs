@@ -252,6 +252,26 @@ impl<'s, 'a> Joint<'s, 'a> {
             .collect()
     }
 
+    /// Besides `full` itself (shared values at the recordings' median), one start per
+    /// recording with every shared value at that recording's: recordings calibrated alone can
+    /// trade the contact law's parameters among themselves, so their medians need not be a
+    /// consistent law.
+    pub fn starts_each(&self, full: &[Vec<f64>]) -> Vec<Vec<Vec<f64>>> {
+        let mut out = vec![full.to_vec()];
+        for j in 0..full.len() {
+            let mut start = full.to_vec();
+            for f in &mut start {
+                for (i, v) in f.iter_mut().enumerate() {
+                    if self.layout.is_shared(i) && i < full[j].len() {
+                        *v = full[j][i];
+                    }
+                }
+            }
+            out.push(start);
+        }
+        out
+    }
+
     fn specs_of(&self, r: usize, kind: EffectKind) -> Vec<crate::specs::ParamSpec> {
         let m = &self.models[r];
         let at = crate::fit::param_index(&m.kinds, kind, 0).unwrap_or(N_BASE);
@@ -326,6 +346,14 @@ impl JointFit {
     pub fn bic(&self) -> f64 {
         let n = self.n as f64;
         n * (self.sse / n).max(1e-300).ln() + self.k as f64 * n.ln()
+    }
+
+    /// Standard error of recording `r`'s own index `i` (internal units).
+    pub fn own_stderr(&self, r: usize, i: usize) -> Option<f64> {
+        let pos = self.slots.iter().position(|&s| s == Slot::Own(r, i))?;
+        let cov = self.jtj_inv.as_ref()?;
+        let dof = (self.n as f64 - self.k as f64).max(1.0);
+        Some((self.sse / dof * cov[(pos, pos)]).max(0.0).sqrt())
     }
 
     /// The fitted shared values, by index of a recording's vector (internal units).

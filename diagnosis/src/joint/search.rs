@@ -94,6 +94,25 @@ impl<'s, 'a> Search<'s, 'a> {
         }
     }
 
+    /// The session's first model, from each recording calibrated alone (`from`): started at
+    /// the recordings' median and at each recording's own contact law and scales, with twice
+    /// the iterations of a step.
+    pub fn fit_first(&mut self, layout: Layout, from: &Fitted) -> Fitted {
+        let joint = Joint::new(
+            &self.setups,
+            layout.clone(),
+            &from.fit.full,
+            BTreeMap::new(),
+        );
+        let carried = &joint.starts_from(&from.fit.full, &from.layout)[0];
+        let f = Fitted {
+            layout,
+            fit: joint.fit(&joint.starts_each(carried), 2 * ITERATIONS),
+        };
+        self.record(&f, true, "each recording with its own effects alone".into());
+        f
+    }
+
     fn record(&mut self, f: &Fitted, accepted: bool, reason: String) {
         let names = |v: &[EffectKind]| v.iter().map(|k| k.name().to_string()).collect();
         let per_recording: Vec<EffectKind> = f

@@ -44,6 +44,14 @@ pub struct Args {
     /// catalogue at new stages): the quick run while the method is worked on.
     #[arg(long, requires = "categories")]
     pub described_only: bool,
+    /// Score the session category instead: sessions of three recordings across azimuths, rod
+    /// speeds and contact angles, diagnosed jointly (`tactile diagnose --joint`): sessions.md
+    /// and each session's JSON in the output folder.
+    #[arg(long, conflicts_with = "categories")]
+    pub sessions: bool,
+    /// With --sessions, sessions of each kind.
+    #[arg(long, default_value_t = 2, requires = "sessions")]
+    pub per_kind: usize,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -59,6 +67,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         options: Options::from_hardware(&hw)?,
         readout: Readout::from_hardware(&hw)?,
     };
+    if args.sessions {
+        return run_sessions(&plan, &args);
+    }
     if args.categories {
         return run_categories(&plan, &args);
     }
@@ -99,6 +110,48 @@ fn write_recordings(cases: &[prove::Case], out: &std::path::Path) -> anyhow::Res
             .write_to(file)
             .with_context(|| format!("writing {}", path.display()))?;
     }
+    Ok(())
+}
+
+/// The session category: sessions.md (the table per kind, then one row per session) and
+/// `session-NN.json`, each session's joint diagnosis, in the output folder.
+fn run_sessions(plan: &Plan, args: &Args) -> anyhow::Result<()> {
+    use prove::sessions;
+    let started = Instant::now();
+    let cases = plan.sessions(args.per_kind)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    if args.write_recordings {
+        for c in &cases {
+            for (name, rec) in &c.recordings {
+                let path = args.out.join(name);
+                let file = std::fs::File::create(&path)
+                    .with_context(|| format!("creating {}", path.display()))?;
+                rec.write_to(file)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
+        }
+    }
+    let scores = sessions::run(&cases, &plan.options);
+    for s in &scores {
+        if let Some(r) = &s.report {
+            let path = args.out.join(format!("session-{:02}.json", s.id));
+            let text = serde_json::to_string_pretty(r)?;
+            std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        }
+    }
+    let text = format!(
+        "{}\n{}\n{} sessions at {} Hz, seed {}, in {:.0} s\n",
+        sessions::table(&scores),
+        sessions::details(&scores, &cases),
+        cases.len(),
+        plan.sample_rate_hz,
+        plan.seed,
+        started.elapsed().as_secs_f64()
+    );
+    println!("{text}");
+    let path = args.out.join("sessions.md");
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }
 
