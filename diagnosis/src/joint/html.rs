@@ -77,7 +77,7 @@ fn head(r: &SessionReport) -> String {
     let n = r.recordings.len();
     let analysed = r.recordings.iter().filter(|x| x.error.is_none()).count();
     let values = |v: &[f64]| {
-        let v: Vec<String> = v.iter().map(|x| significant(*x, 3)).collect();
+        let v: Vec<String> = v.iter().map(|x| tables::plain(*x)).collect();
         v.join(", ")
     };
     let p = &r.protocols;
@@ -88,7 +88,7 @@ fn head(r: &SessionReport) -> String {
          <h1>Joint diagnosis of a session of {n} recordings</h1>\
          <p id=verdict class='verdict {class}'>{}</p>\
          <p class=facts>Verdict <b>{words}</b>. {analysed} of {n} recordings analysed, one model \
-         of the sensor and the gel for all of them. Contact angles {} °; azimuths {} °; rod \
+         of the sensor and the gel for all of them. Contact angles {}°; azimuths {}°; rod \
          speeds {} mm/min. Diagnosed in {} s.</p>",
         esc(&verdict_sentence(r)),
         values(&p.contact_angles_deg),
@@ -129,11 +129,11 @@ pub(super) fn verdict_sentence(r: &SessionReport) -> String {
         .count();
     if own > 0 {
         let s = if own == 1 {
-            "recording has"
+            "recording has effects of its own"
         } else {
-            "recordings have"
+            "recordings have effects of their own"
         };
-        found.push(format!("{own} {s} effects of their own"));
+        found.push(format!("{own} {s}"));
     }
     let what = if found.is_empty() {
         "no effect was found".to_string()

@@ -1,8 +1,6 @@
 //! The session page's tables: the recordings with their protocol, verdict, own effects and
 //! held-out misfit (or their error), and the shared effects with their parameters.
 
-use figures::number::{measurement, significant};
-
 use super::html::{effects_shared, pct};
 use super::output::{RecordingRow, SessionReport};
 use crate::output::EffectReport;
@@ -43,9 +41,9 @@ fn recording_row(row: &RecordingRow) -> String {
     }
     let (angle, azimuth, speed) = row.protocol.map_or_else(Default::default, |p| {
         (
-            measurement(p.contact_angle_deg, None, "deg"),
-            measurement(p.azimuth_deg, None, "deg"),
-            format!("{} mm/min", significant(p.rod_speed_mm_per_min, 3)),
+            format!("{}°", plain(p.contact_angle_deg)),
+            format!("{}°", plain(p.azimuth_deg)),
+            format!("{} mm/min", plain(p.rod_speed_mm_per_min)),
         )
     });
     let verdict = row.verdict.map_or("", |v| verdict_label(v).1);
@@ -113,4 +111,29 @@ pub(super) fn shared(r: &SessionReport) -> String {
     h.push_str(&rows.concat());
     h.push_str("</table>");
     h
+}
+
+/// A protocol's value as a lab writes it: `20`, `22.5`, `0.25` (three significant digits at
+/// most, no trailing zeros).
+pub(super) fn plain(v: f64) -> String {
+    let s = figures::number::significant(v, 3);
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::plain;
+
+    #[test]
+    fn protocol_values_read_as_written() {
+        assert_eq!(plain(20.0), "20");
+        assert_eq!(plain(0.0), "0");
+        assert_eq!(plain(22.5), "22.5");
+        assert_eq!(plain(0.25), "0.25");
+        assert_eq!(plain(600.0), "600");
+    }
 }
