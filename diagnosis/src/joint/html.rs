@@ -58,6 +58,16 @@ fn list(items: &[String]) -> String {
     }
 }
 
+/// `s` ending in a full stop (evidence and reasons come with or without one).
+fn full_stop(s: &str) -> String {
+    let s = s.trim_end();
+    if s.ends_with(['.', '!', '?']) {
+        s.to_string()
+    } else {
+        format!("{s}.")
+    }
+}
+
 /// The shared effects proper: not the angle laws, which are the sensitivities' section.
 pub(super) fn effects_shared(r: &SessionReport) -> impl Iterator<Item = &SharedEffect> {
     r.shared
@@ -177,10 +187,10 @@ fn sensitivities(r: &SessionReport) -> String {
                 "<li><b>Angle dependence of {ch}.</b> The share of the rod's load that reaches \
                  {ch} changes with the {} otherwise than the model's angle law: its measured \
                  sensitivity at the largest {0} over that at the smallest, divided by the \
-                 model's same ratio, is {}. {}.</li>",
+                 model's same ratio, is {}. {}</li>",
                 axis(r),
                 significant(ratio, 3),
-                esc(&capital(&e.evidence))
+                esc(&full_stop(&capital(&e.evidence)))
             )
         })
         .collect();
@@ -191,10 +201,10 @@ fn sensitivities(r: &SessionReport) -> String {
             .map(|(f, v)| format!("{} in {}", significant(*v, 3), esc(f)))
             .collect();
         format!(
-            "<li><b>Contradicted: <code>{}</code>.</b> {}: {}.</li>",
+            "<li><b>Contradicted: <code>{}</code>.</b> {}: {}</li>",
             esc(&c.parameter),
             capital(&list(&values)),
-            esc(&c.evidence)
+            esc(&full_stop(&c.evidence))
         )
     }));
     if items.is_empty() {
@@ -216,10 +226,10 @@ fn undecided(r: &SessionReport) -> String {
     for u in &r.undecided {
         let names: Vec<String> = u.effects.iter().map(|e| words::effect_name(e)).collect();
         h.push_str(&format!(
-            "<li><b>{} or the calibration ({})</b>: {}.</li>",
+            "<li><b>{} or the calibration ({})</b>: {}</li>",
             esc(&capital(&names.join(" or "))),
             esc(&u.calibration.join(", ")),
-            esc(&u.reason)
+            esc(&full_stop(&u.reason))
         ));
     }
     h.push_str("</ul>");
