@@ -10,6 +10,8 @@
 
 mod assemble;
 mod html;
+#[cfg(test)]
+mod html_tests;
 mod loo;
 mod model;
 pub mod output;
