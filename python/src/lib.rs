@@ -123,6 +123,23 @@ fn diagnose_frame(
     diagnose_json(py, &rec, name)
 }
 
+/// `tactile diagnose --joint`'s JSON (the same text, through `diagnosis::joint::json_text`) for
+/// the recordings at `paths`: files, and for a folder every `*.csv` in it, as the command
+/// expands them.
+#[pyfunction]
+fn diagnose_session_json(py: Python<'_>, paths: Vec<PathBuf>) -> PyResult<String> {
+    let inputs = diagnosis::session::expand_inputs(&paths).map_err(|e| error::raise(None, &e))?;
+    let hw = hardware()?;
+    let options = diagnosis::Options::from_hardware(&hw).map_err(|e| error::raise(None, &e))?;
+    let text = py
+        .detach(|| {
+            diagnosis::joint::diagnose_session(&inputs, &options)
+                .map(|d| diagnosis::joint::json_text(&d))
+        })
+        .map_err(|e| error::raise(None, &e))?;
+    text.map_err(|e| error::raise(Some("encoding the diagnosis"), &e))
+}
+
 /// `tactile chip --json`'s figures.
 #[pyfunction]
 fn chip_json() -> PyResult<String> {
@@ -137,6 +154,7 @@ fn _tactile(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose_file, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose_frame, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose_session_json, m)?)?;
     m.add_function(wrap_pyfunction!(chip_json, m)?)?;
     Ok(())
 }

@@ -1,10 +1,11 @@
 """Tactile fingertip recordings in Python: read and write the recording format
 (``docs/recording-format.md``) as pandas DataFrames, simulate the standard compression test,
-diagnose a recording (``docs/diagnosis-format.md``) and show the chip's figures.
+diagnose a recording (``docs/diagnosis-format.md``) or a session of them jointly
+(``tactile-session-diagnosis/1``) and show the chip's figures.
 
 Every function calls the same Rust libraries as the ``tactile`` command, so a file written here
 is byte for byte the one ``tactile`` writes, ``diagnose`` returns what ``tactile diagnose --json``
-writes, and errors carry the message ``tactile`` prints (:class:`TactileError`).
+writes, ``diagnose_session`` what ``tactile diagnose --joint --json`` writes, and errors carry the message ``tactile`` prints (:class:`TactileError`).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ __all__ = [
     "write_recording",
     "simulate",
     "diagnose",
+    "diagnose_session",
     "chip",
     "TactileError",
     "TactileDataError",
@@ -136,6 +138,19 @@ def diagnose(recording: Union[PathLike, pd.DataFrame], name: str = "DataFrame") 
     else:
         text = _tactile.diagnose_file(os.fspath(recording))
     return json.loads(text)
+
+
+def diagnose_session(paths: Union[PathLike, Sequence[PathLike]]) -> Dict[str, Any]:
+    """The joint diagnosis of a session of recordings, one model of the sensor and the gel for
+    all of them, as the dict of the JSON ``tactile diagnose --joint ... --json`` writes
+    (``tactile-session-diagnosis/1``). ``paths``: recording files, and folders standing for
+    every ``*.csv`` in them (sorted), in order; one path alone is a session of itself. A file
+    that cannot be analysed is reported in its row of ``recordings`` with ``"error"``, as the
+    command does (which then exits 65); when none can, :class:`TactileDataError` is raised
+    with the command's message."""
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    return json.loads(_tactile.diagnose_session_json([os.fspath(p) for p in paths]))
 
 
 def chip() -> Dict[str, Any]:

@@ -4,17 +4,22 @@
 //!
 //! The steps: each recording diagnosed alone ([`crate::diagnose`]: its own effects, its
 //! held-out stretch, its baseline's RMSEs) -> each calibrated alone (the session's starting
-//! point) -> the session's search ([`search`]) -> the leave-one-out validation ([`loo`]) -> the
-//! report ([`assemble`]).
+//! point) -> the session's search (`search`) -> the leave-one-out validation (`loo`) -> the
+//! report (`assemble`), its JSON ([`json_text`]) and its page ([`write_report`]; `html`,
+//! `tables`, `validation`).
 
 mod assemble;
 mod html;
+#[cfg(test)]
+mod html_tests;
 mod loo;
 mod model;
 pub mod output;
 mod search;
+mod tables;
+mod validation;
 
-pub use html::write_report;
+pub use html::{report_html, write_report};
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -52,6 +57,11 @@ impl sysexit::ExitStatus for JointError {
 pub struct SessionDiagnosis {
     pub report: SessionReport,
     pub singles: Vec<(String, Result<Diagnosis, String>)>,
+}
+
+/// OUT.json's text for `d`, as `tactile diagnose --joint` writes it (pretty, one final newline).
+pub fn json_text(d: &SessionDiagnosis) -> serde_json::Result<String> {
+    Ok(serde_json::to_string_pretty(&d.report)? + "\n")
 }
 
 /// The name a recording has in the session's output: its file name.

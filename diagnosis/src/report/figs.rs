@@ -141,3 +141,37 @@ pub fn remainder(p: &PlotData, c: usize, slope: f64) -> Result<String, Error> {
     ];
     svg_string((WIDTH, PANEL_H), |root| draw_panel(root, &panel))
 }
+
+/// Height of one panel of [`overview`], legend strip included: a small figure.
+const SMALL_PANEL_H: u32 = 170;
+
+/// Every compared channel of `p`, one small panel each: the recording and the improved model
+/// over the whole recording, the held-out stretch shaded (the session's page, per recording).
+pub fn overview(p: &PlotData) -> Result<String, Error> {
+    let panels: Vec<Panel> = (0..4)
+        .filter(|&c| p.used[c])
+        .map(|c| {
+            let mut panel = Panel::new(
+                time(),
+                Quantity::new(quantity_name(c), channel_unit(CHANNELS[c])),
+            );
+            panel.bands = vec![heldout(p)];
+            panel.lines = vec![
+                Line::new(
+                    "recording",
+                    styles::RECORDING,
+                    series(&p.t_s, &p.recorded[c]),
+                ),
+                Line::new("improved", styles::IMPROVED, series(&p.t_s, &p.improved[c])),
+            ];
+            panel
+        })
+        .collect();
+    let rows = panels.len().max(1);
+    svg_string((WIDTH, rows as u32 * SMALL_PANEL_H), |root| {
+        for (area, panel) in root.split_evenly((rows, 1)).iter().zip(&panels) {
+            draw_panel(area, panel)?;
+        }
+        Ok(())
+    })
+}

@@ -7,11 +7,11 @@
 //!
 //! [`html()`] builds the page, [`write()`] writes it to a file.
 
-mod figs;
-mod page;
-mod params;
+pub(crate) mod figs;
+pub(crate) mod page;
+pub(crate) mod params;
 pub mod remains;
-mod words;
+pub(crate) mod words;
 
 use std::path::Path;
 
@@ -108,7 +108,8 @@ fn effects(d: &Diagnosis) -> String {
     h
 }
 
-fn capital(s: &str) -> String {
+/// `s` with its first letter in upper case.
+pub(crate) fn capital(s: &str) -> String {
     let mut c = s.chars();
     c.next()
         .map_or(String::new(), |f| f.to_uppercase().chain(c).collect())

@@ -6,7 +6,8 @@ use figures::number::{fixed, significant};
 use super::words::{candidate_reason, effect_name};
 use crate::output::{Report, Verdict};
 
-const STYLE: &str = "\
+/// The pages' style sheet (the session's page uses it too).
+pub(crate) const STYLE: &str = "\
 body{font-family:system-ui,-apple-system,'Segoe UI',Roboto,sans-serif;max-width:1000px;\
 margin:0 auto;padding:12px 20px 40px;color:#222;line-height:1.45}\
 h1{font-size:1.45em;margin:.3em 0}h2{margin-top:1.6em;border-bottom:1px solid #ddd}\

@@ -152,7 +152,7 @@ fn joint(
     let diagnosed = diagnosis::joint::diagnose_session(&inputs, &opt);
     bar.finish_and_clear();
     let d = diagnosed.coded()?;
-    let text = serde_json::to_string_pretty(&d.report).context("encoding the diagnosis")? + "\n";
+    let text = diagnosis::joint::json_text(&d).context("encoding the diagnosis")?;
     std::fs::write(json, text).with_context(|| format!("writing {}", json.display()))?;
     if let Some(path) = report_path {
         let file = report_file(path);
