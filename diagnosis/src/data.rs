@@ -70,6 +70,10 @@ pub struct Data {
     /// [`Data::weight`] of every decimated sample, computed once: every residual of every fit
     /// asks for it, and its `powf` was a sixth of a diagnosis's time.
     weights: [Vec<f64>; 4],
+    /// The rod's periodic drive over the fitting stretch: its periodogram's size and the
+    /// fundamental's bin, if it has one. Worked out once by `terms::line` (every channel and every
+    /// candidate described asks for it, and the rod is the same).
+    pub drive_bin: std::sync::OnceLock<(usize, Option<usize>)>,
 }
 
 /// Why a recording cannot be analysed although it parsed.
@@ -143,6 +147,7 @@ impl Data {
             bounds,
             segments,
             weights,
+            drive_bin: Default::default(),
         })
     }
 

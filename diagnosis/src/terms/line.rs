@@ -143,11 +143,38 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
     }
     let size = (2 * bins).next_power_of_two();
     let power = crate::stats::periodogram(&binned(&sum, &count), size);
-    let mut rod_sum = vec![0.0; bins];
+    let (at_size, cached) = *ctx
+        .data
+        .drive_bin
+        .get_or_init(|| (size, drive_bin(full, (t0, dt, bins), size)));
+    // Another stretch than the one cached (none in a diagnosis today) is worked out anew.
+    let drive = if at_size == size {
+        cached
+    } else {
+        drive_bin(full, (t0, dt, bins), size)
+    };
+    let df = 1.0 / (size as f64 * dt);
+    let f_lo = 2.0 / span;
+    let k = (1..size / 2)
+        .filter(|&k| (f_lo..=f_hi).contains(&(k as f64 * df)))
+        .filter(|&k| !drive.is_some_and(|d| harmonic_of(k, d)))
+        .max_by(|&a, &b| power[a].total_cmp(&power[b]))?;
+    Some((k as f64 * df, df))
+}
+
+/// The bin of the rod's periodic drive in a periodogram of `size` bins over `bins` bins of
+/// `dt` from `t0`, if the rod has one.
+fn drive_bin(
+    full: &crate::data::Series,
+    (t0, dt, bins): (f64, f64, usize),
+    size: usize,
+) -> Option<usize> {
+    let (mut rod_sum, mut count) = (vec![0.0; bins], vec![0usize; bins]);
     for (t, d) in full.t_s.iter().zip(&full.rod_mm) {
         let b = ((t - t0) / dt) as usize;
         if b < bins {
             rod_sum[b] += d;
+            count[b] += 1;
         }
     }
     // The rod's speed: a ramp is a plateau in it and a hold zero, so a small periodic drive
@@ -164,20 +191,13 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
         })
         .collect();
     let rod = crate::stats::periodogram(&speed, size);
-    let df = 1.0 / (size as f64 * dt);
-    let f_lo = 2.0 / span;
     // The drive's fundamental: the peak of the lowest line that stands out (the first bin
     // found may be on its flank).
-    let drive = (1..size / 2).find(|&k| driven_at(&rod, k)).map(|k0| {
+    (1..size / 2).find(|&k| driven_at(&rod, k)).map(|k0| {
         (k0..(k0 + k0 / 2 + 3).min(size / 2))
             .max_by(|&a, &b| rod[a].total_cmp(&rod[b]))
             .unwrap_or(k0)
-    });
-    let k = (1..size / 2)
-        .filter(|&k| (f_lo..=f_hi).contains(&(k as f64 * df)))
-        .filter(|&k| !drive.is_some_and(|d| harmonic_of(k, d)))
-        .max_by(|&a, &b| power[a].total_cmp(&power[b]))?;
-    Some((k as f64 * df, df))
+    })
 }
 
 /// The bins' means less their mean (an empty bin is zero).
@@ -206,11 +226,13 @@ fn driven_at(rod: &[f64], k: usize) -> bool {
     if hi <= lo + 4 {
         return false;
     }
-    let mut octave: Vec<f64> = rod[lo..=hi].to_vec();
-    octave.sort_by(f64::total_cmp);
-    let median = octave[octave.len() / 2];
     let peak = rod[k.saturating_sub(2).max(1)..=(k + 2).min(hi)]
         .iter()
         .fold(0.0_f64, |m, &p| m.max(p));
-    peak > DRIVE_PROMINENCE * median
+    // The median only where the peak could stand out: a line is `DRIVE_PROMINENCE` above at
+    // least half the octave (selection, not a sort: this runs for every bin of a long test).
+    let mut octave: Vec<f64> = rod[lo..=hi].to_vec();
+    let mid = octave.len() / 2;
+    let (_, median, _) = octave.select_nth_unstable_by(mid, f64::total_cmp);
+    peak > DRIVE_PROMINENCE * *median
 }
