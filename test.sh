@@ -41,7 +41,8 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 
 echo "== host workspace: build and test (protocol, hardware, chip, fingertip, sim, host, HIL)"
-cargo build --workspace --all-targets --locked
+# `cargo test` builds every target it runs; the benches are type-checked by clippy above and
+# built by their own commands (a separate `cargo build --all-targets` only linked them twice).
 cargo test --workspace --locked
 
 echo "== Python package: wheel (pip install ./python), pytest against the binary, the example"
