@@ -16,9 +16,6 @@ use crate::output::Verdict;
 use crate::report::page::{esc, figure, verdict_label, STYLE};
 use crate::report::{capital, figs, words};
 
-/// The session-only effect that is a sensitivity's angle law, described apart.
-const ANGLE_DEPENDENCE: &str = "angle_dependence";
-
 /// The session's page as one HTML document.
 pub fn report_html(d: &SessionDiagnosis) -> String {
     let r = &d.report;
@@ -45,11 +42,6 @@ pub fn write_report(path: &Path, d: &SessionDiagnosis) -> std::io::Result<()> {
     std::fs::write(path, report_html(d))
 }
 
-/// A relative RMSE as a percentage of the range.
-pub(super) fn pct(v: f64) -> String {
-    format!("{} %", significant(100.0 * v, 2))
-}
-
 /// "a, b and c".
 fn list(items: &[String]) -> String {
     match items.split_last() {
@@ -66,19 +58,6 @@ fn full_stop(s: &str) -> String {
     } else {
         format!("{s}.")
     }
-}
-
-/// The shared effects proper: not the angle laws, which are the sensitivities' section.
-pub(super) fn effects_shared(r: &SessionReport) -> impl Iterator<Item = &SharedEffect> {
-    r.shared
-        .iter()
-        .filter(|s| s.effect.name != ANGLE_DEPENDENCE)
-}
-
-fn angle_laws(r: &SessionReport) -> impl Iterator<Item = &SharedEffect> {
-    r.shared
-        .iter()
-        .filter(|s| s.effect.name == ANGLE_DEPENDENCE)
 }
 
 /// Doctype, title, style and the heading with the verdict sentence first.
@@ -118,10 +97,11 @@ pub(super) fn verdict_sentence(r: &SessionReport) -> String {
              missing, what remains is noise."
         );
     }
-    let mut found: Vec<String> = effects_shared(r)
+    let mut found: Vec<String> = r
+        .effects_shared()
         .map(|s| format!("{} {}", words::effect_name(&s.effect.name), acts_on(s, n)))
         .collect();
-    found.extend(angle_laws(r).map(|s| {
+    found.extend(r.angle_laws().map(|s| {
         let ch = s
             .effect
             .channels
@@ -178,7 +158,8 @@ fn axis(r: &SessionReport) -> &'static str {
 /// The outputs' sensitivities across the tests: angle laws and contradictions, in words.
 fn sensitivities(r: &SessionReport) -> String {
     let mut h = String::from("<h2 id=sensitivities>Sensitivities across the tests</h2>");
-    let mut items: Vec<String> = angle_laws(r)
+    let mut items: Vec<String> = r
+        .angle_laws()
         .map(|s| {
             let e = &s.effect;
             let ch = e.channels.first().map_or("", |c| words::channel_name(c));

@@ -143,3 +143,22 @@ pub struct SessionCandidate {
     #[serde(skip_serializing_if = "String::is_empty")]
     pub reason: String,
 }
+
+/// The session-only catalogue entry's name.
+pub const ANGLE_DEPENDENCE: &str = "angle_dependence";
+
+impl SessionReport {
+    /// The shared effects proper: not the angle laws.
+    pub fn effects_shared(&self) -> impl Iterator<Item = &SharedEffect> {
+        self.shared
+            .iter()
+            .filter(|s| s.effect.name != ANGLE_DEPENDENCE)
+    }
+
+    /// The `angle_dependence` entries.
+    pub fn angle_laws(&self) -> impl Iterator<Item = &SharedEffect> {
+        self.shared
+            .iter()
+            .filter(|s| s.effect.name == ANGLE_DEPENDENCE)
+    }
+}

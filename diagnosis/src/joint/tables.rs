@@ -1,7 +1,6 @@
 //! The session page's tables: the recordings with their protocol, verdict, own effects and
 //! held-out misfit (or their error), and the shared effects with their parameters.
 
-use super::html::{effects_shared, pct};
 use super::output::{RecordingRow, SessionReport};
 use crate::output::EffectReport;
 use crate::report::page::{esc, verdict_label};
@@ -81,7 +80,8 @@ fn recording_row(row: &RecordingRow) -> String {
 pub(super) fn shared(r: &SessionReport) -> String {
     let mut h = String::from("<h2 id=shared>Shared effects</h2>");
     let n = r.recordings.iter().filter(|x| x.error.is_none()).count();
-    let rows: Vec<String> = effects_shared(r)
+    let rows: Vec<String> = r
+        .effects_shared()
         .map(|s| {
             let e = &s.effect;
             let on = s
@@ -122,6 +122,11 @@ pub(super) fn plain(v: f64) -> String {
     } else {
         s
     }
+}
+
+/// A relative RMSE as a percentage of the range.
+pub(super) fn pct(v: f64) -> String {
+    format!("{} %", figures::number::significant(100.0 * v, 2))
 }
 
 #[cfg(test)]

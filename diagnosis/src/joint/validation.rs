@@ -7,8 +7,8 @@ use figures::{styles, svg_string, Error};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::html::pct;
 use super::output::{LeaveOneOut, SessionCandidate, Validation};
+use super::tables::pct;
 use crate::report::page::{esc, figure};
 use crate::report::words::effect_name;
 
