@@ -150,6 +150,14 @@ fn a_session_of_ten_recordings_jointly() {
         s / SESSION_GOAL_S,
         rayon::current_num_threads()
     );
-    let shared: Vec<&str> = d.report.shared.iter().map(|e| e.effect.name.as_str()).collect();
-    println!("shared: {shared:?}, {} session models fitted", d.report.candidates.len());
+    let shared: Vec<&str> = d
+        .report
+        .shared
+        .iter()
+        .map(|e| e.effect.name.as_str())
+        .collect();
+    println!(
+        "shared: {shared:?}, {} session models fitted",
+        d.report.candidates.len()
+    );
 }
