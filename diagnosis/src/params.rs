@@ -190,7 +190,7 @@ pub fn resolved(c: &Candidate, protocol: &Features) -> Result<(), String> {
 
 /// How many standard errors towards the identity the strength of a static shape is moved
 /// before its bend is judged: the two of a 95 % interval.
-const STRENGTH_Z: f64 = 2.0;
+pub(crate) const STRENGTH_Z: f64 = 2.0;
 
 /// The documented threshold of the static-shape effects (`hardware/fit-bounds.toml`,
 /// [`crate::static_shape`]): of the static-shape effects of `c` that, at their strength moved

@@ -1,6 +1,7 @@
 //! Speed targets of the diagnosis, as ratios against their limits measured in this run (not timed
 //! asserts): reading a 300 s, 1 kHz recording (limit 1 s) and diagnosing it (issue #16's goal:
 //! 5 s on 2 cores with the FE tables cached; the cold figure includes computing them).
+//! And a session of ten recordings diagnosed jointly (issue #28: 30 s, leave-one-out included).
 //! Run: `cargo test --release -p diagnosis --test speed -- --ignored --nocapture`.
 
 use std::time::Instant;
@@ -84,5 +85,79 @@ fn read_and_diagnose_300_s_at_1_khz() {
     println!(
         "found: {:?}",
         d.report.effects.iter().map(|e| &e.name).collect::<Vec<_>>()
+    );
+}
+
+/// Issue #28: a session of 10 recordings of 100 s at 1 kHz diagnosed jointly, leave-one-out
+/// included, in at most this on 2 cores, FE tables cached.
+const SESSION_GOAL_S: f64 = 30.0;
+
+#[test]
+#[ignore = "speed study: run with --release --ignored --nocapture"]
+fn a_session_of_ten_recordings_jointly() {
+    let hw = hardware::Params::load_default().unwrap();
+    let opt = diagnosis::Options::from_hardware(&hw).unwrap();
+    let readout = Readout::from_hardware(&hw).unwrap();
+    // Ten azimuths at one contact angle; one gel relaxing in all of them. Generating them
+    // computes (or reads) every FE table the diagnosis needs: the timing below is warm.
+    let recordings: Vec<(String, Result<recording::Recording, String>)> = (0..10)
+        .map(|i| {
+            let azimuth = 10.0 * i as f64;
+            let fingertip = opt.fe.response(20.0, 20.0, azimuth).unwrap();
+            let spec = SimSpec {
+                fingertip: &fingertip,
+                readout,
+                baseline: BaselineParams::nominal(1.0e5),
+                contact_angle_deg: 20.0,
+                azimuth_deg: azimuth,
+                radius_mm: 20.0,
+                test: sim::compression::RodSchedule {
+                    recovery_s: 30.0,
+                    ..Default::default()
+                },
+                peak_loads_n: vec![40.0, 30.0],
+                effects: vec![
+                    Effect::from_spec("viscoelastic_relaxation:tau_s=4,fraction=0.3").unwrap(),
+                ],
+                noise: Noise {
+                    load_n: 0.02,
+                    volts: [2e-3; 3],
+                    temp_c: 0.02,
+                },
+                seed: i + 1,
+                ambient_c: 25.0,
+                warm_up_rise_c: 5.0,
+                ambient_swing: None,
+                source: "speed study".into(),
+            };
+            (format!("az{azimuth:.0}.csv"), Ok(simulate(&spec)))
+        })
+        .collect();
+    let seconds: Vec<f64> = recordings
+        .iter()
+        .map(|(_, r)| *r.as_ref().unwrap().channels.t_s.last().unwrap())
+        .collect();
+    let t = Instant::now();
+    let d = diagnosis::joint::diagnose_recordings(recordings, &opt).unwrap();
+    let s = t.elapsed().as_secs_f64();
+    println!(
+        "session: 10 recordings of {:.0}-{:.0} s at 1 kHz",
+        seconds.iter().cloned().fold(f64::MAX, f64::min),
+        seconds.iter().cloned().fold(0.0, f64::max)
+    );
+    println!(
+        "diagnose --joint, leave-one-out included: {s:.1} s = {:.2} of the {SESSION_GOAL_S} s goal ({} threads)",
+        s / SESSION_GOAL_S,
+        rayon::current_num_threads()
+    );
+    let shared: Vec<&str> = d
+        .report
+        .shared
+        .iter()
+        .map(|e| e.effect.name.as_str())
+        .collect();
+    println!(
+        "shared: {shared:?}, {} session models fitted",
+        d.report.candidates.len()
     );
 }

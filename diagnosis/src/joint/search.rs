@@ -16,6 +16,7 @@ use super::model::{Joint, JointFit, Layout};
 use super::output::SessionCandidate;
 use crate::candidate::{heldout_needed, MIN_BIC_GAIN};
 use crate::fit::Setup;
+use crate::static_shape::Span;
 
 /// Iterations of a session fit (each starts at a fitted session or at calibrated recordings).
 const ITERATIONS: usize = 40;
@@ -176,9 +177,13 @@ impl<'s, 'a> Search<'s, 'a> {
             let mut best: Option<(f64, Fitted)> = None;
             for (k, f) in tries {
                 let g = Gain::of(&f, &cur);
-                let words = g.words(&format!("without {}", k.name()));
+                let mut words = g.words(&format!("without {}", k.name()));
+                let within = self.shape_within_calibration(&f, k);
+                if within {
+                    words.push_str("; a static shape within what the calibration's map may bend (not a finding)");
+                }
                 self.record(&f, false, words);
-                if g.bic > MIN_BIC_GAIN && best.as_ref().is_none_or(|b| g.bic > b.0) {
+                if !within && g.bic > MIN_BIC_GAIN && best.as_ref().is_none_or(|b| g.bic > b.0) {
                     best = Some((g.bic, f));
                 }
             }
@@ -196,6 +201,35 @@ impl<'s, 'a> Search<'s, 'a> {
                 None => return cur,
             }
         }
+    }
+
+    /// A static shape (`stiffening`, `bridge_nonlinearity`) whose strength, two standard
+    /// errors towards none, bends no compared output of any recording beyond what the
+    /// calibration's map from the load may bend it: the single diagnosis's documented threshold
+    /// (`crate::static_shape`), on the session's shared strength.
+    fn shape_within_calibration(&self, f: &Fitted, kind: EffectKind) -> bool {
+        let neutral = match kind {
+            EffectKind::Stiffening => 1.0,
+            EffectKind::BridgeNonlinearity => 0.0,
+            _ => return false,
+        };
+        let Some(at) = crate::fit::param_index(&f.layout.kinds(0), kind, 0) else {
+            return false;
+        };
+        let value = f.fit.full[0][at];
+        let se = f.fit.shared_stderr(at).unwrap_or(0.0);
+        let z = crate::params::STRENGTH_Z;
+        let sure = if (value - neutral).abs() <= z * se {
+            neutral
+        } else {
+            value - (value - neutral).signum() * z * se
+        };
+        self.setups.iter().all(|s| {
+            let span = Span::of(&s.drive);
+            (0..3)
+                .filter(|&k| s.used[k + 1])
+                .all(|k| span.bend(kind, sure, k).is_none_or(|b| b <= span.span[k]))
+        })
     }
 
     /// Step 3: drop a shared effect whose held-out gain is within its noise. The kept ones
