@@ -10,7 +10,7 @@ mod browser;
 
 use baseline::synth::{simulate, Noise, SimSpec};
 use baseline::{BaselineParams, Readout};
-use browser::{check_findings, chromium, findings, instrumented, run_chromium};
+use browser::{check_findings, chromium, findings, instrumented, run_chromium, screenshot};
 use sim::effects::Effect;
 
 /// Two cycles at 100 Hz with relaxation, AC coupling and a warm-up drift: short enough for a
@@ -82,18 +82,7 @@ fn report_renders_in_headless_chromium() {
     assert!(console.is_empty(), "console messages: {console:#?}");
     check_findings(&findings(&out.stdout), figures);
 
-    let shot = dir.join("report.png");
-    run_chromium(
-        &report,
-        &dir.join("profile-shot"),
-        &[&format!("--screenshot={}", shot.display())],
-    );
-    let png = std::fs::read(&shot).expect("no screenshot written");
-    assert!(
-        png.starts_with(b"\x89PNG") && png.len() > 10_000,
-        "screenshot of {} bytes",
-        png.len()
-    );
+    screenshot(&report, &dir, "report.png");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

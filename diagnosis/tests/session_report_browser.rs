@@ -14,7 +14,9 @@ mod browser;
 use std::path::{Path, PathBuf};
 
 use baseline::standard_test::{simulate_standard_test, SimulateOptions};
-use browser::{check_findings, chromium, findings, findings_in, instrumented_with, run_chromium};
+use browser::{
+    check_findings, chromium, findings, findings_in, instrumented_with, run_chromium, screenshot,
+};
 
 /// The page's own sections, in order.
 const SECTIONS: [&str; 8] = [
@@ -173,18 +175,7 @@ fn session_report_renders_in_headless_chromium() {
         analysed,
     );
 
-    let shot = dir.join("session.png");
-    run_chromium(
-        &page,
-        &dir.join("profile-shot"),
-        &[&format!("--screenshot={}", shot.display())],
-    );
-    let png = std::fs::read(&shot).expect("no screenshot written");
-    assert!(
-        png.starts_with(b"\x89PNG") && png.len() > 10_000,
-        "screenshot of {} bytes",
-        png.len()
-    );
+    screenshot(&page, &dir, "session.png");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

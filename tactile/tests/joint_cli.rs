@@ -44,6 +44,17 @@ fn session(name: &str) -> PathBuf {
     d
 }
 
+/// `tactile diagnose --joint DIR --json JSON`.
+fn joint(dir: &Path, json: &Path) -> std::process::Output {
+    tactile()
+        .args(["diagnose", "--joint", "--quiet"])
+        .arg(dir)
+        .arg("--json")
+        .arg(json)
+        .output()
+        .unwrap()
+}
+
 fn read(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -52,13 +63,7 @@ fn read(path: &Path) -> serde_json::Value {
 fn a_rotated_chip_is_shared_across_azimuths_and_validated_left_out() {
     let d = session("rotated");
     let json = d.join("out.json");
-    let o = tactile()
-        .args(["diagnose", "--joint", "--quiet"])
-        .arg(&d)
-        .arg("--json")
-        .arg(&json)
-        .output()
-        .unwrap();
+    let o = joint(&d, &json);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v = read(&json);
     assert_eq!(v["format"], "tactile-session-diagnosis/1");
@@ -102,13 +107,7 @@ fn a_bad_file_is_its_row_and_the_session_goes_on() {
     let d = session("bad");
     std::fs::write(d.join("broken.csv"), "t_s,rod_mm\n0,zero\n").unwrap();
     let json = d.join("out.json");
-    let o = tactile()
-        .args(["diagnose", "--joint", "--quiet"])
-        .arg(&d)
-        .arg("--json")
-        .arg(&json)
-        .output()
-        .unwrap();
+    let o = joint(&d, &json);
     assert_eq!(
         o.status.code(),
         Some(65),

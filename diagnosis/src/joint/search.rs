@@ -174,30 +174,27 @@ impl<'s, 'a> Search<'s, 'a> {
                     (k, self.fit(layout, &cur))
                 })
                 .collect();
-            let mut best: Option<(f64, Fitted)> = None;
-            for (k, f) in tries {
-                let g = Gain::of(&f, &cur);
-                let mut words = g.words(&format!("without {}", k.name()));
-                let within = self.shape_within_calibration(&f, k);
-                if within {
-                    words.push_str("; a static shape within what the calibration's map may bend (not a finding)");
-                }
-                self.record(&f, false, words);
-                if !within && g.bic > MIN_BIC_GAIN && best.as_ref().is_none_or(|b| g.bic > b.0) {
-                    best = Some((g.bic, f));
-                }
+            // Each try's gain and words; the admissible one with the largest gain is taken.
+            let scored: Vec<(Fitted, Gain, bool, String)> = tries
+                .into_iter()
+                .map(|(k, f)| {
+                    let g = Gain::of(&f, &cur);
+                    let mut words = g.words(&format!("without {}", k.name()));
+                    let within = self.shape_within_calibration(&f, k);
+                    if within {
+                        words.push_str("; a static shape within what the calibration's map may bend (not a finding)");
+                    }
+                    (f, g, !within && g.bic > MIN_BIC_GAIN, words)
+                })
+                .collect();
+            let best = (0..scored.len())
+                .filter(|&i| scored[i].2)
+                .max_by(|&a, &b| scored[a].1.bic.total_cmp(&scored[b].1.bic));
+            for (i, (f, _, _, words)) in scored.iter().enumerate() {
+                self.record(f, Some(i) == best, words.clone());
             }
             match best {
-                Some((_, f)) => {
-                    if let Some(last) =
-                        self.tried.iter_mut().rev().find(|t| {
-                            t.shared == names_of(&f.layout.shared) && t.bic == f.fit.bic()
-                        })
-                    {
-                        last.accepted = true;
-                    }
-                    cur = f;
-                }
+                Some(i) => cur = scored.into_iter().nth(i).expect("index of a try").0,
                 None => return cur,
             }
         }
@@ -281,7 +278,3 @@ pub const OWN_ALWAYS: [EffectKind; 3] = [
     EffectKind::AmplifierSaturation,
     EffectKind::MainsInterference,
 ];
-
-pub fn names_of(kinds: &[EffectKind]) -> Vec<String> {
-    kinds.iter().map(|k| k.name().to_string()).collect()
-}

@@ -185,3 +185,19 @@ pub fn check_findings(lines: &[String], figures: usize) {
         "verdict outside the first screen: {v:?}"
     );
 }
+
+/// A screenshot of `page` into `dir/name`: it must be a PNG of some substance.
+pub fn screenshot(page: &Path, dir: &Path, name: &str) {
+    let shot = dir.join(name);
+    run_chromium(
+        page,
+        &dir.join("profile-shot"),
+        &[&format!("--screenshot={}", shot.display())],
+    );
+    let png = std::fs::read(&shot).expect("no screenshot written");
+    assert!(
+        png.starts_with(b"\x89PNG") && png.len() > 10_000,
+        "screenshot of {} bytes",
+        png.len()
+    );
+}

@@ -165,21 +165,7 @@ fn joint(
         .iter()
         .filter_map(|r| r.error.as_deref())
         .collect();
-    for line in &bad {
-        eprintln!("tactile: error: {line}");
-    }
-    if bad.is_empty() {
-        return Ok(());
-    }
-    Err(exit::Reported {
-        code: exit::DATA,
-        what: format!(
-            "{} of {} recordings could not be analysed",
-            bad.len(),
-            d.report.recordings.len()
-        ),
-    }
-    .into())
+    unanalysed(&bad, d.report.recordings.len())
 }
 
 fn options() -> anyhow::Result<Options> {
@@ -245,7 +231,13 @@ fn whole_session(inputs: &[PathBuf], out_dir: &std::path::Path, show: bool) -> a
         .iter()
         .filter_map(|r| r.outcome.as_ref().err().map(String::as_str))
         .collect();
-    for line in &bad {
+    unanalysed(&bad, rows.len())
+}
+
+/// One stderr line per recording of `total` that could not be analysed, then [`exit::DATA`] if
+/// there was any.
+fn unanalysed(bad: &[&str], total: usize) -> anyhow::Result<()> {
+    for line in bad {
         eprintln!("tactile: error: {line}");
     }
     if bad.is_empty() {
@@ -253,11 +245,7 @@ fn whole_session(inputs: &[PathBuf], out_dir: &std::path::Path, show: bool) -> a
     }
     Err(exit::Reported {
         code: exit::DATA,
-        what: format!(
-            "{} of {} recordings could not be analysed",
-            bad.len(),
-            rows.len()
-        ),
+        what: format!("{} of {total} recordings could not be analysed", bad.len()),
     }
     .into())
 }
