@@ -68,3 +68,37 @@ fn static_steps_relax() {
 fn dynamic_sinusoids_lose_energy_with_rate() {
     answered_right(2);
 }
+
+/// The Dynamic sinusoids as a session: one material at five rates, diagnosed jointly. Its
+/// relaxation is the gel's, named once among the shared effects, and no recording names it
+/// again with its own parameters.
+#[test]
+fn dynamic_sinusoids_share_one_relaxation() {
+    let hw = hardware::Params::load_default().expect("hardware");
+    let opt = diagnosis::Options::from_hardware(&hw).expect("options");
+    let inputs = (1..=5)
+        .map(|i| {
+            let rec = import("Dynamic_data.txt", |b| b.index == i);
+            (format!("sin{i}.csv"), Ok(rec))
+        })
+        .collect();
+    let r = diagnosis::joint::diagnose_recordings(inputs, &opt)
+        .expect("the session is analysed")
+        .report;
+    let shared: Vec<&str> = r.shared.iter().map(|s| s.effect.name.as_str()).collect();
+    assert!(shared.contains(&"viscoelastic_relaxation"), "{shared:?}");
+    for row in &r.recordings {
+        let own: Vec<&str> = row
+            .effects
+            .iter()
+            .flatten()
+            .map(|e| e.name.as_str())
+            .collect();
+        assert!(
+            !own.contains(&"viscoelastic_relaxation"),
+            "{}: {own:?}",
+            row.file
+        );
+    }
+    assert_eq!(r.validation.leave_one_out.len(), 5);
+}

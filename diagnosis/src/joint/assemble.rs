@@ -247,8 +247,7 @@ fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool, turned: bool)
         .filter(|e| e.catalogue || terms_hold)
         .filter(|e| {
             !e.catalogue
-                || EffectKind::from_name(&e.name).is_none_or(|k| OWN_ALWAYS.contains(&k))
-                || e.channels.iter().any(|c| c == "load_N")
+                || EffectKind::from_name(&e.name).is_none_or(|k| !outcome.decided.contains(&k))
         })
         .cloned()
         .collect();

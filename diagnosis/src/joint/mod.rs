@@ -188,6 +188,9 @@ pub(crate) struct Outcome {
     pub tried: Vec<output::SessionCandidate>,
     /// Per shared effect, its gain over the session without it.
     pub gains: Vec<(EffectKind, search::Gain)>,
+    /// The catalogue effects the session decided (searched shared, or the jig's turn): what a
+    /// recording alone said of them is replaced by the session's answer.
+    pub decided: Vec<EffectKind>,
 }
 
 impl Members<'_, '_> {
@@ -247,6 +250,7 @@ impl Members<'_, '_> {
             fitted,
             tried: search.tried,
             gains,
+            decided: [candidates, vec![EffectKind::Crosstalk]].concat(),
         }
     }
 
