@@ -193,17 +193,14 @@ impl<'s, 'a> Joint<'s, 'a> {
             step: self.slots.iter().map(|s| spec(s).step).collect(),
             lower: self.slots.iter().map(|s| spec(s).lower).collect(),
             upper: self.slots.iter().map(|s| spec(s).upper).collect(),
+            min_deviance_drop: crate::fit::MIN_BIC_STEP,
         }
     }
 
-    /// Fit from each of `starts` (recordings' full vectors, internal units); the best is kept.
+    /// Fit from the best of `starts` (recordings' full vectors, internal units; `lm::solve_best`).
     pub fn fit(&self, starts: &[Vec<Vec<f64>>], max_iterations: usize) -> JointFit {
-        let opt = self.options(max_iterations);
-        let best = starts
-            .iter()
-            .map(|full| lm::solve(self, &self.vector_of(full), &opt))
-            .min_by(|a, b| a.sse.total_cmp(&b.sse))
-            .expect("at least one start");
+        let vectors: Vec<Vec<f64>> = starts.iter().map(|f| self.vector_of(f)).collect();
+        let best = lm::solve_best(self, &vectors, &self.options(max_iterations));
         let full: Vec<Vec<f64>> = (0..self.models.len())
             .map(|r| self.full_of(r, &best.p))
             .collect();
