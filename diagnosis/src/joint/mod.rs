@@ -108,13 +108,13 @@ pub fn diagnose_recordings(
             .collect();
         return Err(JointError::NothingUsable(reasons.join("; ")));
     }
-    let mut prepared = Vec::new();
-    for &i in &ok {
-        let (rec, _) = loaded[i].as_ref().expect("ok");
-        let p = prepare(rec, opt)
-            .map_err(|e| JointError::NothingUsable(format!("{}: {e}", files[i])))?;
-        prepared.push(p);
-    }
+    let prepared = ok
+        .par_iter()
+        .map(|&i| {
+            let (rec, _) = loaded[i].as_ref().expect("ok");
+            prepare(rec, opt).map_err(|e| JointError::NothingUsable(format!("{}: {e}", files[i])))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let setups: Vec<Setup> = prepared.iter().map(|p| p.setup(opt)).collect();
     let diags: Vec<&Diagnosis> = ok
         .iter()
@@ -242,8 +242,12 @@ impl Members<'_, '_> {
         // redundant.
         let candidates = self.candidates();
         let cur = search.forward(null, &candidates);
-        let cur = search.scales(cur, &scales);
-        let cur = search.forward(cur, &candidates);
+        let one_scale = cur.layout.own_scales.clone();
+        let mut cur = search.scales(cur, &scales);
+        // With the scales as they were, the forward step's last round would be tried again.
+        if cur.layout.own_scales != one_scale {
+            cur = search.forward(cur, &candidates);
+        }
         let (cur, gains) = search.backward(cur);
         let fitted = search.per_recording(cur);
         Outcome {
