@@ -48,7 +48,10 @@ impl Line {
 
 /// Summed squared amplitude over channels at `f` (projection on sin and cos).
 /// The phasor e^{i w t} is advanced by multiplying with e^{i w dt}, recomputed only when the
-/// step changes (gaps) and re-anchored every 1000 samples against rounding drift.
+/// step changes (gaps, jitter) and re-anchored every 1000 samples against rounding drift. Time
+/// stamps k / rate differ in their last bits from step to step; a step within 1e-9 of the last
+/// is the same step (its phase error, w dt 1e-9 per sample, stays below 1e-6 rad before the
+/// next anchor).
 fn power(t: &[f64], residuals: &[&[f64]], f: f64, idx: &[usize]) -> f64 {
     let w = TAU * f;
     let mut sums = vec![(0.0, 0.0); residuals.len()];
@@ -60,7 +63,7 @@ fn power(t: &[f64], residuals: &[&[f64]], f: f64, idx: &[usize]) -> f64 {
             (sn, cs) = (w * t[k]).sin_cos();
         } else {
             let dt = t[k] - t[idx[i - 1]];
-            if dt != last_dt {
+            if (dt - last_dt).abs() > 1e-9 * dt.abs() || last_dt.is_nan() {
                 rot = (w * dt).sin_cos();
                 last_dt = dt;
             }
@@ -91,23 +94,13 @@ fn refine(t: &[f64], residuals: &[&[f64]], scan: Scan, rate_hz: f64) -> Line {
     let span = t[window[window.len() - 1]] - t[window[0]];
     let fine_step = (0.25 / span.max(1e-9)).min(SCAN_STEP_HZ);
     let n_fine = (2.0 * SCAN_STEP_HZ / fine_step).ceil() as usize;
+    let p = |f: f64| power(t, residuals, f, &window);
     let f_fine = (0..=n_fine)
         .map(|i| freqs[imax] - SCAN_STEP_HZ + i as f64 * fine_step)
-        .max_by(|&x, &y| {
-            power(t, residuals, x, &window).total_cmp(&power(t, residuals, y, &window))
-        })
-        .unwrap_or(freqs[imax]);
-    let (mut a, mut b) = (f_fine - fine_step, f_fine + fine_step);
-    let g = 0.618_033_988_75;
-    for _ in 0..20 {
-        let (x1, x2) = (b - g * (b - a), a + g * (b - a));
-        if power(t, residuals, x1, &window) > power(t, residuals, x2, &window) {
-            b = x2;
-        } else {
-            a = x1;
-        }
-    }
-    let freq_hz = 0.5 * (a + b);
+        .map(|f| (f, p(f)))
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .map_or(freqs[imax], |(f, _)| f);
+    let freq_hz = golden_max(p, f_fine - fine_step, f_fine + fine_step, 20);
     let harmonic = rate_hz > 2.2 * 3.0 * freq_hz;
     let coef = residuals
         .iter()
@@ -118,6 +111,26 @@ fn refine(t: &[f64], residuals: &[&[f64]], scan: Scan, rate_hz: f64) -> Line {
         coef,
         prominence: pmax / median,
     }
+}
+
+/// The maximum of the unimodal `p` on (a, b) by `iterations` golden-section steps, each
+/// evaluating `p` once: the inner point kept from the last step is the next step's other one.
+fn golden_max(p: impl Fn(f64) -> f64, mut a: f64, mut b: f64, iterations: usize) -> f64 {
+    let g = 0.618_033_988_75;
+    let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+    let (mut p1, mut p2) = (p(x1), p(x2));
+    for _ in 0..iterations {
+        if p1 > p2 {
+            (b, x2, p2) = (x2, x1, p1);
+            x1 = b - g * (b - a);
+            p1 = p(x1);
+        } else {
+            (a, x1, p1) = (x1, x2, p2);
+            x2 = a + g * (b - a);
+            p2 = p(x2);
+        }
+    }
+    0.5 * (a + b)
 }
 
 /// The coarse scan of the band: the selected samples, the scanned frequencies, the peak's index
