@@ -42,5 +42,5 @@ mod terms;
 mod undecided;
 
 pub use data::DataError;
-pub use pipeline::{diagnose, Diagnosis, Options, Progress};
+pub use pipeline::{diagnose, heldout_rmse_of, Diagnosis, Options, Progress};
 pub use preconditions::mains_visible;

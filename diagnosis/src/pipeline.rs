@@ -356,6 +356,27 @@ pub(crate) struct Prepared {
 }
 
 /// Read `rec` and look up its fingertip's response at its contact angle and azimuth.
+/// The contract's held-out RMSE of `prediction`'s channels as the model of `rec` (the same
+/// samples). With `prediction` the recording without its noise it is the least any model can
+/// reach on that stretch: the floor under a held-out ratio. `None` when the two differ in
+/// length.
+pub fn heldout_rmse_of(
+    rec: &Recording,
+    prediction: &Recording,
+    opt: &Options,
+) -> Result<Option<f64>, DataError> {
+    let p = prepare(rec, opt)?;
+    let c = &prediction.channels;
+    if c.len() != p.data.full.t_s.len() {
+        return Ok(None);
+    }
+    let o = Outputs {
+        load_n: c.load_n.clone(),
+        volts: [c.fz_v.clone(), c.mx_v.clone(), c.my_v.clone()],
+    };
+    Ok(Some(p.rmse(&o).1))
+}
+
 pub(crate) fn prepare(rec: &Recording, opt: &Options) -> Result<Prepared, DataError> {
     let data = Data::new(rec)?;
     let stretches = Stretches::detect(&data);

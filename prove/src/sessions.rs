@@ -94,6 +94,8 @@ pub struct SessionCase {
     /// The true Fz sensitivity ratio (largest over smallest angle) against the model's.
     pub angle_ratio: Option<f64>,
     pub recordings: Vec<(String, Recording)>,
+    /// Each recording as it would be without noise: the floor under its held-out misfit.
+    pub noiseless: Vec<Recording>,
 }
 
 const AZIMUTHS_DEG: [f64; 3] = [0.0, 45.0, 90.0];
@@ -155,6 +157,7 @@ impl Plan {
             .then(|| (if u(0.0, 1.0) < 0.5 { 1 } else { 2 }, u(1.25, 1.4)));
         let fz_scale = base.scale[0];
         let mut recordings = Vec::new();
+        let mut noiseless = Vec::new();
         for (i, step) in [0usize, 1, 2].into_iter().enumerate() {
             let (mut a, mut az, mut speed) = (angle, azimuth, 20.0);
             match vary {
@@ -177,7 +180,8 @@ impl Plan {
                 noise,
             };
             let seed = self.seed ^ ((id * 8 + i) as u64) << 20;
-            let mut rec = self.test(&sensor, (a, az, speed), seed)?;
+            noiseless.push(self.test(&sensor, (a, az, speed), seed, true)?);
+            let mut rec = self.test(&sensor, (a, az, speed), seed, false)?;
             rec.meta.rod_speed_mm_per_min = Some(speed);
             if let Some((channel, factor)) = misdeclared {
                 let gain = [&mut rec.meta.gain_mx, &mut rec.meta.gain_my];
@@ -193,6 +197,7 @@ impl Plan {
             truth,
             angle_ratio,
             recordings,
+            noiseless,
         })
     }
 }
@@ -208,12 +213,14 @@ struct Sensor {
 }
 
 impl Plan {
-    /// One test of `sensor` at (contact angle, azimuth, rod speed in mm/min).
+    /// One test of `sensor` at (contact angle, azimuth, rod speed in mm/min), `quiet`: without
+    /// its noise (the same seed draws the same everything else).
     fn test(
         &self,
         sensor: &Sensor,
         (a, az, speed): (f64, f64, f64),
         seed: u64,
+        quiet: bool,
     ) -> Result<Recording, FeResponseError> {
         let base = sensor.base;
         let fe = self.options.fe.response(self.radius_mm, a, az)?;
@@ -243,7 +250,15 @@ impl Plan {
             },
             peak_loads_n: sensor.peaks_n.to_vec(),
             effects: sensor.truth.clone(),
-            noise: sensor.noise,
+            noise: if quiet {
+                Noise {
+                    load_n: 0.0,
+                    volts: [0.0; 3],
+                    temp_c: 0.0,
+                }
+            } else {
+                sensor.noise
+            },
             seed,
             ambient_c: 24.0,
             warm_up_rise_c: 6.0,
@@ -266,6 +281,9 @@ pub struct SessionScore {
     pub param_error: Option<f64>,
     /// Mean leave-one-out held-out RMSE after over before, where physics is hidden.
     pub loo_ratio: Option<f64>,
+    /// The same mean with the noiseless recording as the prediction: the least that ratio can
+    /// be on this data.
+    pub loo_floor: Option<f64>,
     pub named: Vec<String>,
     pub seconds: f64,
     pub report: Option<SessionReport>,
@@ -285,7 +303,7 @@ pub fn run(cases: &[SessionCase], opt: &diagnosis::Options) -> Vec<SessionScore>
             let report = diagnosis::joint::diagnose_recordings(inputs, opt)
                 .ok()
                 .map(|d| d.report);
-            score(c, report, started.elapsed().as_secs_f64())
+            score(c, report, started.elapsed().as_secs_f64(), opt)
         })
         .collect()
 }
@@ -300,7 +318,12 @@ fn expected(c: &SessionCase) -> Vec<String> {
     }
 }
 
-fn score(c: &SessionCase, report: Option<SessionReport>, seconds: f64) -> SessionScore {
+fn score(
+    c: &SessionCase,
+    report: Option<SessionReport>,
+    seconds: f64,
+    opt: &diagnosis::Options,
+) -> SessionScore {
     let want = expected(c);
     let Some(r) = report else {
         return SessionScore {
@@ -311,6 +334,7 @@ fn score(c: &SessionCase, report: Option<SessionReport>, seconds: f64) -> Sessio
             recordings: c.recordings.len(),
             param_error: None,
             loo_ratio: None,
+            loo_floor: None,
             named: vec!["<error>".into()],
             seconds,
             report: None,
@@ -361,6 +385,7 @@ fn score(c: &SessionCase, report: Option<SessionReport>, seconds: f64) -> Sessio
             .collect();
         v.iter().sum::<f64>() / v.len().max(1) as f64
     });
+    let loo_floor = loo_ratio.and_then(|_| loo_floor(c, &r, opt));
     SessionScore {
         id: c.id,
         kind: c.kind,
@@ -369,10 +394,31 @@ fn score(c: &SessionCase, report: Option<SessionReport>, seconds: f64) -> Sessio
         recordings: c.recordings.len(),
         param_error,
         loo_ratio,
+        loo_floor,
         named,
         seconds,
         report: Some(r),
     }
+}
+
+/// The mean over the recordings of the noiseless recording's held-out RMSE over the baseline's
+/// (`rmse_before`): what a perfect model's leave-one-out ratio would be.
+fn loo_floor(c: &SessionCase, r: &SessionReport, opt: &diagnosis::Options) -> Option<f64> {
+    let v: Vec<f64> = c
+        .recordings
+        .iter()
+        .zip(&c.noiseless)
+        .filter_map(|((file, rec), quiet)| {
+            let l = r
+                .validation
+                .leave_one_out
+                .iter()
+                .find(|l| &l.file == file)?;
+            let floor = diagnosis::heldout_rmse_of(rec, quiet, opt).ok()??;
+            Some(floor / l.rmse_before.max(1e-300))
+        })
+        .collect();
+    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
 fn param_error(c: &SessionCase, r: &SessionReport) -> Option<f64> {
@@ -404,7 +450,7 @@ fn param_error(c: &SessionCase, r: &SessionReport) -> Option<f64> {
 /// the mean leave-one-out ratio where physics is hidden, and the time per session.
 pub fn table(scores: &[SessionScore]) -> String {
     let mut out = String::from(
-        "| kind | sessions right | recordings right | params within 20 % | leave-one-out after/before | s per session |\n|---|---|---|---|---|---|\n",
+        "| kind | sessions right | recordings right | params within 20 % | leave-one-out after/before | its noise floor | s per session |\n|---|---|---|---|---|---|---|\n",
     );
     let mut groups: Vec<(String, Vec<&SessionScore>)> = SessionKind::ALL
         .iter()
@@ -424,22 +470,27 @@ pub fn table(scores: &[SessionScore]) -> String {
         let params: Vec<f64> = v.iter().filter_map(|s| s.param_error).collect();
         let within = params.iter().filter(|&&e| e <= 0.2).count();
         let loo: Vec<f64> = v.iter().filter_map(|s| s.loo_ratio).collect();
-        let loo_mean = loo.iter().sum::<f64>() / loo.len().max(1) as f64;
+        let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len().max(1) as f64;
+        let floor: Vec<f64> = v.iter().filter_map(|s| s.loo_floor).collect();
+        let shown = |x: &[f64]| {
+            if x.is_empty() {
+                "–".to_string()
+            } else {
+                format!("{:.3}", mean(x))
+            }
+        };
         let secs = v.iter().map(|s| s.seconds).sum::<f64>() / v.len() as f64;
         let _ = writeln!(
             out,
-            "| {name} | {right}/{} | {recs}/{recs_all} | {} | {} | {secs:.0} |",
+            "| {name} | {right}/{} | {recs}/{recs_all} | {} | {} | {} | {secs:.0} |",
             v.len(),
             if params.is_empty() {
                 "–".to_string()
             } else {
                 format!("{within}/{}", params.len())
             },
-            if loo.is_empty() {
-                "–".to_string()
-            } else {
-                format!("{loo_mean:.3}")
-            },
+            shown(&loo),
+            shown(&floor),
         );
     }
     out
@@ -448,7 +499,7 @@ pub fn table(scores: &[SessionScore]) -> String {
 /// One line per session: kind, family, what was named, the figures.
 pub fn details(scores: &[SessionScore], cases: &[SessionCase]) -> String {
     let mut out = String::from(
-        "| id | kind | family | truth | named | right | recordings | param error | LOO |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| id | kind | family | truth | named | right | recordings | param error | LOO | floor |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (s, c) in scores.iter().zip(cases) {
         let truth = match (&c.truth, c.angle_ratio) {
@@ -458,7 +509,7 @@ pub fn details(scores: &[SessionScore], cases: &[SessionCase]) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {truth} | {} | {} | {}/{} | {} | {} |",
+            "| {} | {} | {} | {truth} | {} | {} | {}/{} | {} | {} | {} |",
             s.id,
             s.kind.name(),
             if c.other_family { "other" } else { "own" },
@@ -467,7 +518,8 @@ pub fn details(scores: &[SessionScore], cases: &[SessionCase]) -> String {
             s.recordings_right,
             s.recordings,
             s.param_error.map_or("–".into(), |e| format!("{e:.2}")),
-            s.loo_ratio.map_or("–".into(), |e| format!("{e:.3}")),
+            s.loo_ratio.map_or("–".into(), |e| format!("{e:.4}")),
+            s.loo_floor.map_or("–".into(), |e| format!("{e:.4}")),
         );
     }
     out
