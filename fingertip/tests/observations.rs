@@ -105,7 +105,7 @@ fn papers_sensor_scores_as_observations_md_claims() {
     let (hw, paper) = (&params.fingertip, &params.paper_sensor);
     let config = causes::paper_sensor(&Config::from_hardware(hw, MESH_MM), paper);
     let tau_s = paper.ac_coupling_tau_s;
-    let ac = |t: &[f64], y: &mut [f64]| HighpassCoupling { tau_s }.apply(t, y);
+    let ac = move |t: &[f64], y: &mut [f64]| HighpassCoupling { tau_s }.apply(t, y);
     let card = observations::score(&setup(config, hw, Some(&ac))).expect("scorecard");
     assert_matches(&card, "## Scorecard of the paper's sensor");
 }
