@@ -40,7 +40,7 @@ pub struct Args {
     pub paper_sensor: bool,
     /// Write the paper's session to DIR instead of scoring: one recording of the paper's sensor
     /// per inclination of the sweep (0, 10, 20, 30°), for `tactile diagnose --joint DIR`.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["cause", "causes", "lmee", "paper_sensor"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["cause", "causes", "lmee", "paper_sensor", "highpass_tau"])]
     pub session: Option<PathBuf>,
     /// Sample rate of the session's recordings, Hz.
     #[arg(long, value_name = "HZ", default_value_t = 200.0, requires = "session")]
