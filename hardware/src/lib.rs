@@ -1,6 +1,6 @@
 //! The one loader for every parameter of the sensor: `hardware/*.toml` (fingertip and gel, chip,
-//! front end, ADC, board, the bounds of the diagnosis's baseline fit), read and validated here and
-//! nowhere else.
+//! front end, ADC, board, the bounds of the diagnosis's baseline fit, the original paper's sensor),
+//! read and validated here and nowhere else.
 //!
 //! Each file is read strictly: a missing key, a key nobody reads (usually a typo), a value of the
 //! wrong type or outside its physical range is an error that names the file, the key and the
