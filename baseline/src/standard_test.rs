@@ -159,6 +159,17 @@ pub fn simulate_standard_test(
     opt: &SimulateOptions,
     params: &hardware::Params,
 ) -> Result<Recording, SimulateError> {
+    simulate_standard_test_with(opt, params, |_| {})
+}
+
+/// [`simulate_standard_test`] of a sensor whose baseline departs from the nominal one as
+/// `adjust` says (e.g. another Fz sensitivity: the paper's angle law of Fz in the paper's
+/// session, `tactile observations --session`). The recording's metadata stay the true test's.
+pub fn simulate_standard_test_with(
+    opt: &SimulateOptions,
+    params: &hardware::Params,
+    adjust: impl FnOnce(&mut BaselineParams),
+) -> Result<Recording, SimulateError> {
     let effects = opt
         .effects
         .iter()
@@ -172,7 +183,8 @@ pub fn simulate_standard_test(
         opt.contact_angle_deg,
         opt.azimuth_deg,
     )?;
-    let spec = spec(opt, params, &fingertip, readout, test, effects);
+    let mut spec = spec(opt, params, &fingertip, readout, test, effects);
+    adjust(&mut spec.baseline);
     let mut rec = simulate(&spec);
     if let Some(alpha) = opt.smoother_alpha {
         rec.meta

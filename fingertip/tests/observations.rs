@@ -94,3 +94,18 @@ fn causes_score_as_observations_md_claims() {
     let card = observations::score(&setup(base, &hw, Some(&ac))).expect("scorecard");
     assert_matches(&card, "## Scorecard with AC coupling");
 }
+
+/// The paper's sensor (`hardware/paper-sensor.toml`): the default fingertip with the gel's
+/// relaxation, every output through the offset cut's AC coupling; what the CLI's
+/// `--paper-sensor` scores.
+#[test]
+#[ignore = "one more scorecard, ~30 s"]
+fn papers_sensor_scores_as_observations_md_claims() {
+    let params = hardware::Params::load_default().expect("hardware");
+    let (hw, paper) = (&params.fingertip, &params.paper_sensor);
+    let config = causes::paper_sensor(&Config::from_hardware(hw, MESH_MM), paper);
+    let tau_s = paper.ac_coupling_tau_s;
+    let ac = move |t: &[f64], y: &mut [f64]| HighpassCoupling { tau_s }.apply(t, y);
+    let card = observations::score(&setup(config, hw, Some(&ac))).expect("scorecard");
+    assert_matches(&card, "## Scorecard of the paper's sensor");
+}

@@ -1,6 +1,6 @@
 //! The one loader for every parameter of the sensor: `hardware/*.toml` (fingertip and gel, chip,
-//! front end, ADC, board, the bounds of the diagnosis's baseline fit), read and validated here and
-//! nowhere else.
+//! front end, ADC, board, the bounds of the diagnosis's baseline fit, the original paper's sensor),
+//! read and validated here and nowhere else.
 //!
 //! Each file is read strictly: a missing key, a key nobody reads (usually a typo), a value of the
 //! wrong type or outside its physical range is an error that names the file, the key and the
@@ -18,6 +18,7 @@ mod chip;
 mod fingertip;
 mod fit_bounds;
 mod frontend;
+mod paper_sensor;
 pub mod reader;
 mod sim;
 
@@ -30,6 +31,7 @@ pub use chip::{Bridge as ChipBridge, Chip, Resistor as ChipResistor, ARM_NAMES, 
 pub use fingertip::{CompressionTest, Fingertip};
 pub use fit_bounds::FitBounds;
 pub use frontend::{AntiAlias, Bridge, FrontEnd, GainStage, InAmp, TempSensor, Trim, BRIDGES};
+pub use paper_sensor::PaperSensor;
 pub use reader::Reader;
 pub use sim::Sim;
 
@@ -51,6 +53,9 @@ pub struct Params {
     pub sim: Sim,
     /// How far the diagnosis may calibrate the baseline model to a recording.
     pub fit_bounds: FitBounds,
+    /// The original paper's sensor where it differs from the default model (its angle law of
+    /// Fz, relaxation and AC coupling): read only by the paper's session and scorecard.
+    pub paper_sensor: PaperSensor,
 }
 
 impl Params {
@@ -77,7 +82,13 @@ impl Params {
         let board = collect(Board::load(&dir.join("board.toml")), &mut errors);
         let sim = collect(Sim::load(&dir.join("sim.toml")), &mut errors);
         let fit_bounds = collect(FitBounds::load(&dir.join("fit-bounds.toml")), &mut errors);
-        match (fingertip, chip, frontend, adc, board, sim, fit_bounds) {
+        let paper = collect(
+            PaperSensor::load(&dir.join("paper-sensor.toml")),
+            &mut errors,
+        );
+        match (
+            fingertip, chip, frontend, adc, board, sim, fit_bounds, paper,
+        ) {
             (
                 Some(fingertip),
                 Some(chip),
@@ -86,6 +97,7 @@ impl Params {
                 Some(board),
                 Some(sim),
                 Some(fit_bounds),
+                Some(paper_sensor),
             ) if errors.is_empty() => Ok(Self {
                 fingertip,
                 chip,
@@ -94,6 +106,7 @@ impl Params {
                 board,
                 sim,
                 fit_bounds,
+                paper_sensor,
             }),
             _ => Err(LoadError(errors)),
         }

@@ -184,3 +184,15 @@ fn chip_bridge_arm_must_not_be_empty() {
     assert_eq!(e.key, "bridge.fz");
     assert!(e.to_string().contains("every arm"), "{e}");
 }
+
+#[test]
+fn the_papers_sensor_is_read_from_its_own_file() {
+    let p = Params::load_default().unwrap().paper_sensor;
+    assert_eq!(p.fz_ratio(0.0), 1.0);
+    let dir = folder_with("paper-sensor.toml", |t| {
+        t.replace("ac_coupling_tau_s = 1000.0", "ac_coupling_tau_s = -1.0")
+    });
+    let e = only_error(&dir);
+    assert_eq!(e.key, "offset_cut.ac_coupling_tau_s");
+    assert!(e.to_string().contains("paper-sensor.toml"), "{e}");
+}

@@ -130,3 +130,17 @@ fn body_causes() -> Vec<Cause> {
         },
     ]
 }
+
+/// The paper's sensor as the scorecard models it: the default fingertip with the gel's
+/// relaxation of `hardware/paper-sensor.toml` (the `viscoelastic_gel` cause at the paper's
+/// parameters; E stays the relaxed modulus). The offset cut's AC coupling, the file's other
+/// adoption, is electronics: the caller adds it as the scorecard's `output_filter`.
+pub fn paper_sensor(base: &Config, paper: &hardware::PaperSensor) -> Config {
+    Config {
+        material: Material::ViscoNeoHookean(vec![PronyTerm {
+            g: paper.relaxation_fraction,
+            tau_s: paper.relaxation_tau_s,
+        }]),
+        ..base.clone()
+    }
+}

@@ -11,6 +11,7 @@ pub mod info;
 pub mod list;
 pub mod log;
 pub mod observations;
+pub mod paper_session;
 pub mod plot;
 pub mod prove;
 pub mod replay;

@@ -5,11 +5,14 @@
 //! cut, an electronics effect, is the `sim` catalogue's operator.
 
 use std::io::Write;
+use std::path::PathBuf;
 
 use anyhow::Context;
 use fingertip::observations::{self, causes, energy, Scorecard, Setup};
 use fingertip::Config;
 use sim::effects::HighpassCoupling;
+
+use super::paper_session::{self, SessionOptions};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -31,6 +34,23 @@ pub struct Args {
     /// Also compute the elastic potential energy along the inclination (LMEE).
     #[arg(long)]
     pub lmee: bool,
+    /// Score the paper's sensor: the default fingertip with the gel's relaxation and the offset
+    /// cut's AC coupling of `hardware/paper-sensor.toml` (`--highpass-tau` overrides the latter).
+    #[arg(long, conflicts_with_all = ["cause", "causes"])]
+    pub paper_sensor: bool,
+    /// Write the paper's session to DIR instead of scoring: one recording of the paper's sensor
+    /// per inclination of the sweep (0, 10, 20, 30°), for `tactile diagnose --joint DIR`.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["cause", "causes", "lmee", "paper_sensor", "highpass_tau"])]
+    pub session: Option<PathBuf>,
+    /// Sample rate of the session's recordings, Hz.
+    #[arg(long, value_name = "HZ", default_value_t = 200.0, requires = "session")]
+    pub rate: f64,
+    /// Noise seed of the session's recordings (the recording at the i-th angle uses seed + i).
+    #[arg(long, default_value_t = 1, requires = "session")]
+    pub seed: u64,
+    /// White noise on each output of the session's recordings, V (standard deviation).
+    #[arg(long, value_name = "V", default_value_t = 0.002, requires = "session")]
+    pub noise_v: f64,
 }
 
 /// AC coupling of the demo's concealed effect (`scripts/demo-chain.sh`), for `--causes`.
@@ -62,11 +82,15 @@ fn print_card(out: &mut impl Write, card: &Scorecard) -> std::io::Result<()> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let hw = hardware::Params::load_default()
-        .context("loading hardware/")?
-        .fingertip;
+    if let Some(dir) = &args.session {
+        return run_session(&args, dir);
+    }
+    let params = hardware::Params::load_default().context("loading hardware/")?;
+    let hw = params.fingertip;
     let base = default_config(&hw, args.mesh_size);
-    let hp_tau = args.highpass_tau;
+    let hp_tau = args.highpass_tau.or(args
+        .paper_sensor
+        .then_some(params.paper_sensor.ac_coupling_tau_s));
     let highpass = move |t: &[f64], y: &mut [f64]| {
         if let Some(tau_s) = hp_tau {
             HighpassCoupling { tau_s }.apply(t, y)
@@ -77,6 +101,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return run_causes(&mut out, &base, &hw, args.json);
     }
     let (config, label) = match &args.cause {
+        None if args.paper_sensor => (
+            causes::paper_sensor(&base, &params.paper_sensor),
+            paper_sensor_label(&params.paper_sensor),
+        ),
         None => (base.clone(), "default".to_string()),
         Some(name) => {
             let config = causes::apply_named(&base, name)
@@ -99,6 +127,40 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     print_card(&mut out, &card)?;
     if let Some(points) = lmee {
         print_lmee(&mut out, &points)?;
+    }
+    Ok(())
+}
+
+/// The paper's sensor's name in the scorecard, with its relaxation (the AC coupling is added
+/// to the label with the other filters).
+fn paper_sensor_label(p: &hardware::PaperSensor) -> String {
+    format!(
+        "paper's sensor: relaxation g {} tau {} s",
+        p.relaxation_fraction, p.relaxation_tau_s
+    )
+}
+
+/// `--session DIR`: write the paper's session and print its laws.
+fn run_session(args: &Args, dir: &std::path::Path) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        args.rate.is_finite() && args.rate > 0.0,
+        "--rate must be a positive number of Hz"
+    );
+    anyhow::ensure!(
+        args.noise_v.is_finite() && args.noise_v >= 0.0,
+        "--noise-v must be zero or positive"
+    );
+    let laws = paper_session::write_session(&SessionOptions {
+        dir: dir.to_path_buf(),
+        rate_hz: args.rate,
+        seed: args.seed,
+        noise_v: args.noise_v,
+    })?;
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&laws)?)?;
+    } else {
+        paper_session::print_laws(&mut out, &laws)?;
     }
     Ok(())
 }
