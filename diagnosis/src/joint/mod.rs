@@ -243,7 +243,7 @@ impl Members<'_, '_> {
         let candidates = self.candidates();
         let cur = search.forward(null, &candidates);
         let one_scale = cur.layout.own_scales.clone();
-        let mut cur = search.scales(cur, &scales);
+        let mut cur = search.scales(cur, &scales, &start);
         // With the scales as they were, the forward step's last round would be tried again.
         if cur.layout.own_scales != one_scale {
             cur = search.forward(cur, &candidates);

@@ -162,13 +162,25 @@ impl<'s, 'a> Joint<'s, 'a> {
     }
 
     /// The session's vector read from recordings' full vectors: a shared value is the median
-    /// of the recordings' values.
+    /// of the values of the recordings that fit it. (A recording that does not, a moment scale
+    /// at 0° where no moment shows, carries whatever its vector held: taken into a median of
+    /// two, a scale of 6e5 had started a leave-one-out fit far off.)
     fn vector_of(&self, full: &[Vec<f64>]) -> Vec<f64> {
         self.slots
             .iter()
             .map(|&s| match s {
                 Slot::Own(r, i) => full[r][i],
-                Slot::Shared(i) => median(full.iter().map(|f| f[i]).collect()),
+                Slot::Shared(i) => {
+                    let fitting: Vec<f64> = (0..full.len())
+                        .filter(|&r| self.models[r].free_indices().contains(&i))
+                        .map(|r| full[r][i])
+                        .collect();
+                    if fitting.is_empty() {
+                        median(full.iter().map(|f| f[i]).collect())
+                    } else {
+                        median(fitting)
+                    }
+                }
             })
             .collect()
     }
