@@ -50,6 +50,25 @@ impl SessionKind {
         SessionKind::Null,
     ];
 
+    /// The kind's key on the command line (`tactile prove --sessions --kind KEY`).
+    pub fn key(self) -> &'static str {
+        match self {
+            SessionKind::Crosstalk => "crosstalk",
+            SessionKind::MisdeclaredGain => "misdeclared-gain",
+            SessionKind::Friction => "friction",
+            SessionKind::Lag => "lag",
+            SessionKind::Hysteresis => "hysteresis",
+            SessionKind::Relaxation => "relaxation",
+            SessionKind::AngleLaw => "angle-law",
+            SessionKind::Null => "null",
+        }
+    }
+
+    /// The kind whose [`Self::key`] is `key`.
+    pub fn from_key(key: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.key() == key)
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             SessionKind::Crosstalk => "crosstalk across azimuths",
@@ -103,12 +122,18 @@ const SPEEDS_MM_PER_MIN: [f64; 3] = [10.0, 30.0, 90.0];
 const ANGLES_DEG: [f64; 3] = [0.0, 15.0, 30.0];
 
 impl Plan {
-    /// `per_kind` sessions of every kind, each from its own seed.
-    pub fn sessions(&self, per_kind: usize) -> Result<Vec<SessionCase>, FeResponseError> {
+    /// `per_kind` sessions of every kind (of `only`, when given), each from its own seed: a
+    /// session's id, and so its recordings, do not depend on `only`.
+    pub fn sessions(
+        &self,
+        per_kind: usize,
+        only: Option<SessionKind>,
+    ) -> Result<Vec<SessionCase>, FeResponseError> {
         let specs: Vec<(usize, SessionKind)> = (0..per_kind)
             .flat_map(|i| SessionKind::ALL.map(|k| (i, k)))
             .enumerate()
             .map(|(id, (_, k))| (id, k))
+            .filter(|&(_, k)| only.is_none_or(|o| o == k))
             .collect();
         specs
             .into_par_iter()

@@ -9,6 +9,7 @@ use anyhow::Context;
 
 use baseline::Readout;
 use diagnosis::Options;
+use prove::sessions::SessionKind;
 use prove::{categories, csv, markdown, real, run as score, summary_svg, Plan, Summary};
 
 #[derive(Debug, clap::Args)]
@@ -52,6 +53,17 @@ pub struct Args {
     /// With --sessions, sessions of each kind.
     #[arg(long, default_value_t = 2, requires = "sessions")]
     pub per_kind: usize,
+    /// With --sessions, only the sessions of this kind (the same sessions as in the whole run).
+    #[arg(long, requires = "sessions", value_name = "KIND", value_parser = session_kind)]
+    pub kind: Option<SessionKind>,
+}
+
+/// A session kind by its key, for `--kind`.
+fn session_kind(key: &str) -> Result<SessionKind, String> {
+    SessionKind::from_key(key).ok_or_else(|| {
+        let keys: Vec<&str> = SessionKind::ALL.iter().map(|k| k.key()).collect();
+        format!("no session kind `{key}` (the kinds: {})", keys.join(", "))
+    })
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -118,7 +130,7 @@ fn write_recordings(cases: &[prove::Case], out: &std::path::Path) -> anyhow::Res
 fn run_sessions(plan: &Plan, args: &Args) -> anyhow::Result<()> {
     use prove::sessions;
     let started = Instant::now();
-    let cases = plan.sessions(args.per_kind)?;
+    let cases = plan.sessions(args.per_kind, args.kind)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     if args.write_recordings {
