@@ -209,9 +209,7 @@ impl Plan {
             let mut rec = self.test(&sensor, (a, az, speed), seed, false)?;
             rec.meta.rod_speed_mm_per_min = Some(speed);
             if let Some((channel, factor)) = misdeclared {
-                let gain = [&mut rec.meta.gain_mx, &mut rec.meta.gain_my];
-                let [mx, my] = gain;
-                *(if channel == 1 { mx } else { my }) *= factor;
+                *[&mut rec.meta.gain_mx, &mut rec.meta.gain_my][channel - 1] *= factor;
             }
             recordings.push((format!("s{id:02}-{i}.csv"), rec));
         }
