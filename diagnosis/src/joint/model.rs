@@ -209,6 +209,29 @@ impl<'s, 'a> Joint<'s, 'a> {
         }
     }
 
+    /// The `keep` of `starts` whose session misfit is lowest as they stand (the first, the
+    /// recordings' medians, always among them).
+    pub fn screened(&self, starts: Vec<Vec<Vec<f64>>>, keep: usize) -> Vec<Vec<Vec<f64>>> {
+        if starts.len() <= keep {
+            return starts;
+        }
+        let mut r = Vec::new();
+        let mut cost: Vec<(usize, f64)> = starts
+            .iter()
+            .enumerate()
+            .skip(1)
+            .map(|(i, full)| {
+                self.residuals(&self.vector_of(full), &mut r);
+                (i, r.iter().map(|v| v * v).sum::<f64>())
+            })
+            .collect();
+        cost.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let mut kept = vec![0];
+        kept.extend(cost.iter().take(keep - 1).map(|&(i, _)| i));
+        kept.sort_unstable();
+        kept.into_iter().map(|i| starts[i].clone()).collect()
+    }
+
     /// Fit from the best of `starts` (recordings' full vectors, internal units; `lm::solve_best`).
     pub fn fit(&self, starts: &[Vec<Vec<f64>>], max_iterations: usize) -> JointFit {
         let vectors: Vec<Vec<f64>> = starts.iter().map(|f| self.vector_of(f)).collect();
