@@ -53,13 +53,13 @@ fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
     let mut frozen = others.fit.shared_values();
     for c in std::mem::take(&mut alone.own_scales) {
         let i = SCALE_AT + c;
-        let points: Vec<(f64, f64)> = keep
+        let points: Vec<(usize, f64)> = keep
             .iter()
             .enumerate()
             .filter(|&(_, &k)| m.setups[k].used[c + 1])
-            .map(|(j, &k)| (axis(m, k), others.fit.full[j][i]))
+            .map(|(j, &k)| (k, others.fit.full[j][i]))
             .collect();
-        if let Some(v) = line_at(&points, axis(m, r)) {
+        if let Some(v) = predicted_scale(m, &points, r, c) {
             frozen.insert(i, v);
         }
     }
@@ -81,6 +81,53 @@ fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
         rmse_before: m.diags[r].report.fit.heldout.rmse_before,
         rmse_after: m.prepared[r].rmse(&predicted).1,
     }
+}
+
+/// The scale of output `c` (relative to the model) predicted for recording `r` from the others'
+/// `(recording, scale)`: along a straight line in the session's variation, either of the scale
+/// itself (the model's law wrong by a straight correction) or of the scale times the model's own
+/// share at each test (the measured law straight), whichever line the others follow more
+/// closely. Where both pass through every point (two others), the correction's.
+fn predicted_scale(m: &Members, points: &[(usize, f64)], r: usize, c: usize) -> Option<f64> {
+    let x = |k: usize| axis(m, k);
+    let correction: Vec<(f64, f64)> = points.iter().map(|&(k, s)| (x(k), s)).collect();
+    let shares: Option<Vec<f64>> = points.iter().map(|&(k, _)| model_share(m, k, c)).collect();
+    let (Some(shares), Some(own)) = (shares, model_share(m, r, c)) else {
+        return line_at(&correction, x(r));
+    };
+    let measured: Vec<(f64, f64)> = correction
+        .iter()
+        .zip(&shares)
+        .map(|(&(a, s), &h)| (a, s * h))
+        .collect();
+    let scale = |pts: &[(f64, f64)]| pts.iter().map(|p| p.1 * p.1).sum::<f64>().sqrt();
+    let misfit = |pts: &[(f64, f64)]| line_misfit(pts) / scale(pts).max(1e-300);
+    if misfit(&measured) < misfit(&correction) - 1e-9 {
+        line_at(&measured, x(r)).map(|v| v / own)
+    } else {
+        line_at(&correction, x(r))
+    }
+}
+
+/// The model's own share of the load on output `c` in recording `k`: the output per unit of
+/// the rod's force at the test's peak, at unit modulus; `None` without contact.
+fn model_share(m: &Members, k: usize, c: usize) -> Option<f64> {
+    let u = m.setups[k]
+        .drive
+        .unit
+        .iter()
+        .max_by(|a, b| a.force_n.total_cmp(&b.force_n))?;
+    (u.force_n > 0.0 && u.chip[c] != 0.0).then(|| (u.chip[c] / u.force_n).abs())
+}
+
+/// The root-mean-square distance of `points` from their least-squares line.
+fn line_misfit(points: &[(f64, f64)]) -> f64 {
+    let n = points.len().max(1) as f64;
+    let sum: f64 = points
+        .iter()
+        .map(|&(x, y)| (y - line_at(points, x).unwrap_or(y)).powi(2))
+        .sum();
+    (sum / n).sqrt()
 }
 
 /// Where recording `k` lies along the session's variation: its contact angle when the session
