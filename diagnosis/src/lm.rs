@@ -36,6 +36,7 @@ pub struct Solution {
 }
 
 /// Limits, steps and bounds of a fit.
+#[derive(Clone)]
 pub struct Options {
     /// Most iterations (Jacobians) before giving up.
     pub max_iterations: usize,
@@ -52,7 +53,7 @@ pub struct Options {
     pub min_deviance_drop: f64,
 }
 
-fn sse(r: &[f64]) -> f64 {
+pub(crate) fn sse(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
 }
 
@@ -106,10 +107,7 @@ pub fn solve_best(problem: &dyn Problem, starts: &[Vec<f64>], opt: &Options) -> 
     }
     let race = Options {
         max_iterations: RACE_ITERATIONS.min(opt.max_iterations),
-        step: opt.step.clone(),
-        lower: opt.lower.clone(),
-        upper: opt.upper.clone(),
-        min_deviance_drop: opt.min_deviance_drop,
+        ..opt.clone()
     };
     let leader = starts
         .iter()

@@ -222,7 +222,7 @@ impl<'s, 'a> Joint<'s, 'a> {
             .skip(1)
             .map(|(i, full)| {
                 self.residuals(&self.vector_of(full), &mut r);
-                (i, r.iter().map(|v| v * v).sum::<f64>())
+                (i, lm::sse(&r))
             })
             .collect();
         cost.sort_by(|a, b| a.1.total_cmp(&b.1));
