@@ -399,7 +399,8 @@ fn sensing_relaxation(
 }
 
 /// A tendon: F - a lag(F, tau_1) relaxes, and the whole recovers by (1 + b (1 - e^(-t/tau_2)))
-/// as it dries.
+/// as it dries. It cannot push back: once the relaxed tendon lags behind a fast return it goes
+/// slack and the load is zero (as `sim::effects` opens the contact of a relaxing gel).
 fn tendon(
     rec: &mut Recording,
     ctx: &Ctx,
@@ -418,7 +419,7 @@ fn tendon(
     let rows = clean.t_s.iter().zip(&clean.load_n).zip(&lagged);
     for (f, ((t, c), l)) in rec.channels.load_n.iter_mut().zip(rows) {
         let dried = 1.0 + b * (1.0 - (-t / tau_2_s).exp());
-        *f += (c - a * l) * dried - c;
+        *f += ((c - a * l) * dried).max(0.0) - c;
     }
 }
 
