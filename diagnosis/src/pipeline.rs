@@ -179,10 +179,11 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
 /// The library is searched on the model the catalogue chose when it named nothing, and, when
 /// it named effects, on each model without one of them: a term is offered as the *other
 /// explanation* of what a catalogue effect took up (a connector's offset step taken up by a
-/// thermal drift, a power of the rod speed by a lag), never as an addition beside the whole
-/// catalogue model. Beside a catalogue effect, on real rigs (the Mach-1 tests), the terms take
-/// up the effect's own misfit (a wander beside a relaxation spectrum that one Prony term does
-/// not hold), which is not new physics. A catalogue effect is replaced where the model without
+/// thermal drift, a power of the rod speed by a lag). Beside the whole catalogue model only
+/// the terms no catalogue effect's misfit can mimic are offered
+/// ([`terms::TermKind::beside_catalogue`]): on real rigs (the Mach-1 tests) the others take up
+/// the effect's own misfit (a wander beside a relaxation spectrum that one Prony term does not
+/// hold), which is not new physics. A catalogue effect is replaced where the model without
 /// it, with its described terms, is at least as good by the criterion (within
 /// [`MIN_BIC_GAIN`]) and no worse on the held-out stretch.
 fn described_model(
@@ -190,21 +191,21 @@ fn described_model(
     sel: &mut crate::select::Selection,
     drive: &Drive,
 ) -> (terms::Described, Outputs) {
-    // Candidate `i` described: its sanity findings, and with `search` the library's terms
-    // where its residual stays structured.
-    let of = |i: usize, search: bool| {
+    // Candidate `i` described: its sanity findings, and where its residual stays structured
+    // the library's terms (with `beside`, those that may stand beside the whole catalogue).
+    let of = |i: usize, beside: bool| {
         let c = &sel.all[i];
         let full = c.outputs(drive);
         let dec: [Vec<f64>; 4] = std::array::from_fn(|k| c.outputs.channel(k).to_vec());
         let details = params::baseline(c, setup.data);
-        let structured = search && !white(setup, &dec);
-        let d = describe(setup, c, &full, &details, !structured);
+        let structured = !white(setup, &dec);
+        let d = describe(setup, c, (&full, &details), structured, beside);
         (d, full)
     };
     let chosen = sel.chosen;
     let kinds = sel.chosen().kinds.clone();
     if kinds.is_empty() {
-        return of(chosen, true);
+        return of(chosen, false);
     }
     let (bic, held) = (sel.chosen().bic, sel.chosen().heldout_chi2);
     let mut best: Option<(f64, usize, terms::Described, Outputs, EffectKind)> = None;
@@ -213,7 +214,7 @@ fn described_model(
         if w == chosen || sel.all[w].kinds.len() + 1 != kinds.len() {
             continue;
         }
-        let (d_w, full_w) = of(w, true);
+        let (d_w, full_w) = of(w, false);
         if d_w.found.terms.is_empty() {
             continue;
         }
@@ -234,19 +235,19 @@ fn described_model(
             );
             (d_w, full_w)
         }
-        None => of(chosen, false),
+        None => of(chosen, true),
     }
 }
 
 /// What the catalogue's model leaves, described: the calibration's sanity findings
-/// (`terms::sanity`) always, and where the residual stays structured (`white_after` false),
-/// the library's terms (`terms::search`).
+/// (`terms::sanity`) always, and where the residual stays `structured` the library's terms
+/// (`terms::search`; with `beside`, only those that may stand beside the whole catalogue).
 fn describe(
     setup: &Setup,
     chosen: &Candidate,
-    chosen_full: &Outputs,
-    details: &[ParamDetail],
-    white_after: bool,
+    (chosen_full, details): (&Outputs, &[ParamDetail]),
+    structured: bool,
+    beside: bool,
 ) -> terms::Described {
     let data = setup.data;
     let offset = std::array::from_fn(|c| chosen.fitted.full[crate::fit::OFFSET_AT + c]);
@@ -285,7 +286,8 @@ fn describe(
         fit_chi2: chosen.sse(),
         heldout_chi2: chosen.heldout_chi2,
     };
-    terms::Described::new(&ctx, nested, details, !white_after)
+    ctx.beside_catalogue = beside;
+    terms::Described::new(&ctx, nested, details, structured)
 }
 
 /// Whether `effects` names `kind`.

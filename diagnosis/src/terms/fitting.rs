@@ -31,6 +31,9 @@ pub(crate) struct Context<'d> {
     /// effect's misfit, so terms that only open a loop (a lag, an odd power of the speed) are
     /// not looked for.
     pub loop_in_model: bool,
+    /// The terms are searched beside the whole catalogue model: only those that no catalogue
+    /// effect's own misfit can mimic are offered ([`super::TermKind::beside_catalogue`]).
+    pub beside_catalogue: bool,
 }
 
 impl<'d> Context<'d> {
@@ -72,6 +75,7 @@ impl<'d> Context<'d> {
             block_span,
             full_residual,
             loop_in_model: false,
+            beside_catalogue: false,
         }
     }
 

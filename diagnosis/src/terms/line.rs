@@ -57,7 +57,13 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         let f = f0 + f64::from(j) * df / 4.0;
         (vec![f], columns(ctx, f))
     });
-    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes.filter(|s| s.0[0] > 0.0))?;
+    // Beside the catalogue the refinement stays above the wander's frequencies as the search did.
+    let lowest = if ctx.beside_catalogue {
+        1.0 / WANDER_PERIOD_S
+    } else {
+        0.0
+    };
+    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes.filter(|s| s.0[0] > lowest))?;
     Some(Term {
         kind: TermKind::Line,
         channel: c,
@@ -154,12 +160,44 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
         drive_bin(full, (t0, dt, bins), size)
     };
     let df = 1.0 / (size as f64 * dt);
-    let f_lo = 2.0 / span;
+    // Beside the whole catalogue model only a periodic line is offered, not a slow wander
+    // (`TermKind::beside_catalogue`).
+    let f_lo = if ctx.beside_catalogue {
+        (2.0 / span).max(1.0 / WANDER_PERIOD_S)
+    } else {
+        2.0 / span
+    };
     let k = (1..size / 2)
         .filter(|&k| (f_lo..=f_hi).contains(&(k as f64 * df)))
         .filter(|&k| !drive.is_some_and(|d| harmonic_of(k, d)))
+        .filter(|&k| {
+            !ctx.beside_catalogue || !drive.is_some_and(|d| beside_harmonic(k, d, span * df))
+        })
         .max_by(|&a, &b| power[a].total_cmp(&power[b]))?;
+    // Beside the whole catalogue model a line must stand out of the residual's spectrum as the
+    // mains must (`mains::MIN_LINE_PROMINENCE` over the octave either side): an effect's smooth
+    // misfit has a broad spectrum whose strongest bin, fitted and tested as a line, can pass
+    // both tests where the misfit stands far above the noise.
+    if ctx.beside_catalogue && prominence(&power, k) <= crate::mains::MIN_LINE_PROMINENCE {
+        return None;
+    }
     Some((k as f64 * df, df))
+}
+
+/// The periodogram's bin `k` over its median across the octave either side, leaving out the two
+/// bins either side that zero padding spreads a line over.
+fn prominence(power: &[f64], k: usize) -> f64 {
+    let (lo, hi) = ((k / 2).max(1), (2 * k).min(power.len() / 2 - 1));
+    let mut around: Vec<f64> = (lo..=hi)
+        .filter(|&j| j.abs_diff(k) > 2)
+        .map(|j| power[j])
+        .collect();
+    if around.is_empty() {
+        return 0.0;
+    }
+    let mid = around.len() / 2;
+    let (_, median, _) = around.select_nth_unstable_by(mid, f64::total_cmp);
+    power[k] / median.max(1e-300)
 }
 
 /// The bin of the rod's periodic drive in a periodogram of `size` bins over `bins` bins of
@@ -216,6 +254,19 @@ fn binned(sum: &[f64], count: &[usize]) -> Vec<f64> {
 fn harmonic_of(k: usize, d: usize) -> bool {
     let n = ((k as f64) / (d as f64)).round();
     n >= 1.0 && (k as f64 - n * d as f64).abs() <= 2.0 + 0.5 * n
+}
+
+/// Whether bin `k` lies in the band about a multiple of the drive's bin `d` where, beside a
+/// catalogue effect, the effect's own misfit sits: a response whose amplitude changes over the
+/// cycles (a material that conditions, a relaxation spectrum one Prony term does not hold)
+/// puts sidebands beside each harmonic, spaced by the inverse of the record's span: 1 /
+/// `span_df` bins. The band is a quarter of the drive's frequency or four sideband spacings
+/// either side, whichever is wider.
+fn beside_harmonic(k: usize, d: usize, span_df: f64) -> bool {
+    let spacing_bins = 1.0 / span_df.max(1e-12);
+    let half = (0.25 * d as f64).max(4.0 * spacing_bins);
+    let n = ((k as f64) / (d as f64)).round().max(1.0);
+    (k as f64 - n * d as f64).abs() <= half
 }
 
 /// Whether the rod's periodogram `rod` holds a line at bin `k` (within the two bins either

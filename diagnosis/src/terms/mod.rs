@@ -20,8 +20,9 @@
 //! loading), [`output_relaxation`] (the sensing element creeps where the load does not),
 //! [`output_set`] (the sensing element takes a set under load and recovers more slowly),
 //! [`load_lag`] (the load cell's stream shifted in time), [`load_stiffening`] (the material
-//! stiffening against the rod, on the load cell) and [`load_saturation`] (the load cell's
-//! amplifier clipping). The last four are catalogue entries met at a stage of their own. The
+//! stiffening against the rod, on the load cell), [`load_saturation`] (the load cell's
+//! amplifier clipping). Of these, [`output_relaxation`], [`load_lag`], [`load_stiffening`]
+//! and [`load_saturation`] are catalogue entries met at a stage of their own. The
 //! calibration's own checks, an inverted sign and a dead channel, are in [`sanity`].
 
 mod fitting;
@@ -188,6 +189,19 @@ impl TermKind {
             | TermKind::LoadSaturation => c == 0,
             _ => true,
         }
+    }
+
+    /// Whether the term may be offered beside the whole catalogue model: only where its
+    /// signature is one no catalogue effect's misfit can take. A periodic line: a catalogue
+    /// effect is a response to the rod's drive (its misfit sits at the drive's harmonics and
+    /// the sidebands beside them, excluded from the line's search there, or at the protocol's
+    /// slow time scales) or a slow function of time, so a line that repeats within seconds,
+    /// off the drive, is something else. Every other term has a smooth signature that the
+    /// misfit of a catalogue effect fitted with too few terms can take (a wander beside a
+    /// relaxation spectrum on the Mach-1 tests), so beside the whole model it would describe
+    /// the effect's own imperfection, not new physics.
+    pub fn beside_catalogue(self) -> bool {
+        self == TermKind::Line
     }
 
     /// The channel's refitted offset and scale on channel `c` (see [`TermKind::Recalibration`]).

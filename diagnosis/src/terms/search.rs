@@ -142,6 +142,7 @@ fn candidates(ctx: &Context, terms: &[Term]) -> Vec<Term> {
         .iter()
         .flat_map(|&k| (0..4).map(move |c| (k, c)))
         .filter(|&(k, c)| ctx.used[c] && k.acts_on(c))
+        .filter(|&(k, _)| !ctx.beside_catalogue || k.beside_catalogue())
         .collect();
     use rayon::prelude::*;
     jobs.par_iter()

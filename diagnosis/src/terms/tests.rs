@@ -97,6 +97,11 @@ fn masks(data: &Data) -> (Vec<bool>, Vec<bool>) {
 
 /// A context whose model is the clean signal.
 fn with_context<R>(data: &Data, f: impl FnOnce(&Context, Nested) -> R) -> R {
+    with_context_beside(data, false, f)
+}
+
+/// [`with_context`], the terms searched beside the whole catalogue model with `beside`.
+fn with_context_beside<R>(data: &Data, beside: bool, f: impl FnOnce(&Context, Nested) -> R) -> R {
     let (fit, held) = masks(data);
     let model: [Vec<f64>; 4] = std::array::from_fn(|c| {
         data.fit
@@ -107,7 +112,7 @@ fn with_context<R>(data: &Data, f: impl FnOnce(&Context, Nested) -> R) -> R {
     });
     let full: [Vec<f64>; 4] =
         std::array::from_fn(|c| data.full.t_s.iter().map(|&t| clean(t, c)).collect());
-    let ctx = Context::new(
+    let mut ctx = Context::new(
         data,
         (&fit, &held),
         [true; 4],
@@ -115,6 +120,7 @@ fn with_context<R>(data: &Data, f: impl FnOnce(&Context, Nested) -> R) -> R {
         std::array::from_fn(|c| full[c].as_slice()),
         [0.0; 4],
     );
+    ctx.beside_catalogue = beside;
     let n: usize = (0..4).map(|_| fit.iter().filter(|&&b| b).count()).sum();
     let nested = Nested {
         n,
@@ -189,6 +195,39 @@ fn a_line_gives_its_frequency_and_amplitude() {
         "{:?}",
         s.beta
     );
+}
+
+/// The search's terms on a recording with `extra`, beside the whole catalogue model.
+fn found_beside(extra: impl Fn(f64, usize, f64) -> f64) -> Vec<Term> {
+    let rec = recording(extra);
+    let data = Data::new(&rec).expect("the analytical recording is usable");
+    with_context_beside(&data, true, |ctx, nested| search(ctx, nested).terms)
+}
+
+#[test]
+fn beside_the_catalogue_a_periodic_line_is_found_and_a_slow_one_or_a_step_is_not() {
+    let line = |t: f64, f: f64| 0.05 * (std::f64::consts::TAU * f * t).sin();
+    let terms = found_beside(|t, c, _| if c == 0 { line(t, 0.7) } else { 0.0 });
+    let s = only(&terms, TermKind::Line, 0);
+    assert!((s.shape[0] - 0.7).abs() < 0.01, "{:?}", s.shape);
+    // A wander (period 20 s) and an offset step are what a catalogue effect's own misfit can
+    // look like: alone, they are described; beside the whole catalogue model, not.
+    for extra in [
+        Box::new(move |t: f64, c: usize, _: f64| if c == 0 { line(t, 0.05) } else { 0.0 })
+            as Box<dyn Fn(f64, usize, f64) -> f64>,
+        Box::new(|t: f64, c: usize, _: f64| if c == 2 && t >= 20.0 { 0.004 } else { 0.0 }),
+    ] {
+        assert!(!found(&extra).is_empty());
+        let beside = found_beside(&extra);
+        assert!(
+            beside.iter().all(|t| t.kind == TermKind::Recalibration),
+            "{:?}",
+            beside
+                .iter()
+                .map(|t| (t.kind, t.channel, t.shape.clone()))
+                .collect::<Vec<_>>()
+        );
+    }
 }
 
 #[test]
