@@ -61,6 +61,9 @@ pub struct Data {
     pub rate_hz: f64,
     /// Each channel's noise at full rate ([`Noise`]).
     pub noise: [Noise; 4],
+    /// Channels whose values show no noise at all (a simulation's load cell): their noise is the
+    /// floor of [`channel_noise`], and a model reproduces them to the arithmetic's precision.
+    pub noiseless: [bool; 4],
     /// The lattice each channel's values sit on, where they do ([`Lattice`]).
     pub lattice: [Option<Lattice>; 4],
     /// The regimes found at the full rate, with the load telling a start in contact, as index
@@ -129,7 +132,7 @@ impl Data {
         let fit = decimate(&full, &bounds);
         let segments = on_blocks(&full_segments, &bounds);
         let range = std::array::from_fn(|k| peak_to_peak(full.y[k].iter().copied()));
-        let noise = channel_noise(&full, &full_segments, rate, &range);
+        let (noise, noiseless) = channel_noise(&full, &full_segments, rate, &range);
         let lattice = std::array::from_fn(|k| Lattice::of(&full.y[k]));
         let weights = std::array::from_fn(|c| {
             fit.count
@@ -143,6 +146,7 @@ impl Data {
             range,
             rate_hz: rate,
             noise,
+            noiseless,
             lattice,
             bounds,
             segments,
@@ -163,8 +167,14 @@ impl Data {
     }
 }
 
-/// Each channel's noise ([`Noise`]) over the full-rate series `full` with its `segments`.
-fn channel_noise(full: &Series, segments: &[Segment], rate: f64, range: &[f64; 4]) -> [Noise; 4] {
+/// Each channel's noise ([`Noise`]) over the full-rate series `full` with its `segments`, and
+/// whether it is noiseless: neither noise nor a lattice shows, so its level is the floor.
+fn channel_noise(
+    full: &Series,
+    segments: &[Segment],
+    rate: f64,
+    range: &[f64; 4],
+) -> ([Noise; 4], [bool; 4]) {
     // The noise is estimated without a mains line: its second differences are large and
     // strongly correlated, and read as AR(1) noise they weighed a channel down tenfold and could
     // hide it as one carrying no signal. The line itself is fitted later.
@@ -196,7 +206,8 @@ fn channel_noise(full: &Series, segments: &[Segment], rate: f64, range: &[f64; 4
     } else {
         std::iter::once(0..full.len()).collect()
     };
-    std::array::from_fn(|k| {
+    let mut noiseless = [false; 4];
+    let noise = std::array::from_fn(|k| {
         let x = quiet[k].as_deref().unwrap_or(&full.y[k]);
         let pieces: Vec<&[f64]> = still.iter().map(|r| &x[r.clone()]).collect();
         let mut n = Noise::estimate(&pieces, &x[free.clone()]);
@@ -207,6 +218,7 @@ fn channel_noise(full: &Series, segments: &[Segment], rate: f64, range: &[f64; 4
         // times over the outputs). Read on the raw channel: a fitted mains line takes the
         // values off the lattice.
         let q = crate::quantisation::quantum(&full.y[k]);
+        noiseless[k] = n.sample.sd.max(q / 12f64.sqrt()) < 1e-6 * range[k];
         n.sample.sd = n
             .sample
             .sd
@@ -214,7 +226,8 @@ fn channel_noise(full: &Series, segments: &[Segment], rate: f64, range: &[f64; 4
             .max(1e-6 * range[k])
             .max(1e-12);
         n
-    })
+    });
+    (noise, noiseless)
 }
 
 /// The block length (samples) wanted at each sample, and where a block must end (the edges of

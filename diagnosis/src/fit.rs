@@ -59,6 +59,25 @@ pub struct Setup<'a> {
 }
 
 impl Setup<'_> {
+    /// The residuals the criterion counts on the fitting stretch: those of the compared
+    /// channels that carry noise. A noiseless channel (a simulation's load cell) is reproduced to
+    /// the arithmetic's precision; its residuals, near zero in noise units, would halve the
+    /// pooled variance of `n ln(SSE / n)` and so double every other channel's evidence (a
+    /// simulated recording without load noise came back with a stuck Fz). All of them where
+    /// every compared channel is noiseless.
+    pub fn counted_residuals(&self) -> usize {
+        let rows = self.fit_mask.iter().filter(|&&m| m).count();
+        let channels = |noisy: bool| {
+            (0..4)
+                .filter(|&c| self.used[c] && (!noisy || !self.data.noiseless[c]))
+                .count()
+        };
+        match channels(true) {
+            0 => rows * channels(false),
+            n => rows * n,
+        }
+    }
+
     /// The starting baseline from the load cell and the outputs ([`initial_baseline`]), worked
     /// out on first use and kept: the baseline's fit and every effect model of a recording that
     /// starts in contact start from it.
@@ -305,7 +324,8 @@ impl<'s, 'a> Model<'s, 'a> {
                 best = Some(sol);
             }
         }
-        let sol = best.expect("at least one starting point");
+        let mut sol = best.expect("at least one starting point");
+        sol.n = self.setup.counted_residuals();
         let full = self.expand(&sol.p);
         Fitted {
             full,

@@ -654,13 +654,19 @@ fn localise_residual(
 /// left bins correlated by +-0.25 in both directions on coloured noise alone. A channel read
 /// to a quantum coarser than its noise first has its rounding bias taken out (`quantisation`):
 /// a held value keeps its own bias, which no amount of averaging removes. Isolated outlying
-/// bins (a spike is one bin at 10 Hz) are not structure in time and are set aside.
+/// bins (a spike is one bin at 10 Hz) are not structure in time and are set aside. A residual
+/// whose RMS stays below [`RESOLUTION_FLOOR`] of the channel's range (a noiseless channel the
+/// model reproduces: a simulation's load cell) is white: no measurement could show it.
 fn white(setup: &Setup, m: &[Vec<f64>; 4]) -> bool {
     let data = setup.data;
     let compared = setup.used.iter().filter(|u| **u).count().max(1);
     let bin = data.fit.count.iter().copied().max().unwrap_or(1);
     (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = data.residual_without_rounding_bias(c, &m[c]);
+        let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64).sqrt();
+        if rms < RESOLUTION_FLOOR * data.range[c] {
+            return true;
+        }
         let r = localise::without_isolated_outliers(&weighted(data, c, &r), LB_P);
         !data.noise[c].plausible().iter().all(|noise| {
             let e = noise::prewhitened(&r, noise, bin, LB_LAGS);
