@@ -7,7 +7,8 @@
 //!
 //! a function of time alone. f is the strongest peak of the residual's periodogram over the
 //! fitting stretch (at least two periods in it, at most 10 Hz, what the decimated blocks still
-//! show), refined on the decimated series, where each block holds the line's mean over the
+//! show), where it stands out of the spectrum around it as a line does, refined on the
+//! decimated series, where each block holds the line's mean over the
 //! block. Where the load cell and an output share the line, it moves the rig (`material`);
 //! on some channels only, it is picked up after the transduction (`electronics`).
 
@@ -174,11 +175,12 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
             !ctx.beside_catalogue || !drive.is_some_and(|d| beside_harmonic(k, d, span * df))
         })
         .max_by(|&a, &b| power[a].total_cmp(&power[b]))?;
-    // Beside the whole catalogue model a line must stand out of the residual's spectrum as the
-    // mains must (`mains::MIN_LINE_PROMINENCE` over the octave either side): an effect's smooth
-    // misfit has a broad spectrum whose strongest bin, fitted and tested as a line, can pass
-    // both tests where the misfit stands far above the noise.
-    if ctx.beside_catalogue && prominence(&power, k) <= crate::mains::MIN_LINE_PROMINENCE {
+    // A line must stand out of the residual's spectrum as the mains must
+    // (`mains::MIN_LINE_PROMINENCE` over the octave either side): a smooth misfit (a force law
+    // the calibration does not quite hold, an effect's own) has a broad spectrum whose
+    // strongest bin, fitted and tested as a line, can pass both tests where the misfit stands
+    // far above the noise.
+    if prominence(&power, k) <= crate::mains::MIN_LINE_PROMINENCE {
         return None;
     }
     Some((k as f64 * df, df))
