@@ -254,7 +254,12 @@ impl<'s, 'a> Joint<'s, 'a> {
         JointFit {
             full,
             sse: best.sse,
-            n: best.n,
+            // The residuals the criterion counts, as a single fit does (no noiseless channel's).
+            n: self
+                .models
+                .iter()
+                .map(|m| m.setup.counted_residuals())
+                .sum(),
             k: self.slots.len(),
             heldout_chi2,
             heldout_r,
