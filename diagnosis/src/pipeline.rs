@@ -664,7 +664,8 @@ fn white(setup: &Setup, m: &[Vec<f64>; 4]) -> bool {
     (0..4).filter(|&c| setup.used[c]).all(|c| {
         let r = data.residual_without_rounding_bias(c, &m[c]);
         let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64).sqrt();
-        if rms < RESOLUTION_FLOOR * data.range[c] {
+        if rms < RESOLUTION_FLOOR * data.range[c] || (data.noiseless[c] && rms < data.noise[c].sd())
+        {
             return true;
         }
         let r = localise::without_isolated_outliers(&weighted(data, c, &r), LB_P);

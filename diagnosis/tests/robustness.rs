@@ -189,9 +189,20 @@ fn departures_from_the_models() {
 /// --noise-v` alone): the model reproduces the load to the arithmetic's precision, and that
 /// residual's structure is not a mismatch, nor may its near-zero residuals inflate the
 /// outputs' evidence (the criterion counts only channels that carry noise). It once came back
-/// `unexplained`, or with a stuck Fz channel.
+/// `unexplained`, or with a stuck Fz channel; and with a relaxation, `stiffening` and
+/// `amplifier_saturation` (the noiseless load, weighed at a millionth of its range, had
+/// outweighed the outputs a hundred-million-fold).
 #[test]
-fn a_load_without_noise_is_no_mismatch() {
+fn a_load_without_noise_is_no_mismatch_and_its_relaxation_is_named() {
+    let (rec, opt) = recording(&["viscoelastic_relaxation:tau_s=4,fraction=0.3"], |s| {
+        s.noise.load_n = 0.0;
+        s.peak_loads_n = vec![20.0];
+        s.test.sample_rate_hz = 200.0;
+    });
+    let d = diagnosis::diagnose(&rec, "noiseless load, relaxation", &opt).unwrap();
+    let names: Vec<String> = d.report.effects.iter().map(|e| e.name.clone()).collect();
+    assert_eq!(names, ["viscoelastic_relaxation"]);
+    assert_eq!(d.report.verdict, diagnosis::output::Verdict::Explained);
     for seed in [1, 3] {
         let (rec, opt) = recording(&[], |s| {
             s.noise.load_n = 0.0;
