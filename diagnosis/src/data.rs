@@ -234,11 +234,15 @@ fn channel_noise(
     (as_precise_as_the_best(noise, &noiseless, range), noiseless)
 }
 
-/// The RMS of the second differences within each of `pieces` (NaN where none).
+/// The RMS of the second differences within each of `pieces`, leaving out a few samples at
+/// either end, where a still stretch's detected edge can sit a sample from the rod's corner
+/// (NaN where none remain).
 fn second_difference_rms(pieces: &[&[f64]]) -> f64 {
+    const EDGE: usize = 3;
     let (sum, count) = pieces
         .iter()
-        .flat_map(|p| p.windows(3))
+        .filter(|p| p.len() > 2 * EDGE + 2)
+        .flat_map(|p| p[EDGE..p.len() - EDGE].windows(3))
         .map(|w| w[2] - 2.0 * w[1] + w[0])
         .filter(|d| d.is_finite())
         .fold((0.0, 0usize), |(s, n), d| (s + d * d, n + 1));

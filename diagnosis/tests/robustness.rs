@@ -223,3 +223,32 @@ fn a_load_without_noise_is_no_mismatch_and_its_relaxation_is_named() {
         );
     }
 }
+
+/// A test of the material alone (no sensor outputs) whose load cell picks up the mains: the
+/// load's line is looked for with the mains' own precondition (the rate), not the outputs'
+/// effects' (it had been skipped with them, and nothing was found).
+#[test]
+fn the_mains_on_a_load_cell_alone_is_named() {
+    let (mut rec, opt) = recording(&[], |s| {
+        s.peak_loads_n = vec![20.0];
+        s.test.sample_rate_hz = 500.0;
+    });
+    let ch = &mut rec.channels;
+    for (f, t) in ch.load_n.iter_mut().zip(&ch.t_s) {
+        *f += 0.15 * (std::f64::consts::TAU * 60.0 * t).sin();
+    }
+    for out in [&mut ch.fz_v, &mut ch.mx_v, &mut ch.my_v] {
+        out.iter_mut().for_each(|x| *x = f64::NAN);
+    }
+    let d = diagnosis::diagnose(&rec, "material alone, mains on the load cell", &opt).unwrap();
+    let found: Vec<(String, Vec<String>)> = d
+        .report
+        .effects
+        .iter()
+        .map(|e| (e.name.clone(), e.channels.clone()))
+        .collect();
+    assert_eq!(
+        found,
+        [("mains_interference".to_string(), vec!["load_N".to_string()])]
+    );
+}
