@@ -552,9 +552,10 @@ fn full_rate(
         .filter(|l| mains_helps(data, chosen_full, l, (&full_fit, &full_heldout), &OUTPUTS));
     let with_mains = add_line(data, chosen_full, mains.as_ref(), &OUTPUTS);
     // The load cell picks up the mains as well: its line is looked for on its own (it need
-    // not share the outputs' phase or even their presence).
+    // not share the outputs' phase or even their presence: a test of the material alone has
+    // only the rate's precondition, the mains' own).
     let load_mains = line_in_residual(data, &with_mains, &full_fit, &LOAD_CELL)
-        .filter(|_| mains_allowed && setup.used[0])
+        .filter(|_| crate::preconditions::mains_visible(data.rate_hz) && setup.used[0])
         .filter(|l| mains_helps(data, &with_mains, l, (&full_fit, &full_heldout), &LOAD_CELL));
     let with_load_mains = add_line(data, &with_mains, load_mains.as_ref(), &LOAD_CELL);
     let fast = fast_lines(setup, &with_load_mains, (&full_fit, &full_heldout));
