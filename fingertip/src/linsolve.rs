@@ -258,7 +258,7 @@ impl Ldlt {
         Ok(())
     }
 
-    /// Make a background factorisation the held factor at the [`ADOPT_AFTER`]-th call since
+    /// Make a background factorisation the held factor at the second call since
     /// it started, waiting for it if it is still running. Returns whether a new factor was
     /// adopted. A fixed call keeps a solve's sequence of preconditioners, and so its Newton
     /// iterations, the same from run to run: adopted "if finished", it depended on the
