@@ -61,8 +61,9 @@ pub struct Data {
     pub rate_hz: f64,
     /// Each channel's noise at full rate ([`Noise`]).
     pub noise: [Noise; 4],
-    /// Channels whose values show no noise at all (a simulation's load cell): their noise is the
-    /// floor of [`channel_noise`], and a model reproduces them to the arithmetic's precision.
+    /// Channels whose values show no noise at all (a simulation's load cell): a model can
+    /// reproduce them to the arithmetic's precision, and their noise is taken as the most
+    /// precise noisy channel's, relative to the range (`as_precise_as_the_best`).
     pub noiseless: [bool; 4],
     /// The lattice each channel's values sit on, where they do ([`Lattice`]).
     pub lattice: [Option<Lattice>; 4],
@@ -168,7 +169,7 @@ impl Data {
 }
 
 /// Each channel's noise ([`Noise`]) over the full-rate series `full` with its `segments`, and
-/// whether it is noiseless: neither noise nor a lattice shows, so its level is the floor.
+/// whether it is noiseless: neither noise nor a lattice shows in its still stretches.
 fn channel_noise(
     full: &Series,
     segments: &[Segment],
