@@ -58,12 +58,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         let f = f0 + f64::from(j) * df / 4.0;
         (vec![f], columns(ctx, f))
     });
-    // Beside the catalogue the refinement stays above the wander's frequencies as the search did.
-    let lowest = if ctx.beside_catalogue {
-        1.0 / WANDER_PERIOD_S
-    } else {
-        0.0
-    };
+    let lowest = lowest_hz(ctx);
     let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes.filter(|s| s.0[0] > lowest))?;
     Some(Term {
         kind: TermKind::Line,
@@ -161,13 +156,7 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
         drive_bin(full, (t0, dt, bins), size)
     };
     let df = 1.0 / (size as f64 * dt);
-    // Beside the whole catalogue model only a periodic line is offered, not a slow wander
-    // (`TermKind::beside_catalogue`).
-    let f_lo = if ctx.beside_catalogue {
-        (2.0 / span).max(1.0 / WANDER_PERIOD_S)
-    } else {
-        2.0 / span
-    };
+    let f_lo = (2.0 / span).max(lowest_hz(ctx));
     let k = (1..size / 2)
         .filter(|&k| (f_lo..=f_hi).contains(&(k as f64 * df)))
         .filter(|&k| !drive.is_some_and(|d| harmonic_of(k, d)))
@@ -184,6 +173,16 @@ fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
         return None;
     }
     Some((k as f64 * df, df))
+}
+
+/// The lowest frequency a line may have, searched and refined: beside the whole catalogue
+/// model only a periodic line is offered, not a slow wander (`TermKind::beside_catalogue`).
+fn lowest_hz(ctx: &Context) -> f64 {
+    if ctx.beside_catalogue {
+        1.0 / WANDER_PERIOD_S
+    } else {
+        0.0
+    }
 }
 
 /// The periodogram's bin `k` over its median across the octave either side, leaving out the two
