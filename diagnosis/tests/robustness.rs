@@ -224,6 +224,55 @@ fn a_load_without_noise_is_no_mismatch_and_its_relaxation_is_named() {
     }
 }
 
+/// An offset step on Fz in the last cycle, the held-out stretch: nothing fitted to the first
+/// cycle can show it, and the recording came back `unexplained`. With the stretches swapped
+/// (the end fitted, the start held out) the step is found, and the report says which stretch
+/// it held out.
+#[test]
+fn a_step_in_the_held_out_stretch_is_found_with_the_stretches_swapped() {
+    let (mut rec, opt) = recording(&[], |s| s.peak_loads_n = vec![50.0, 50.0]);
+    let ch = &mut rec.channels;
+    let t_step_s = ch.t_s[0] + 0.8 * (ch.t_s[ch.t_s.len() - 1] - ch.t_s[0]);
+    for (v, t) in ch.fz_v.iter_mut().zip(&ch.t_s) {
+        if *t >= t_step_s {
+            *v += 0.02;
+        }
+    }
+    let d = diagnosis::diagnose(&rec, "a late offset step on Fz", &opt).unwrap();
+    let r = &d.report;
+    let step = r
+        .effects
+        .iter()
+        .find(|e| e.name == "offset_step")
+        .unwrap_or_else(|| {
+            panic!(
+                "{:?}",
+                r.effects.iter().map(|e| &e.name).collect::<Vec<_>>()
+            )
+        });
+    assert_eq!(step.channels, ["fz_V"]);
+    let t0 = step.params.0.iter().find(|(k, _)| k == "t0_s").unwrap().1;
+    let all: Vec<_> = r
+        .effects
+        .iter()
+        .map(|e| (&e.name, &e.channels, &e.params.0))
+        .collect();
+    assert!(
+        (t0 - t_step_s).abs() < 0.5,
+        "{t0} for {t_step_s}: {all:?} {:?} {:?}",
+        r.verdict,
+        r.fit
+    );
+    assert!(r.fit.heldout.t_end_s < t_step_s);
+    let size = step.params.0.iter().find(|(k, _)| k == "step").unwrap().1;
+    assert!((size - 0.02).abs() < 0.002, "{all:?}");
+    assert!(
+        r.fit.heldout.rmse_after < r.fit.heldout.rmse_before,
+        "{all:?} {:?}",
+        r.fit
+    );
+}
+
 /// A test of the material alone (no sensor outputs) whose load cell picks up the mains: the
 /// load's line is looked for with the mains' own precondition (the rate), not the outputs'
 /// effects' (it had been skipped with them, and nothing was found).
