@@ -175,6 +175,18 @@ fn an_offset_step_gives_its_time_and_size() {
     assert!((s.beta[0] - 0.004).abs() < 2e-4, "{all:?}");
 }
 
+/// A step at rest just before the held-out stretch: on the fitting stretch a freeze fits it
+/// exactly as well (the model is constant there), and the held-out stretch refutes the freeze.
+/// The step it stood in front of must still be offered and kept.
+#[test]
+fn a_step_at_rest_is_not_lost_to_the_freeze_that_ties_with_it() {
+    let terms = found(|t, c, _| if c == 0 && t >= 55.0 { 0.3 } else { 0.0 });
+    let s = only(&terms, TermKind::OffsetStep, 0);
+    assert!((s.shape[0] - 55.0).abs() < 0.3, "{:?}", s.shape);
+    assert!((s.beta[0] - 0.3).abs() < 0.02, "{:?}", s.beta);
+    assert!(terms.iter().all(|t| t.kind != TermKind::StuckChannel));
+}
+
 #[test]
 fn a_stuck_channel_gives_its_time_and_value() {
     let terms = found(|t, c, m| if c == 3 && t >= 40.0 { -m } else { 0.0 });
