@@ -182,6 +182,30 @@ impl<'s, 'a> Candidate<'s, 'a> {
         c
     }
 
+    /// The model's derivatives on the decimated series, per channel, with respect to each
+    /// parameter it fitted (forward differences at the solver's own steps, internal units).
+    /// A parameter at a bound is left out: the fit could not move it that way, and a refit to
+    /// first order must not either.
+    pub fn directions(&self) -> [Vec<Vec<f64>>; 4] {
+        let specs = self.model.specs();
+        let drive = &self.model.setup.drive;
+        let mut out: [Vec<Vec<f64>>; 4] = Default::default();
+        for &i in &self.fitted.free {
+            let (s, p) = (&specs[i], self.fitted.full[i]);
+            if p - s.lower <= s.step || s.upper - p <= s.step {
+                continue;
+            }
+            let mut moved = self.fitted.full.clone();
+            moved[i] = p + s.step;
+            let m = self.model.outputs(&moved, drive);
+            for (c, cols) in out.iter_mut().enumerate() {
+                let d = m.channel(c).iter().zip(self.outputs.channel(c));
+                cols.push(d.map(|(a, b)| (a - b) / s.step).collect());
+            }
+        }
+        out
+    }
+
     /// Compare with `smaller`, a model this one contains: the BIC difference and a paired test
     /// on the held-out stretch.
     ///

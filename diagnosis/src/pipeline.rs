@@ -301,6 +301,9 @@ fn describe(
         heldout_chi2: chosen.heldout_chi2,
     };
     ctx.beside_catalogue = beside;
+    if beside {
+        ctx.set_catalogue(chosen.directions());
+    }
     terms::Described::new(&ctx, nested, details, structured)
 }
 

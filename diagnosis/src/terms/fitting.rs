@@ -34,6 +34,13 @@ pub(crate) struct Context<'d> {
     /// The terms are searched beside the whole catalogue model: only those that no catalogue
     /// effect's own misfit can mimic are offered ([`super::TermKind::beside_catalogue`]).
     pub beside_catalogue: bool,
+    /// Beside the whole catalogue model, per channel: the directions in which the catalogue's
+    /// fitted parameters move the model (its Jacobian, orthonormal on the fitting stretch with
+    /// the channel's offset and scale). A term is fitted with them refitted beside it, to
+    /// first order, as the catalogue would refit its parameters with the term in the model;
+    /// else a term must fit what the calibration, fitted without it, bent towards both.
+    /// Empty: only the offset and scale are refitted.
+    pub catalogue: [Vec<Vec<f64>>; 4],
 }
 
 impl<'d> Context<'d> {
@@ -76,7 +83,51 @@ impl<'d> Context<'d> {
             full_residual,
             loop_in_model: false,
             beside_catalogue: false,
+            catalogue: Default::default(),
         }
+    }
+
+    /// Set [`Self::catalogue`] from the model's derivatives `jacobian` per channel (one column
+    /// per fitted parameter): with the channel's offset and scale, an orthonormal basis of what
+    /// they span on the fitting stretch (weighted by the noise), directions the stretch cannot
+    /// resolve (below a millionth of the largest) left out, so that collinear parameters do
+    /// not extrapolate wildly onto the held-out stretch.
+    pub fn set_catalogue(&mut self, jacobian: [Vec<Vec<f64>>; 4]) {
+        for (c, cols) in jacobian.into_iter().enumerate() {
+            let mut all = vec![vec![1.0; self.len()], self.signal(c)];
+            all.extend(cols);
+            self.catalogue[c] = self.orthonormal(c, &all);
+        }
+    }
+
+    /// An orthonormal basis (weighted inner product over the fitting stretch) of `cols`, by the
+    /// singular value decomposition of the weighted columns.
+    fn orthonormal(&self, c: usize, cols: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let rows: Vec<usize> = (0..self.len()).filter(|&k| self.fit_mask[k]).collect();
+        if rows.is_empty() || cols.is_empty() {
+            return Vec::new();
+        }
+        let w = |k: usize| self.data.weight(c, k);
+        let a = DMatrix::from_fn(rows.len(), cols.len(), |i, j| cols[j][rows[i]] * w(rows[i]));
+        let svd = a.svd(false, true);
+        let Some(v_t) = svd.v_t else {
+            return Vec::new();
+        };
+        let largest = svd.singular_values.max();
+        (0..svd.singular_values.len())
+            .filter(|&i| svd.singular_values[i] > 1e-6 * largest)
+            .map(|i| {
+                let s = svd.singular_values[i];
+                (0..self.len())
+                    .map(|k| {
+                        (0..cols.len())
+                            .map(|j| cols[j][k] * v_t[(i, j)])
+                            .sum::<f64>()
+                            / s
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     pub fn t_s(&self) -> &[f64] {

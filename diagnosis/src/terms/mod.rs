@@ -21,7 +21,8 @@
 //! [`output_set`] (the sensing element takes a set under load and recovers more slowly),
 //! [`load_lag`] (the load cell's stream shifted in time), [`load_stiffening`] (the material
 //! stiffening against the rod, on the load cell), [`load_saturation`] (the load cell's
-//! amplifier clipping). Of these, [`output_relaxation`], [`load_lag`], [`load_stiffening`]
+//! amplifier clipping), [`material_recovery`] (a load that recovers with time: a tendon or a
+//! hydrogel drying under the rod). Of these, [`output_relaxation`], [`load_lag`], [`load_stiffening`]
 //! and [`load_saturation`] are catalogue entries met at a stage of their own. The
 //! calibration's own checks, an inverted sign and a dead channel, are in [`sanity`].
 
@@ -30,6 +31,7 @@ pub(crate) mod line;
 pub(crate) mod load_lag;
 pub(crate) mod load_saturation;
 pub(crate) mod load_stiffening;
+pub(crate) mod material_recovery;
 pub(crate) mod offset_step;
 pub(crate) mod output_relaxation;
 pub(crate) mod output_set;
@@ -159,13 +161,14 @@ pub(crate) enum TermKind {
     LoadLag,
     LoadStiffening,
     LoadSaturation,
+    MaterialRecovery,
     /// Not a finding: the channel's offset and scale refitted with the terms on it, as the
     /// calibration would refit them jointly (no parameter the nested model does not have).
     Recalibration,
 }
 
 impl TermKind {
-    pub const ALL: [TermKind; 11] = [
+    pub const ALL: [TermKind; 12] = [
         TermKind::OffsetStep,
         TermKind::StuckChannel,
         TermKind::Line,
@@ -177,6 +180,7 @@ impl TermKind {
         TermKind::LoadLag,
         TermKind::LoadStiffening,
         TermKind::LoadSaturation,
+        TermKind::MaterialRecovery,
     ];
 
     /// Whether the term can act on channel `c` (0 the load cell, 1..4 the outputs).
@@ -186,7 +190,8 @@ impl TermKind {
             TermKind::LoadLag
             | TermKind::PermanentSet
             | TermKind::LoadStiffening
-            | TermKind::LoadSaturation => c == 0,
+            | TermKind::LoadSaturation
+            | TermKind::MaterialRecovery => c == 0,
             _ => true,
         }
     }
@@ -199,22 +204,28 @@ impl TermKind {
     /// off the drive, is something else. Every other term has a smooth signature that the
     /// misfit of a catalogue effect fitted with too few terms can take (a wander beside a
     /// relaxation spectrum on the Mach-1 tests), so beside the whole model it would describe
-    /// the effect's own imperfection, not new physics.
+    /// the effect's own imperfection, not new physics. A load that recovers: a catalogue
+    /// effect's misfit on the load under a hold is a further fall, never a rise
+    /// ([`material_recovery`]).
     pub fn beside_catalogue(self) -> bool {
-        self == TermKind::Line
+        matches!(self, TermKind::Line | TermKind::MaterialRecovery)
     }
 
     /// The channel's refitted offset and scale on channel `c` (see [`TermKind::Recalibration`]).
+    /// Beside the whole catalogue model the refit is of every parameter the catalogue fitted,
+    /// to first order ([`Context::catalogue`]).
     pub fn recalibration(ctx: &Context, c: usize) -> Term {
+        let x = if ctx.catalogue[c].is_empty() {
+            vec![vec![1.0; ctx.len()], ctx.signal(c)]
+        } else {
+            ctx.catalogue[c].clone()
+        };
         Term {
             kind: TermKind::Recalibration,
             channel: c,
             shape: Vec::new(),
-            columns: fitting::Columns {
-                x: vec![vec![1.0; ctx.len()], ctx.signal(c)],
-                fixed: None,
-            },
-            beta: vec![0.0, 0.0],
+            beta: vec![0.0; x.len()],
+            columns: fitting::Columns { x, fixed: None },
             n_params: 0,
         }
     }
@@ -234,6 +245,7 @@ impl TermKind {
             TermKind::LoadLag => load_lag::fit(ctx, c, others),
             TermKind::LoadStiffening => load_stiffening::fit(ctx, c, others),
             TermKind::LoadSaturation => load_saturation::fit(ctx, c, others),
+            TermKind::MaterialRecovery => material_recovery::fit(ctx, c, others),
             TermKind::Recalibration => None,
         }
     }
@@ -283,7 +295,7 @@ impl Term {
         if self.kind == TermKind::Line {
             return line::at_times(self, t_s);
         }
-        if self.kind == TermKind::Recalibration {
+        if self.kind == TermKind::Recalibration && ctx.catalogue[self.channel].is_empty() {
             let c = self.channel;
             let full = &ctx.data.full.y[c];
             return full
@@ -313,6 +325,7 @@ impl Term {
             TermKind::LoadLag => load_lag::describe(self),
             TermKind::LoadStiffening => load_stiffening::describe(self),
             TermKind::LoadSaturation => load_saturation::describe(self),
+            TermKind::MaterialRecovery => material_recovery::describe(self),
             TermKind::Recalibration => Description {
                 name: "recalibration",
                 params: Vec::new(),
@@ -330,7 +343,7 @@ impl Term {
             | TermKind::LoadLag
             | TermKind::LoadSaturation
             | TermKind::Recalibration => Stage::Electronics,
-            TermKind::LoadStiffening => Stage::Material,
+            TermKind::LoadStiffening | TermKind::MaterialRecovery => Stage::Material,
             TermKind::Line => line::stage(self),
             TermKind::TemperatureSpan => temperature_span::stage(self),
             TermKind::OutputRelaxation | TermKind::OutputSet => Stage::Transducer,

@@ -96,12 +96,16 @@ fn masks(data: &Data) -> (Vec<bool>, Vec<bool>) {
 }
 
 /// A context whose model is the clean signal.
-fn with_context<R>(data: &Data, f: impl FnOnce(&Context, Nested) -> R) -> R {
+fn with_context<R>(data: &Data, f: impl FnOnce(&mut Context, Nested) -> R) -> R {
     with_context_beside(data, false, f)
 }
 
 /// [`with_context`], the terms searched beside the whole catalogue model with `beside`.
-fn with_context_beside<R>(data: &Data, beside: bool, f: impl FnOnce(&Context, Nested) -> R) -> R {
+fn with_context_beside<R>(
+    data: &Data,
+    beside: bool,
+    f: impl FnOnce(&mut Context, Nested) -> R,
+) -> R {
     let (fit, held) = masks(data);
     let model: [Vec<f64>; 4] = std::array::from_fn(|c| {
         data.fit
@@ -128,7 +132,7 @@ fn with_context_beside<R>(data: &Data, beside: bool, f: impl FnOnce(&Context, Ne
         fit_chi2: (0..4).map(|c| ctx.chi2(c, None, &fit)).sum(),
         heldout_chi2: (0..4).map(|c| ctx.chi2(c, None, &held)).sum(),
     };
-    f(&ctx, nested)
+    f(&mut ctx, nested)
 }
 
 /// The search's terms on a recording with `extra`.
@@ -365,4 +369,46 @@ fn a_sensing_element_set_gives_its_times() {
     let s = only(&terms, TermKind::OutputSet, 1);
     assert_eq!((s.shape[0], s.shape[1]), (3.0, 75.0), "{:?}", s.shape);
     assert!((s.beta[0] - 0.002).abs() < 3e-4, "{:?}", s.beta);
+}
+
+/// A load that recovers as the material dries, beside the whole catalogue model: found, with
+/// its share and time constant.
+#[test]
+fn a_load_that_recovers_beside_the_catalogue_gives_its_share_and_time() {
+    let terms = found_beside(|t, c, m| {
+        if c == 0 {
+            m * 0.1 * (1.0 - (-t / 40.0).exp())
+        } else {
+            0.0
+        }
+    });
+    let s = only(&terms, TermKind::MaterialRecovery, 0);
+    assert!((s.shape[0] / 40.0 - 1.0).abs() < 0.3, "{:?}", s.shape);
+    assert!((s.beta[0] - 0.1).abs() < 0.03, "{:?}", s.beta);
+}
+
+/// The catalogue's directions are orthonormal on the fitting stretch (weighted by the noise),
+/// and a column the others already span adds none.
+#[test]
+fn the_catalogue_directions_are_an_orthonormal_basis_of_what_they_span() {
+    let rec = recording(|_, _, _| 0.0);
+    let data = Data::new(&rec).expect("the analytical recording is usable");
+    with_context(&data, |ctx, _| {
+        let t: Vec<f64> = ctx.t_s().to_vec();
+        let twice_t: Vec<f64> = t.iter().map(|x| 2.0 * x).collect();
+        ctx.set_catalogue(std::array::from_fn(|_| vec![t.clone(), twice_t.clone()]));
+        let basis = &ctx.catalogue[1];
+        // The offset, the signal and time: three directions, the doubled time none.
+        assert_eq!(basis.len(), 3);
+        for (i, a) in basis.iter().enumerate() {
+            for (j, b) in basis.iter().enumerate() {
+                let dot: f64 = (0..ctx.len())
+                    .filter(|&k| ctx.fit_mask[k])
+                    .map(|k| a[k] * b[k] * ctx.data.weight(1, k).powi(2))
+                    .sum();
+                let want = if i == j { 1.0 } else { 0.0 };
+                assert!((dot - want).abs() < 1e-9, "{i} {j}: {dot}");
+            }
+        }
+    });
 }
