@@ -274,6 +274,27 @@ pub fn best_shape(
     best
 }
 
+/// The best of `shapes` on channel `c` as a term of `kind` (one grid dimension, one
+/// amplitude), where its amplitude is positive: each such term's physics has a sign, and the
+/// other sign is other physics (said at each call).
+pub fn positive_term(
+    ctx: &Context,
+    c: usize,
+    others: &Columns,
+    kind: super::TermKind,
+    shapes: impl Iterator<Item = (Vec<f64>, Columns)>,
+) -> Option<super::Term> {
+    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes)?;
+    (beta[0] > 0.0).then_some(super::Term {
+        kind,
+        channel: c,
+        shape,
+        columns,
+        beta,
+        n_params: 2,
+    })
+}
+
 /// The best step in time on channel `c`, over the fitting stretch's inner samples: the column
 /// H(t - t0) and, with `freeze`, the fixed part -H(t - t0) m(t) (the channel reads a constant
 /// from t0 on). The other columns on the channel are fitted first and held; the step's size

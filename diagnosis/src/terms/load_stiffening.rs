@@ -10,7 +10,7 @@
 //! as a column whose amplitude is fitted beside the channel's refitted scale (the law's share
 //! of the load), the exponent p from a grid.
 
-use super::fitting::{best_shape, Columns, Context};
+use super::fitting::{positive_term, Columns, Context};
 use super::{Description, Term, TermKind};
 use sim::effects::Stiffening;
 
@@ -37,19 +37,8 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
             },
         )
     });
-    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes)?;
     // A law that takes load away where the load is high is a softening: not this physics.
-    if beta[0] <= 0.0 {
-        return None;
-    }
-    Some(Term {
-        kind: TermKind::LoadStiffening,
-        channel: c,
-        shape,
-        columns,
-        beta,
-        n_params: 2,
-    })
+    positive_term(ctx, c, others, TermKind::LoadStiffening, shapes)
 }
 
 pub(crate) fn describe(t: &Term) -> Description {

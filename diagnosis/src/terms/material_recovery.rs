@@ -13,7 +13,7 @@
 //! a spectrum of relaxation times that one Prony term misses leaves a further fall, never a
 //! rise, so a load that climbs back is what no catalogue effect's misfit takes.
 
-use super::fitting::{best_shape, Columns, Context};
+use super::fitting::{positive_term, Columns, Context};
 use super::{Description, Term, TermKind};
 
 fn column(ctx: &Context, s: &[f64], tau_s: f64) -> Columns {
@@ -38,19 +38,8 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         let tau = 5.0 * (longest_s / 5.0).powf(f64::from(j) / 24.0);
         (vec![tau], column(ctx, &s, tau))
     });
-    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes)?;
     // A load that falls with time is a relaxation (the catalogue's) or a softening: not this.
-    if beta[0] <= 0.0 {
-        return None;
-    }
-    Some(Term {
-        kind: TermKind::MaterialRecovery,
-        channel: c,
-        shape,
-        columns,
-        beta,
-        n_params: 2,
-    })
+    positive_term(ctx, c, others, TermKind::MaterialRecovery, shapes)
 }
 
 pub(crate) fn describe(t: &Term) -> Description {

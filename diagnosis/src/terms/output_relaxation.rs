@@ -10,7 +10,7 @@
 //! with s the model's signal and h_tau its first-order high-pass. Linear in g for each tau, so
 //! the column is h_tau(s) - s; tau on a logarithmic grid from 0.2 s to 500 s.
 
-use super::fitting::{best_shape, Columns, Context};
+use super::fitting::{positive_term, Columns, Context};
 use super::{Description, Term, TermKind};
 use sim::effects::ViscoelasticRelaxation;
 
@@ -33,19 +33,8 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         let tau = 0.2 * (2500f64).powf(f64::from(j) / 32.0);
         (vec![tau], column(ctx, &s, tau))
     });
-    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes)?;
     // A negative fraction is an output that overshoots, not one that relaxes.
-    if beta[0] <= 0.0 {
-        return None;
-    }
-    Some(Term {
-        kind: TermKind::OutputRelaxation,
-        channel: c,
-        shape,
-        columns,
-        beta,
-        n_params: 2,
-    })
+    positive_term(ctx, c, others, TermKind::OutputRelaxation, shapes)
 }
 
 pub(crate) fn describe(t: &Term) -> Description {
