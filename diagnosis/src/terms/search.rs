@@ -88,18 +88,19 @@ fn forward(
             .count()
     };
     while own(&terms) < MAX_TERMS {
-        let current = bic(ctx, nested, &terms);
+        // Each channel's reference: the model with that channel's refit, which a term brings
+        // in with it but which is not the term's doing (see `refitted`).
+        let reference: [f64; 4] =
+            std::array::from_fn(|c| bic(ctx, nested, &refitted(ctx, terms.clone(), c)));
         let best = candidates(ctx, &terms)
             .into_iter()
             .filter(|t| !banned.contains(&(t.kind, t.channel)))
             .map(|t| {
-                let mut with = terms.clone();
-                if !with.iter().any(|w| w.channel == t.channel) {
-                    with.push(TermKind::recalibration(ctx, t.channel));
-                }
+                let c = t.channel;
+                let mut with = refitted(ctx, terms.clone(), c);
                 with.push(t);
                 refit(ctx, &mut with);
-                (current - bic(ctx, nested, &with), with)
+                (reference[c] - bic(ctx, nested, &with), with)
             })
             .reduce(|best, next| if beats(next.0, best.0) { next } else { best });
         match best {
@@ -255,7 +256,21 @@ fn bic(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
     n * (sse / n).ln() + k as f64 * n.ln()
 }
 
-/// `terms` without number `i`, the rest refitted.
+/// `terms` with channel `c`'s refit ([`TermKind::recalibration`]) if it has none yet, refitted.
+///
+/// A term is weighed against the model with the refit that comes with it, not against the
+/// model without: the refit of the catalogue's shared parameters channel by channel
+/// ([`Context::catalogue`]) gains on its own where the joint fit balanced the channels, and
+/// that gain is not the term's.
+fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
+    if !terms.iter().any(|t| t.channel == c) {
+        terms.push(TermKind::recalibration(ctx, c));
+        refit(ctx, &mut terms);
+    }
+    terms
+}
+
+/// `terms` without number `i`, the rest refitted; the channel's refit goes with its last term.
 fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
     let mut w: Vec<Term> = terms.to_vec();
     let c = w.remove(i).channel;
@@ -286,7 +301,8 @@ impl Comparison {
 }
 
 fn compare_without(ctx: &Context, nested: Nested, terms: &[Term], i: usize) -> Comparison {
-    let w = without(ctx, terms, i);
+    // Against the model with the channel's refit kept (see `refitted`).
+    let w = refitted(ctx, without(ctx, terms, i), terms[i].channel);
     let bic_gain = bic(ctx, nested, &w) - bic(ctx, nested, terms);
     let (h_small, h_large) = (heldout(ctx, nested, &w), heldout(ctx, nested, terms));
     let c = terms[i].channel;
