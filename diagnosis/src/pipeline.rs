@@ -134,9 +134,14 @@ fn diagnose_prepared(prepared: &Prepared, name: &str, opt: &Options) -> Diagnosi
     )
     .with_moment_direction(moment_phi, setup.fit_bounds.jig_azimuth_tolerance_deg);
     let mains_allowed = protocol.allows(EffectKind::MainsInterference).is_ok();
+    let forbidden: Vec<EffectKind> = terms::TermKind::ALL
+        .iter()
+        .filter_map(|k| k.catalogue_kind())
+        .filter(|&k| protocol.protocol_allows(k).is_err())
+        .collect();
     let mut sel = select(&setup, protocol, opt.progress.as_deref());
     let drive = prepared.full_drive(&setup);
-    let (described, chosen_full) = described_model(&setup, &mut sel, &drive);
+    let (described, chosen_full) = described_model(&setup, &mut sel, &drive, &forbidden);
     let (base, chosen) = (sel.base(), sel.chosen());
     let base_full = base.outputs(&drive);
     let details = params::baseline(chosen, data);
@@ -204,6 +209,7 @@ fn described_model(
     setup: &Setup,
     sel: &mut crate::select::Selection,
     drive: &Drive,
+    forbidden: &[EffectKind],
 ) -> (terms::Described, Outputs) {
     // Candidate `i` described: its sanity findings, and where its residual stays structured
     // the library's terms (with `beside`, those that may stand beside the whole catalogue).
@@ -213,7 +219,7 @@ fn described_model(
         let dec: [Vec<f64>; 4] = std::array::from_fn(|k| c.outputs.channel(k).to_vec());
         let details = params::baseline(c, setup.data);
         let structured = !white(setup, &dec);
-        let d = describe(setup, c, (&full, &details), structured, beside);
+        let d = describe(setup, c, (&full, &details), structured, (beside, forbidden));
         (d, full)
     };
     let chosen = sel.chosen;
@@ -255,13 +261,14 @@ fn described_model(
 
 /// What the catalogue's model leaves, described: the calibration's sanity findings
 /// (`terms::sanity`) always, and where the residual stays `structured` the library's terms
-/// (`terms::search`; with `beside`, only those that may stand beside the whole catalogue).
+/// (`terms::search`; with `beside`, only those that may stand beside the whole catalogue;
+/// none that meets a `forbidden` catalogue entry at another stage).
 fn describe(
     setup: &Setup,
     chosen: &Candidate,
     (chosen_full, details): (&Outputs, &[ParamDetail]),
     structured: bool,
-    beside: bool,
+    (beside, forbidden): (bool, &[EffectKind]),
 ) -> terms::Described {
     let data = setup.data;
     let offset = std::array::from_fn(|c| chosen.fitted.full[crate::fit::OFFSET_AT + c]);
@@ -301,6 +308,7 @@ fn describe(
         heldout_chi2: chosen.heldout_chi2,
     };
     ctx.beside_catalogue = beside;
+    ctx.forbidden = forbidden.to_vec();
     if beside {
         ctx.set_catalogue(chosen.directions());
     }

@@ -103,7 +103,6 @@ impl Features {
     pub fn allows(&self, kind: EffectKind) -> Result<(), String> {
         use EffectKind::*;
         let outputs = self.used[1] || self.used[2] || self.used[3];
-        let moments = self.used[2] && self.used[3];
         // Only the gel's effects act on the load; the rest change the sensor's outputs alone,
         // so without a measured output they have nothing to act on.
         if !matches!(kind, ViscoelasticRelaxation | Hysteresis) && !outputs {
@@ -111,6 +110,15 @@ impl Features {
                 "precondition: no sensor output measured (it acts on the outputs only)".into(),
             );
         }
+        self.protocol_allows(kind)
+    }
+
+    /// Whether the protocol can show `kind` wherever it acts (the load cell's channel
+    /// included): [`Self::allows`] without its demand for a sensor output, for the library's
+    /// terms that meet a catalogue entry at another stage.
+    pub fn protocol_allows(&self, kind: EffectKind) -> Result<(), String> {
+        use EffectKind::*;
+        let moments = self.used[2] && self.used[3];
         match kind {
             Hysteresis if !self.unloading => Err("precondition: no unloading path (a loop needs loading and unloading over a quarter of the travel)".into()),
             ViscoelasticRelaxation if !self.rate_change => Err("precondition: no hold and no change of rod speed (relaxation shows only as decay under a held rod or as rate dependence)".into()),

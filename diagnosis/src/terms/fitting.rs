@@ -41,6 +41,10 @@ pub(crate) struct Context<'d> {
     /// else a term must fit what the calibration, fitted without it, bent towards both.
     /// Empty: only the offset and scale are refitted.
     pub catalogue: [Vec<Vec<f64>>; 4],
+    /// Catalogue entries the recording's protocol cannot show (`Features::protocol_allows`):
+    /// the library's terms that meet them at another stage are not offered either (a lag on
+    /// a single ramp is a shift of the contact point wherever it acts).
+    pub forbidden: Vec<sim::effects::EffectKind>,
 }
 
 impl<'d> Context<'d> {
@@ -84,6 +88,7 @@ impl<'d> Context<'d> {
             loop_in_model: false,
             beside_catalogue: false,
             catalogue: Default::default(),
+            forbidden: Vec::new(),
         }
     }
 

@@ -196,6 +196,19 @@ impl TermKind {
         }
     }
 
+    /// The catalogue entry the term meets at another stage, if any: it keeps the entry's
+    /// protocol preconditions ([`Context::forbidden`]).
+    pub fn catalogue_kind(self) -> Option<sim::effects::EffectKind> {
+        use sim::effects::EffectKind::*;
+        match self {
+            TermKind::LoadLag => Some(TimeOffset),
+            TermKind::OutputRelaxation => Some(ViscoelasticRelaxation),
+            TermKind::LoadStiffening => Some(Stiffening),
+            TermKind::LoadSaturation => Some(AmplifierSaturation),
+            _ => None,
+        }
+    }
+
     /// Whether the term may be offered beside the whole catalogue model: only where its
     /// signature is one no catalogue effect's misfit can take. A periodic line: a catalogue
     /// effect is a response to the rod's drive (its misfit sits at the drive's harmonics and

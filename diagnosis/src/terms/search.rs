@@ -153,6 +153,10 @@ fn candidates(ctx: &Context, terms: &[Term]) -> Vec<Term> {
         .flat_map(|&k| (0..4).map(move |c| (k, c)))
         .filter(|&(k, c)| ctx.used[c] && k.acts_on(c))
         .filter(|&(k, _)| !ctx.beside_catalogue || k.beside_catalogue())
+        .filter(|&(k, _)| {
+            k.catalogue_kind()
+                .is_none_or(|e| !ctx.forbidden.contains(&e))
+        })
         .collect();
     use rayon::prelude::*;
     jobs.par_iter()

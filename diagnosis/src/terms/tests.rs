@@ -295,6 +295,15 @@ fn a_load_cell_lag_gives_its_lag() {
     let terms = found(|t, c, m| if c == 0 { clean(t - 0.1, 0) - m } else { 0.0 });
     let s = only(&terms, TermKind::LoadLag, 0);
     assert!((s.beta[0] - 0.1).abs() < 0.02, "{:?}", s.beta);
+    // Where the protocol cannot show a lag (the catalogue's `time_offset` precondition), the
+    // load cell's lag is not offered either.
+    let rec = recording(|t, c, m| if c == 0 { clean(t - 0.1, 0) - m } else { 0.0 });
+    let data = Data::new(&rec).expect("the analytical recording is usable");
+    let terms = with_context(&data, |ctx, nested| {
+        ctx.forbidden = vec![sim::effects::EffectKind::TimeOffset];
+        search(ctx, nested).terms
+    });
+    assert!(terms.iter().all(|t| t.kind != TermKind::LoadLag));
 }
 
 #[test]
