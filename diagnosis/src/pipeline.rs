@@ -204,7 +204,10 @@ fn diagnose_prepared(prepared: &Prepared, name: &str, opt: &Options) -> Diagnosi
 /// the effect's own misfit (a wander beside a relaxation spectrum that one Prony term does not
 /// hold), which is not new physics. A catalogue effect is replaced where the model without
 /// it, with its described terms, is at least as good by the criterion (within
-/// [`MIN_BIC_GAIN`]) and no worse on the held-out stretch.
+/// [`MIN_BIC_GAIN`]) and no worse on the held-out stretch than the whole catalogue model with
+/// the terms beside it: a freeze beside a relaxation is not the other explanation of the
+/// relaxation, and the model without it had taken a lag and a relaxation at another stage
+/// to make up the difference.
 fn described_model(
     setup: &Setup,
     sel: &mut crate::select::Selection,
@@ -227,7 +230,13 @@ fn described_model(
     if kinds.is_empty() {
         return of(chosen, false);
     }
-    let (bic, held) = (sel.chosen().bic, sel.chosen().heldout_chi2);
+    // The chosen model with what may stand beside it is what a replacement must match.
+    let (beside, beside_full) = of(chosen, true);
+    let (bic, held) = if beside.found.terms.is_empty() {
+        (sel.chosen().bic, sel.chosen().heldout_chi2)
+    } else {
+        (beside.found.bic, beside.found.heldout_chi2)
+    };
     let mut best: Option<(f64, usize, terms::Described, Outputs, EffectKind)> = None;
     for (i, &kind) in kinds.iter().enumerate() {
         let w = sel.without_index(i);
@@ -255,7 +264,7 @@ fn described_model(
             );
             (d_w, full_w)
         }
-        None => of(chosen, true),
+        None => (beside, beside_full),
     }
 }
 

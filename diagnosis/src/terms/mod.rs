@@ -219,9 +219,14 @@ impl TermKind {
     /// relaxation spectrum on the Mach-1 tests), so beside the whole model it would describe
     /// the effect's own imperfection, not new physics. A load that recovers: a catalogue
     /// effect's misfit on the load under a hold is a further fall, never a rise
-    /// ([`material_recovery`]).
+    /// ([`material_recovery`]). A channel that freezes while the model moves after it
+    /// ([`stuck_channel`]): every catalogue effect is a response to the drive or a smooth
+    /// function of time, and none stops a channel following the load.
     pub fn beside_catalogue(self) -> bool {
-        matches!(self, TermKind::Line | TermKind::MaterialRecovery)
+        matches!(
+            self,
+            TermKind::Line | TermKind::MaterialRecovery | TermKind::StuckChannel
+        )
     }
 
     /// The channel's refitted offset and scale on channel `c` (see [`TermKind::Recalibration`]).
