@@ -318,7 +318,8 @@ fn describe(
     };
     ctx.beside_catalogue = beside;
     ctx.forbidden = forbidden.to_vec();
-    if beside {
+    // The directions cost a model evaluation per fitted parameter: only where terms are sought.
+    if beside && structured {
         ctx.set_catalogue(chosen.directions());
     }
     terms::Described::new(&ctx, nested, details, structured)

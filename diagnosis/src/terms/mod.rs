@@ -196,8 +196,10 @@ impl TermKind {
         }
     }
 
-    /// The catalogue entry the term meets at another stage, if any: it keeps the entry's
-    /// protocol preconditions ([`Context::forbidden`]).
+    /// The catalogue entry the term meets at another stage, if any (the sensing element's own
+    /// relaxation, the load cell's lag), rather than a term of the library's own: it is
+    /// reported under the entry's name and keeps its protocol preconditions
+    /// ([`Context::forbidden`]).
     pub fn catalogue_kind(self) -> Option<sim::effects::EffectKind> {
         use sim::effects::EffectKind::*;
         match self {
@@ -276,14 +278,6 @@ pub(crate) struct Description {
     pub params: Vec<(&'static str, f64, String)>,
     pub depends_on: Vec<&'static str>,
     pub form: String,
-}
-
-impl Description {
-    /// Whether the name is a catalogue entry met at another stage (the sensing element's own
-    /// relaxation, the load cell's lag) rather than a term of the library's own.
-    pub fn is_catalogue(&self) -> bool {
-        sim::effects::EffectKind::from_name(self.name).is_some()
-    }
 }
 
 /// One term fitted on one channel.

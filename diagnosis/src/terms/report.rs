@@ -58,7 +58,7 @@ fn stage_of(t: &Term, channels: &[usize]) -> Stage {
 
 fn effect(t: &Term, stage: Stage, channels: &[usize], bic_gain: f64, ratio: f64) -> EffectReport {
     let d = t.describe();
-    let catalogue = d.is_catalogue();
+    let catalogue = t.kind.catalogue_kind().is_some();
     let on: Vec<&str> = channels.iter().map(|&c| super::channel_words(c)).collect();
     let evidence = format!(
         "{} on {}: {}. (Against the model without it: BIC lower by {:.0}, held-out misfit {:.1} times smaller.)",
