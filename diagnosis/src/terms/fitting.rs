@@ -266,12 +266,23 @@ pub fn best_shape(
     others: &Columns,
     shapes: impl Iterator<Item = (Vec<f64>, Columns)>,
 ) -> Option<(Vec<f64>, Columns, Vec<f64>, f64)> {
+    best_shape_where(ctx, c, others, shapes, |_| true)
+}
+
+/// [`best_shape`] among the shapes whose own amplitudes `accept` takes.
+pub fn best_shape_where(
+    ctx: &Context,
+    c: usize,
+    others: &Columns,
+    shapes: impl Iterator<Item = (Vec<f64>, Columns)>,
+    accept: impl Fn(&[f64]) -> bool,
+) -> Option<(Vec<f64>, Columns, Vec<f64>, f64)> {
     let mut best: Option<(Vec<f64>, Columns, Vec<f64>, f64)> = None;
     for (shape, cols) in shapes {
         let Some((beta, sse)) = solve(ctx, c, &cols.joined(others)) else {
             continue;
         };
-        if sse.is_finite() && best.as_ref().is_none_or(|b| sse < b.3) {
+        if sse.is_finite() && accept(&beta) && best.as_ref().is_none_or(|b| sse < b.3) {
             let own = beta[..cols.x.len()].to_vec();
             best = Some((shape, cols, own, sse));
         }
@@ -280,7 +291,7 @@ pub fn best_shape(
 }
 
 /// The best of `shapes` on channel `c` as a term of `kind` (one grid dimension, one
-/// amplitude), where its amplitude is positive: each such term's physics has a sign, and the
+/// amplitude) among those where its amplitude is positive: each such term's physics has a sign, and the
 /// other sign is other physics (said at each call).
 pub fn positive_term(
     ctx: &Context,
@@ -289,8 +300,8 @@ pub fn positive_term(
     kind: super::TermKind,
     shapes: impl Iterator<Item = (Vec<f64>, Columns)>,
 ) -> Option<super::Term> {
-    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes)?;
-    (beta[0] > 0.0).then_some(super::Term {
+    let (shape, columns, beta, _) = best_shape_where(ctx, c, others, shapes, |b| b[0] > 0.0)?;
+    Some(super::Term {
         kind,
         channel: c,
         shape,

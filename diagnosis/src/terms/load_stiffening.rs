@@ -1,6 +1,9 @@
 //! The material stiffening against the rod, seen on the load cell: the catalogue's
-//! `stiffening` met in the material, where a test of the material alone (or a fingertip whose
-//! gel stiffens beyond the contact law) shows it on the load. The catalogue's law
+//! `stiffening` met in the material, where a test of the material alone shows it on the load.
+//! Only there: where outputs are compared, a gel that stiffens presses the chip harder too, and
+//! the catalogue's own entry takes that up on load and outputs alike; a stiffening the load
+//! alone shows beside outputs that follow the model is not the material's (the contract puts
+//! this entry "in a test without sensor outputs"). The catalogue's law
 //! (`sim::effects::Stiffening`) on the load's signal s, with F its largest value:
 //!
 //! ```text
@@ -25,6 +28,9 @@ fn law(signal: &[f64], p: f64) -> Vec<f64> {
 }
 
 pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
+    if ctx.used[1..].iter().any(|&u| u) {
+        return None;
+    }
     let signal = ctx.signal(c);
     let (lo, hi, n) = EXPONENTS;
     let shapes = (0..n).map(|i| {

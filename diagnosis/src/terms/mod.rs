@@ -211,6 +211,23 @@ impl TermKind {
         }
     }
 
+    /// Whether the term's first amplitude is positive by its physics (a relaxation relaxes, a
+    /// stiffening stiffens, a set adds to the response, a recovery adds load, a clip limits): fitted alone each is
+    /// offered only with that sign, and a model whose joint refit turns it is not a model of
+    /// that physics (a "relaxation" refitted to -26 % beside the channel's recalibration is
+    /// an overshoot the term's equation does not describe).
+    pub fn positive(self) -> bool {
+        matches!(
+            self,
+            TermKind::OutputRelaxation
+                | TermKind::OutputSet
+                | TermKind::LoadStiffening
+                | TermKind::LoadSaturation
+                | TermKind::PermanentSet
+                | TermKind::MaterialRecovery
+        )
+    }
+
     /// Whether the term may be offered beside the whole catalogue model: only where its
     /// signature is one no catalogue effect's misfit can take. A periodic line: a catalogue
     /// effect is a response to the rod's drive (its misfit sits at the drive's harmonics and

@@ -7,20 +7,25 @@
 //! ```text
 //! dx/dt = (s/S - x) / tau_up     if s/S > x
 //! dx/dt = (s/S - x) / tau_down   otherwise
-//! y = model + a x
+//! y = model + a sign(s_peak) x,   a > 0
 //! ```
 //!
 //! at the transducer, a function of the load (through the output's signal) and of time. The
 //! times come from a grid with tau_down longer than tau_up: one that recovered as fast as it
 //! formed would be a lag of the output, not a set.
 
-use super::fitting::{best_shape, Columns, Context};
+use super::fitting::{best_shape_where, Columns, Context};
 use super::{Description, Term, TermKind};
 
-/// Grid of the time constants, s: the set forms within seconds to a minute and recovers
-/// over tens of seconds to minutes.
-const TAU_UP_S: [f64; 5] = [1.0, 3.0, 8.0, 20.0, 50.0];
-const TAU_DOWN_S: [f64; 6] = [5.0, 12.0, 30.0, 75.0, 180.0, 450.0];
+/// Logarithmic grids of the time constants, s: the set forms within a second to a minute
+/// (1–60 s) and recovers over seconds to ten minutes (4–600 s), each step a factor of about
+/// 1.5, fine enough that the shape's misfit stays below what a second term would take up.
+fn tau_up_s() -> impl Iterator<Item = f64> + Clone {
+    (0..=10).map(|j| 60f64.powf(f64::from(j) / 10.0))
+}
+fn tau_down_s() -> impl Iterator<Item = f64> + Clone {
+    (0..=12).map(|j| 4.0 * 150f64.powf(f64::from(j) / 12.0))
+}
 
 /// The state x over the decimated series.
 fn state(t_s: &[f64], u: &[f64], tau_up_s: f64, tau_down_s: f64) -> Vec<f64> {
@@ -40,20 +45,28 @@ fn state(t_s: &[f64], u: &[f64], tau_up_s: f64, tau_down_s: f64) -> Vec<f64> {
 
 pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
     let s = ctx.signal(c);
-    let peak = s.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let peak = s
+        .iter()
+        .copied()
+        .max_by(|a, b| a.abs().total_cmp(&b.abs()))?;
     if peak == 0.0 {
         return None;
     }
-    let u: Vec<f64> = s.iter().map(|v| v.abs() / peak).collect();
-    let shapes = TAU_UP_S.iter().flat_map(|&up| {
+    // The set adds to the response in its own direction: x times the sign of the peak, with a
+    // positive amplitude (one that took from it would be a relaxation, `output_relaxation`).
+    let sign = peak.signum();
+    let u: Vec<f64> = s.iter().map(|v| v.abs() / peak.abs()).collect();
+    let shapes = tau_up_s().flat_map(|up| {
         let u = &u;
-        TAU_DOWN_S
-            .iter()
-            .filter(move |&&down| down > up)
-            .map(move |&down| {
-                let x = state(ctx.t_s(), u, up, down);
+        tau_down_s()
+            .filter(move |&down| down > up)
+            .map(move |down| {
+                let x = state(ctx.t_s(), u, up, down)
+                    .iter()
+                    .map(|x| sign * x)
+                    .collect();
                 (
-                    vec![up, down],
+                    vec![up, down, sign],
                     Columns {
                         x: vec![x],
                         fixed: None,
@@ -61,7 +74,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
                 )
             })
     });
-    let (shape, columns, beta, _) = best_shape(ctx, c, others, shapes)?;
+    let (shape, columns, beta, _) = best_shape_where(ctx, c, others, shapes, |b| b[0] > 0.0)?;
     Some(Term {
         kind: TermKind::OutputSet,
         channel: c,
@@ -73,7 +86,8 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
 }
 
 pub(crate) fn describe(t: &Term, unit: &str) -> Description {
-    let (up, down, a) = (t.shape[0], t.shape[1], t.beta[0]);
+    // In the channel's volts: the set's direction is the response's.
+    let (up, down, a) = (t.shape[0], t.shape[1], t.shape[2] * t.beta[0]);
     Description {
         name: "sensing_element_set",
         params: vec![

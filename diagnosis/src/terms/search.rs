@@ -102,6 +102,7 @@ fn forward(
                 refit(ctx, &mut with);
                 (reference[c] - bic(ctx, nested, &with), with)
             })
+            .filter(|(_, with)| admissible(with))
             .reduce(|best, next| if beats(next.0, best.0) { next } else { best });
         match best {
             Some((gain, with)) if gain > MIN_BIC_GAIN => terms = with,
@@ -109,6 +110,14 @@ fn forward(
         }
     }
     terms
+}
+
+/// Whether every term keeps the sign its physics gives it ([`TermKind::positive`]) after the
+/// joint refit.
+fn admissible(terms: &[Term]) -> bool {
+    terms
+        .iter()
+        .all(|t| !t.kind.positive() || t.beta.first().is_some_and(|&b| b > 0.0))
 }
 
 /// Whether a forward step's BIC `gain` beats the best so far. A tie (to a millionth) goes to
@@ -121,7 +130,10 @@ fn beats(gain: f64, best: f64) -> bool {
 }
 
 /// Drop, one at a time, the term that fails either test by the most, until every term beats
-/// the model without it on both: the terms kept and the (kind, channel) of those dropped.
+/// the model without it on both: the terms kept and the (kind, channel) of those dropped. A
+/// term whose removal takes another with it ([`without`]) is dropped only when no failing
+/// term goes alone: the model without both says nothing about the one (a saturation dropped
+/// because the recovery that had turned with it went too).
 fn backward(
     ctx: &Context,
     nested: Nested,
@@ -129,12 +141,17 @@ fn backward(
 ) -> (Vec<Term>, Vec<(TermKind, usize)>) {
     let mut dropped = Vec::new();
     loop {
-        let worst = (0..terms.len())
+        let failing: Vec<(usize, Comparison)> = (0..terms.len())
             .filter(|&i| terms[i].kind != TermKind::Recalibration)
             .map(|i| (i, compare_without(ctx, nested, &terms, i)))
             .filter(|(_, cmp)| !(cmp.bic_gain > MIN_BIC_GAIN && cmp.margin() > 0.0))
+            .collect();
+        let any_alone = failing.iter().any(|(_, cmp)| cmp.alone);
+        let worst = failing
+            .iter()
+            .filter(|(_, cmp)| cmp.alone || !any_alone)
             .min_by(|a, b| a.1.margin().total_cmp(&b.1.margin()))
-            .map(|(i, _)| i);
+            .map(|(i, _)| *i);
         match worst {
             Some(i) => {
                 dropped.push((terms[i].kind, terms[i].channel));
@@ -275,15 +292,31 @@ fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
 }
 
 /// `terms` without number `i`, the rest refitted; the channel's refit goes with its last term.
+/// A term whose sign the refit turns goes too ([`admissible`]): without its partner it is no
+/// longer the physics it named (a relaxation that only made up a set's shape).
 fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
+    without_turned(ctx, terms, i).0
+}
+
+/// [`without`], and whether a turned term went with number `i`.
+fn without_turned(ctx: &Context, terms: &[Term], i: usize) -> (Vec<Term>, bool) {
     let mut w: Vec<Term> = terms.to_vec();
     let c = w.remove(i).channel;
-    let alone = |t: &Term| t.channel == c && t.kind != TermKind::Recalibration;
-    if !w.iter().any(alone) {
-        w.retain(|t| t.channel != c);
+    let mut turned = false;
+    loop {
+        let own = |t: &Term| t.channel == c && t.kind != TermKind::Recalibration;
+        if !w.iter().any(own) {
+            w.retain(|t| t.channel != c);
+        }
+        refit(ctx, &mut w);
+        match w.iter().position(|t| !admissible(std::slice::from_ref(t))) {
+            Some(j) => {
+                w.remove(j);
+                turned = true;
+            }
+            None => return (w, turned),
+        }
     }
-    refit(ctx, &mut w);
-    w
 }
 
 /// Term `i` against the model without it, as `Candidate::compare` weighs a catalogue effect.
@@ -295,6 +328,8 @@ struct Comparison {
     /// The held-out gain the term needs: twice the deviation of sum (m_l - m_s) e under the
     /// channel's noise model, and 0.5 % of the misfit left.
     needed: f64,
+    /// Whether the model without it lost no other term ([`without_turned`]).
+    alone: bool,
 }
 
 impl Comparison {
@@ -306,7 +341,8 @@ impl Comparison {
 
 fn compare_without(ctx: &Context, nested: Nested, terms: &[Term], i: usize) -> Comparison {
     // Against the model with the channel's refit kept (see `refitted`).
-    let w = refitted(ctx, without(ctx, terms, i), terms[i].channel);
+    let (w, turned) = without_turned(ctx, terms, i);
+    let w = refitted(ctx, w, terms[i].channel);
     let bic_gain = bic(ctx, nested, &w) - bic(ctx, nested, terms);
     let (h_small, h_large) = (heldout(ctx, nested, &w), heldout(ctx, nested, terms));
     let c = terms[i].channel;
@@ -327,5 +363,6 @@ fn compare_without(ctx: &Context, nested: Nested, terms: &[Term], i: usize) -> C
         heldout_without: h_small,
         heldout_with: h_large,
         needed: heldout_needed(diff, h_small),
+        alone: !turned,
     }
 }

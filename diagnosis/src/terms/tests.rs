@@ -137,9 +137,22 @@ fn with_context_beside<R>(
 
 /// The search's terms on a recording with `extra`.
 fn found(extra: impl Fn(f64, usize, f64) -> f64) -> Vec<Term> {
+    found_on([true; 4], extra)
+}
+
+/// [`found`] with only the `used` channels compared (the load cell alone: a test of the
+/// material). Every term found keeps the sign its physics gives it, however it was refitted.
+fn found_on(used: [bool; 4], extra: impl Fn(f64, usize, f64) -> f64) -> Vec<Term> {
     let rec = recording(extra);
     let data = Data::new(&rec).expect("the analytical recording is usable");
-    with_context(&data, |ctx, nested| search(ctx, nested).terms)
+    let terms = with_context(&data, |ctx, nested| {
+        ctx.used = used;
+        search(ctx, nested).terms
+    });
+    for t in terms.iter().filter(|t| t.kind.positive()) {
+        assert!(t.beta[0] > 0.0, "{:?} turned: {:?}", t.kind, t.beta);
+    }
+    terms
 }
 
 fn only(terms: &[Term], kind: TermKind, channel: usize) -> &Term {
@@ -337,13 +350,21 @@ fn a_permanent_set_gives_its_size() {
 fn a_load_that_stiffens_gives_its_exponent() {
     // The load becomes the catalogue's stiffening law of itself: peak (load / peak)^2.5.
     let peak = 5.0 * 4.0_f64.powf(1.5);
-    let terms = found(|_, c, m| {
+    let stiffens = |_, c, m: f64| {
         if c == 0 {
             peak * (m / peak).powf(2.5) - m
         } else {
             0.0
         }
-    });
+    };
+    // Where the outputs are compared and follow the model, a stiffening the load alone shows
+    // is not the material's (it would press the chip harder too): not offered.
+    let beside_outputs = found(stiffens);
+    assert!(beside_outputs
+        .iter()
+        .all(|t| t.kind != TermKind::LoadStiffening));
+    // A test of the material alone.
+    let terms = found_on([true, false, false, false], stiffens);
     let s = only(&terms, TermKind::LoadStiffening, 0);
     assert!((s.shape[0] - 2.5).abs() < 0.15, "{:?}", s.shape);
     // The recording goes up to its peak: no ceiling, so no clipping described.
@@ -376,7 +397,9 @@ fn a_sensing_element_set_gives_its_times() {
     let set = |t: f64| states[(t * RATE_HZ).round() as usize];
     let terms = found(|t, c, _| if c == 1 { 0.002 * set(t) } else { 0.0 });
     let s = only(&terms, TermKind::OutputSet, 1);
-    assert_eq!((s.shape[0], s.shape[1]), (3.0, 75.0), "{:?}", s.shape);
+    // Within a step of the grids (a factor of about 1.5).
+    let near = |got: f64, want: f64| (got / want).ln().abs() < 1.5f64.ln();
+    assert!(near(s.shape[0], 3.0) && near(s.shape[1], 75.0), "{:?}", s.shape);
     assert!((s.beta[0] - 0.002).abs() < 3e-4, "{:?}", s.beta);
 }
 
