@@ -291,16 +291,17 @@ pub fn best_shape_where(
 }
 
 /// The best of `shapes` on channel `c` as a term of `kind` (one grid dimension, one
-/// amplitude) among those where its amplitude is positive: each such term's physics has a sign, and the
-/// other sign is other physics (said at each call).
-pub fn positive_term(
+/// amplitude) among those whose amplitude its physics admits ([`super::TermKind::admits`]):
+/// the other sign is other physics (said at each call).
+pub fn admitted_term(
     ctx: &Context,
     c: usize,
     others: &Columns,
     kind: super::TermKind,
     shapes: impl Iterator<Item = (Vec<f64>, Columns)>,
 ) -> Option<super::Term> {
-    let (shape, columns, beta, _) = best_shape_where(ctx, c, others, shapes, |b| b[0] > 0.0)?;
+    let (shape, columns, beta, _) =
+        best_shape_where(ctx, c, others, shapes, |b| kind.admits(b[0]))?;
     Some(super::Term {
         kind,
         channel: c,

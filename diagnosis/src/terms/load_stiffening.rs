@@ -13,7 +13,7 @@
 //! as a column whose amplitude is fitted beside the channel's refitted scale (the law's share
 //! of the load), the exponent p from a grid.
 
-use super::fitting::{positive_term, Columns, Context};
+use super::fitting::{admitted_term, Columns, Context};
 use super::{Description, Term, TermKind};
 use sim::effects::Stiffening;
 
@@ -44,7 +44,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         )
     });
     // A law that takes load away where the load is high is a softening: not this physics.
-    positive_term(ctx, c, others, TermKind::LoadStiffening, shapes)
+    admitted_term(ctx, c, others, TermKind::LoadStiffening, shapes)
 }
 
 pub(crate) fn describe(t: &Term) -> Description {

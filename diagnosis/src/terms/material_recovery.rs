@@ -13,7 +13,7 @@
 //! a spectrum of relaxation times that one Prony term misses leaves a further fall, never a
 //! rise, so a load that climbs back is what no catalogue effect's misfit takes.
 
-use super::fitting::{positive_term, Columns, Context};
+use super::fitting::{admitted_term, Columns, Context};
 use super::{Description, Term, TermKind};
 
 fn column(ctx: &Context, s: &[f64], tau_s: f64) -> Columns {
@@ -39,7 +39,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         (vec![tau], column(ctx, &s, tau))
     });
     // A load that falls with time is a relaxation (the catalogue's) or a softening: not this.
-    positive_term(ctx, c, others, TermKind::MaterialRecovery, shapes)
+    admitted_term(ctx, c, others, TermKind::MaterialRecovery, shapes)
 }
 
 pub(crate) fn describe(t: &Term) -> Description {

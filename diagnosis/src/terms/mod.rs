@@ -74,16 +74,26 @@ impl Described {
     /// The calibration's sanity findings, and with `structured` (the chosen model's residual is
     /// not noise) the library's terms that pass both tests.
     pub fn new(ctx: &Context, nested: Nested, details: &[ParamDetail], structured: bool) -> Self {
-        let mut effects: Vec<EffectReport> = sanity::inverted_signs(ctx, details, nested.n)
-            .iter()
-            .chain(&sanity::dead_channels(ctx, nested.n))
-            .map(report::sanity_effect)
-            .collect();
         let found = if structured {
             search(ctx, nested)
         } else {
             Found::default()
         };
+        // A channel found frozen was calibrated on what it read after it froze: its sign says
+        // nothing of the wiring (a frozen My had read as inverted).
+        let frozen = |f: &sanity::SanityFinding| {
+            found
+                .terms
+                .iter()
+                .any(|t| t.kind == TermKind::StuckChannel && f.channels.contains(&t.channel))
+        };
+        let inverted = sanity::inverted_signs(ctx, details, nested.n);
+        let mut effects: Vec<EffectReport> = inverted
+            .iter()
+            .filter(|f| !frozen(f))
+            .chain(&sanity::dead_channels(ctx, nested.n))
+            .map(report::sanity_effect)
+            .collect();
         effects.extend(report::effects(&found));
         let full_t = &ctx.data.full.t_s;
         let decimated: [Vec<f64>; 4] =
@@ -211,21 +221,22 @@ impl TermKind {
         }
     }
 
-    /// Whether the term's first amplitude is positive by its physics (a relaxation relaxes, a
-    /// stiffening stiffens, a set adds to the response, a recovery adds load, a clip limits): fitted alone each is
-    /// offered only with that sign, and a model whose joint refit turns it is not a model of
-    /// that physics (a "relaxation" refitted to -26 % beside the channel's recalibration is
-    /// an overshoot the term's equation does not describe).
-    pub fn positive(self) -> bool {
-        matches!(
-            self,
-            TermKind::OutputRelaxation
-                | TermKind::OutputSet
-                | TermKind::LoadStiffening
-                | TermKind::LoadSaturation
-                | TermKind::PermanentSet
-                | TermKind::MaterialRecovery
-        )
+    /// Whether `amplitude` (the term's first) is one its physics can have: positive for each
+    /// term whose physics has a sign (a relaxation relaxes, a stiffening stiffens, a set adds
+    /// to the response, a recovery adds load, a clip limits), and a relaxation no larger than
+    /// the response it relaxes (the catalogue's `fraction`, 0-1). Fitted alone each is offered
+    /// only so, and a model whose joint refit takes it out is not a model of that physics (a
+    /// "relaxation" refitted to -26 % beside the channel's recalibration is an overshoot).
+    pub fn admits(self, amplitude: f64) -> bool {
+        match self {
+            TermKind::OutputRelaxation => amplitude > 0.0 && amplitude <= 1.0,
+            TermKind::OutputSet
+            | TermKind::LoadStiffening
+            | TermKind::LoadSaturation
+            | TermKind::PermanentSet
+            | TermKind::MaterialRecovery => amplitude > 0.0,
+            _ => true,
+        }
     }
 
     /// Whether the term may be offered beside the whole catalogue model: only where its

@@ -10,7 +10,7 @@
 //! with s the model's signal and h_tau its first-order high-pass. Linear in g for each tau, so
 //! the column is h_tau(s) - s; tau on a logarithmic grid from 0.2 s to 500 s.
 
-use super::fitting::{positive_term, Columns, Context};
+use super::fitting::{admitted_term, Columns, Context};
 use super::{Description, Term, TermKind};
 use sim::effects::ViscoelasticRelaxation;
 
@@ -34,7 +34,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         (vec![tau], column(ctx, &s, tau))
     });
     // A negative fraction is an output that overshoots, not one that relaxes.
-    positive_term(ctx, c, others, TermKind::OutputRelaxation, shapes)
+    admitted_term(ctx, c, others, TermKind::OutputRelaxation, shapes)
 }
 
 pub(crate) fn describe(t: &Term) -> Description {

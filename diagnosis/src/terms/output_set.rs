@@ -74,7 +74,8 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
                 )
             })
     });
-    let (shape, columns, beta, _) = best_shape_where(ctx, c, others, shapes, |b| b[0] > 0.0)?;
+    let (shape, columns, beta, _) =
+        best_shape_where(ctx, c, others, shapes, |b| TermKind::OutputSet.admits(b[0]))?;
     Some(Term {
         kind: TermKind::OutputSet,
         channel: c,

@@ -112,12 +112,12 @@ fn forward(
     terms
 }
 
-/// Whether every term keeps the sign its physics gives it ([`TermKind::positive`]) after the
+/// Whether every term keeps an amplitude its physics admits ([`TermKind::admits`]) after the
 /// joint refit.
 fn admissible(terms: &[Term]) -> bool {
     terms
         .iter()
-        .all(|t| !t.kind.positive() || t.beta.first().is_some_and(|&b| b > 0.0))
+        .all(|t| t.beta.first().is_none_or(|&b| t.kind.admits(b)))
 }
 
 /// Whether a forward step's BIC `gain` beats the best so far. A tie (to a millionth) goes to
