@@ -166,6 +166,18 @@ impl Data {
     pub fn weight(&self, c: usize, k: usize) -> f64 {
         self.weights[c][k]
     }
+
+    /// The data with channel `c` weighed at zero from `from_s` on: a channel that froze there
+    /// carries nothing about the sensor after it, and a fit must not be asked to follow it.
+    pub(crate) fn frozen_from(&self, c: usize, from_s: f64) -> Data {
+        let mut d = self.clone();
+        for (w, &t) in d.weights[c].iter_mut().zip(&self.fit.t_s) {
+            if t >= from_s {
+                *w = 0.0;
+            }
+        }
+        d
+    }
 }
 
 /// Each channel's noise ([`Noise`]) over the full-rate series `full` with its `segments`, and
@@ -211,7 +223,11 @@ fn channel_noise(
     let noise = std::array::from_fn(|k| {
         let x = quiet[k].as_deref().unwrap_or(&full.y[k]);
         let pieces: Vec<&[f64]> = still.iter().map(|r| &x[r.clone()]).collect();
-        let mut n = Noise::estimate(&pieces, &x[free.clone()]);
+        let live: Vec<&[f64]> = live_runs(&full.y[k], &still)
+            .into_iter()
+            .map(|r| &x[r])
+            .collect();
+        let mut n = Noise::estimate(&live, &x[free.clone()]);
         // A series quantised coarser than its noise mostly repeats its values: the median of
         // its second differences is then zero, though every value it takes is off by up to half
         // a quantum q. That error is uniform, of deviation q / sqrt(12) (Widrow), and no less is
@@ -233,6 +249,39 @@ fn channel_noise(
         n
     });
     (as_precise_as_the_best(noise, &noiseless, range), noiseless)
+}
+
+/// The runs of `ranges` where channel `y` is live: a channel of real values (on no lattice)
+/// never repeats a value exactly while it reads, and a frozen one does nothing else, so the
+/// samples next to an exact repeat are left out. A stuck output's frozen stretches had read as
+/// a channel without noise and weighed it a million-fold. A channel on a lattice repeats its
+/// values while it reads (the quantum's floor covers it), and a channel with too few live
+/// samples left keeps `ranges` as they are (a dead sensor is its own finding).
+fn live_runs(y: &[f64], ranges: &[std::ops::Range<usize>]) -> Vec<std::ops::Range<usize>> {
+    if Lattice::of(y).is_some() {
+        return ranges.to_vec();
+    }
+    let repeats = |i: usize| (i > 0 && y[i] == y[i - 1]) || (i + 1 < y.len() && y[i] == y[i + 1]);
+    let mut runs = Vec::new();
+    for r in ranges {
+        let mut start = r.start;
+        for i in r.clone() {
+            if repeats(i) {
+                if i - start >= 3 {
+                    runs.push(start..i);
+                }
+                start = i + 1;
+            }
+        }
+        if r.end.saturating_sub(start) >= 3 {
+            runs.push(start..r.end);
+        }
+    }
+    if runs.iter().map(|r| r.len()).sum::<usize>() >= MIN_STILL_SAMPLES {
+        runs
+    } else {
+        ranges.to_vec()
+    }
 }
 
 /// The RMS of the second differences within each of `pieces`, leaving out a few samples at
@@ -417,6 +466,20 @@ mod tests {
         let smooth: Vec<f64> = (0..4000).map(|k| 1e-3 * k as f64).collect();
         assert!(second_difference_rms(&[&noisy, &frozen]) > 1e-4);
         assert!(second_difference_rms(&[&smooth]) < 1e-12);
+    }
+
+    /// A channel of real values is live where it never repeats a value: its frozen tail is
+    /// left out of the noise's stretches; a channel on a lattice keeps them whole.
+    #[test]
+    fn a_frozen_tail_is_left_out_of_the_noise_and_a_lattice_is_not() {
+        let live: Vec<f64> = (0..600).map(|k| (k as f64 * 0.7).sin() * 1e-3).collect();
+        let mut y = live.clone();
+        y.extend(std::iter::repeat_n(live[599], 600));
+        let runs = live_runs(&y, &[0..300, 300..1200]);
+        assert_eq!(runs, [0..300, 300..599]);
+        let counts: Vec<f64> = (0..1200).map(|k| ((k / 7) % 3) as f64 * 0.5).collect();
+        let whole = [0..600, 600..1200];
+        assert_eq!(live_runs(&counts, &whole), whole);
     }
 
     /// Blocks over the standard test at `rate_hz`: the bounds, the full-rate segments and the
