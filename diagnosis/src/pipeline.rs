@@ -104,25 +104,71 @@ pub struct Diagnosis {
 /// act only in the end (a connector knocked late, a channel that freezes in the last cycle):
 /// the stretches are swapped, the end fitted and the start held out, and that diagnosis is
 /// kept when it finds what acts. It passed the same two tests, on the other stretch.
+///
+/// A channel found frozen (`stuck_channel`) reads nothing of the sensor from then on: the
+/// catalogue is fitted again without those samples ([`Data::frozen_from`]), so that its
+/// effects are chosen on what the sensor did, and that diagnosis is kept when it finds the
+/// freeze it was fitted without (a frozen Fz had the catalogue bend a lag, a power of the rod
+/// speed and a relaxation at the transducer to follow it).
 pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis, DataError> {
     let started = Instant::now();
     let mut prepared = prepare(rec, opt)?;
-    let mut d = diagnose_prepared(&prepared, name, opt);
+    let (mut d, mut frozen) = diagnose_prepared(&prepared, name, opt);
     if d.report.verdict == Verdict::Unexplained {
         prepared.stretches.swap(&prepared.data.fit.t_s);
         let swapped = diagnose_prepared(&prepared, name, opt);
-        if !swapped.report.effects.is_empty() {
-            d = swapped;
+        if !swapped.0.report.effects.is_empty() {
+            (d, frozen) = swapped;
         }
+    }
+    // Fitted without the frozen samples the model follows the channel's own calibration, and
+    // the freeze may show where it began: refitted until the freeze it finds is the one it was
+    // fitted without (a fixed point), or kept as first found.
+    for _ in 0..MAX_FREEZE_REFITS {
+        if frozen.is_empty() {
+            break;
+        }
+        prepared.frozen.clone_from(&frozen);
+        let (again, still) = diagnose_prepared(&prepared, name, opt);
+        if same_freeze(&prepared.data, &frozen, &still) {
+            d = again;
+            break;
+        }
+        frozen = still;
     }
     d.report.seconds = started.elapsed().as_secs_f64();
     Ok(d)
 }
 
-/// One diagnosis of `prepared` with its stretches as they are.
-fn diagnose_prepared(prepared: &Prepared, name: &str, opt: &Options) -> Diagnosis {
+/// Refits without a frozen channel's samples before the freeze found is taken as it was first
+/// found: each moves the freeze towards where the channel's own calibration puts it.
+const MAX_FREEZE_REFITS: usize = 3;
+
+/// Whether `b` finds the freezes `a` found: the same channels, each from the same time to
+/// within two samples of the fitting series (a freeze found elsewhere once the catalogue no
+/// longer follows it is not the one the refit was for).
+fn same_freeze(data: &Data, a: &[(usize, f64)], b: &[(usize, f64)]) -> bool {
+    let t = &data.fit.t_s;
+    let step_s = (t[t.len() - 1] - t[0]) / (t.len().max(2) - 1) as f64;
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| x.0 == y.0 && (x.1 - y.1).abs() <= 2.0 * step_s)
+}
+
+/// One diagnosis of `prepared` with its stretches as they are, and the channels it found
+/// frozen with the time each froze.
+fn diagnose_prepared(
+    prepared: &Prepared,
+    name: &str,
+    opt: &Options,
+) -> (Diagnosis, Vec<(usize, f64)>) {
     let (data, stretches) = (&prepared.data, &prepared.stretches);
     let setup = prepared.setup(opt);
+    // The catalogue is fitted without what a frozen channel read after it froze.
+    let without_frozen = prepared.without_frozen();
+    let frozen_setup = without_frozen.as_ref().map(|d| prepared.setup_on(d, opt));
+    let sel_setup = frozen_setup.as_ref().unwrap_or(&setup);
     // The baseline's moment direction: whether the moment scales can turn it (a precondition
     // of crosstalk) and, after the search, what a turn they made would mean.
     let moment_phi = moment_direction(&setup.drive);
@@ -139,7 +185,7 @@ fn diagnose_prepared(prepared: &Prepared, name: &str, opt: &Options) -> Diagnosi
         .filter_map(|k| k.catalogue_kind())
         .filter(|&k| protocol.protocol_allows(k).is_err())
         .collect();
-    let mut sel = select(&setup, protocol, opt.progress.as_deref());
+    let mut sel = select(sel_setup, protocol, opt.progress.as_deref());
     let drive = prepared.full_drive(&setup);
     let (described, chosen_full) = described_model(&setup, &mut sel, &drive, &forbidden);
     let (base, chosen) = (sel.base(), sel.chosen());
@@ -189,7 +235,14 @@ fn diagnose_prepared(prepared: &Prepared, name: &str, opt: &Options) -> Diagnosi
         heldout: stretches.heldout,
         used: setup.used,
     };
-    Diagnosis { report, plots }
+    let frozen = described
+        .found
+        .terms
+        .iter()
+        .filter(|t| t.kind == terms::TermKind::StuckChannel)
+        .map(|t| (t.channel, t.shape[0]))
+        .collect();
+    (Diagnosis { report, plots }, frozen)
 }
 
 /// The chosen model with what it leaves described ([`describe`]), and the chosen model at the
@@ -313,8 +366,8 @@ fn describe(
     let nested = terms::Nested {
         n: chosen.fitted.solution.n,
         k: chosen.fitted.free.len(),
-        fit_chi2: chosen.sse(),
-        heldout_chi2: chosen.heldout_chi2,
+        fit_chi2: chosen.sse() + unweighed(setup, chosen, &setup.fit_mask),
+        heldout_chi2: chosen.heldout_chi2 + unweighed(setup, chosen, &setup.heldout_mask),
     };
     ctx.beside_catalogue = beside;
     ctx.forbidden = forbidden.to_vec();
@@ -323,6 +376,28 @@ fn describe(
         ctx.set_catalogue(chosen.directions());
     }
     terms::Described::new(&ctx, nested, details, structured)
+}
+
+/// The chi-square on `mask` of the samples `chosen` was fitted without (a frozen channel's,
+/// [`Data::frozen_from`]) at `setup`'s weights: the terms are weighed against the misfit the
+/// whole recording shows.
+fn unweighed(setup: &Setup, chosen: &Candidate, mask: &[bool]) -> f64 {
+    let (all, fitted) = (setup.data, chosen.model.setup.data);
+    if std::ptr::eq(all, fitted) {
+        return 0.0;
+    }
+    (0..4)
+        .filter(|&c| setup.used[c])
+        .map(|c| {
+            let (y, m) = (&all.fit.y[c], chosen.outputs.channel(c));
+            (0..y.len())
+                .filter(|&k| mask[k])
+                .map(|k| {
+                    (y[k] - m[k]).powi(2) * (all.weight(c, k).powi(2) - fitted.weight(c, k).powi(2))
+                })
+                .sum::<f64>()
+        })
+        .sum()
 }
 
 /// Whether `effects` names `kind`.
@@ -390,6 +465,8 @@ pub(crate) struct Prepared {
     stretches: Stretches,
     fingertip: AngleBlend,
     pub meta: Meta,
+    /// Channels found frozen, each with the time it froze, s.
+    frozen: Vec<(usize, f64)>,
 }
 
 /// Read `rec` and look up its fingertip's response at its contact angle and azimuth.
@@ -428,19 +505,27 @@ pub(crate) fn prepare(rec: &Recording, opt: &Options) -> Result<Prepared, DataEr
         stretches,
         fingertip,
         meta,
+        frozen: Vec::new(),
     })
 }
 
 impl Prepared {
     /// The calibration setup of this recording's fits.
     pub fn setup(&self, opt: &Options) -> Setup<'_> {
-        calibration_setup(
-            &self.data,
-            &self.meta,
-            &self.fingertip,
-            &self.stretches,
-            opt,
-        )
+        self.setup_on(&self.data, opt)
+    }
+
+    /// The calibration setup on `data` (this recording's, or it without a frozen channel).
+    fn setup_on<'a>(&self, data: &'a Data, opt: &Options) -> Setup<'a> {
+        calibration_setup(data, &self.meta, &self.fingertip, &self.stretches, opt)
+    }
+
+    /// The data without what the frozen channels read after they froze, if any froze.
+    fn without_frozen(&self) -> Option<Data> {
+        let (&(c, t), rest) = self.frozen.split_first()?;
+        Some(rest.iter().fold(self.data.frozen_from(c, t), |d, &(c, t)| {
+            d.frozen_from(c, t)
+        }))
     }
 
     /// The drive at the full rate, for the contract's RMSEs.

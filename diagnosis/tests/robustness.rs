@@ -301,3 +301,33 @@ fn the_mains_on_a_load_cell_alone_is_named() {
         [("mains_interference".to_string(), vec!["load_N".to_string()])]
     );
 }
+
+/// A gel that relaxes, and an Fz output that freezes half-way through, at rest, for the rest of
+/// the test: its frozen stretches had read as a channel without noise (Fz weighed a million-fold,
+/// and no effect passed), and fitted to the frozen samples the catalogue had bent a lag and a
+/// relaxation at the transducer to follow them. With the frozen samples left out of the noise
+/// and of the catalogue's fit, the relaxation is named on the load and the outputs alike,
+/// beside the freeze, and nothing else.
+#[test]
+fn a_frozen_channel_does_not_hide_the_relaxation_beside_it() {
+    let (mut rec, opt) = recording(&["viscoelastic_relaxation:tau_s=4,fraction=0.3"], |_| {});
+    let ch = &mut rec.channels;
+    let t_freeze_s = ch.t_s[0] + 0.5 * (ch.t_s[ch.t_s.len() - 1] - ch.t_s[0]);
+    let k = ch.t_s.iter().position(|&t| t >= t_freeze_s).unwrap();
+    let last = ch.fz_v[k];
+    ch.fz_v[k..].iter_mut().for_each(|v| *v = last);
+    let d = diagnosis::diagnose(&rec, "a frozen Fz beside a relaxation", &opt).unwrap();
+    let found: Vec<(&str, &[String])> = d
+        .report
+        .effects
+        .iter()
+        .map(|e| (e.name.as_str(), e.channels.as_slice()))
+        .collect();
+    let names: Vec<&str> = found.iter().map(|f| f.0).collect();
+    assert!(names.contains(&"viscoelastic_relaxation"), "{found:?}");
+    assert!(
+        found.contains(&("stuck_channel", &["fz_V".to_string()][..])),
+        "{found:?}"
+    );
+    assert_eq!(names.len(), 2, "{found:?}");
+}
