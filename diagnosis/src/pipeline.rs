@@ -260,7 +260,8 @@ fn diagnose_prepared(
 /// [`MIN_BIC_GAIN`]) and no worse on the held-out stretch than the whole catalogue model with
 /// the terms beside it: a freeze beside a relaxation is not the other explanation of the
 /// relaxation, and the model without it had taken a lag and a relaxation at another stage
-/// to make up the difference.
+/// to make up the difference. Replacements go on, one effect at a time, against the model
+/// last kept.
 fn described_model(
     setup: &Setup,
     sel: &mut crate::select::Selection,
@@ -269,7 +270,7 @@ fn described_model(
 ) -> (terms::Described, Outputs) {
     // Candidate `i` described: its sanity findings, and where its residual stays structured
     // the library's terms (with `beside`, those that may stand beside the whole catalogue).
-    let of = |i: usize, beside: bool| {
+    let of = |sel: &crate::select::Selection, i: usize, beside: bool| {
         let c = &sel.all[i];
         let full = c.outputs(drive);
         let dec: [Vec<f64>; 4] = std::array::from_fn(|k| c.outputs.channel(k).to_vec());
@@ -278,46 +279,50 @@ fn described_model(
         let d = describe(setup, c, (&full, &details), structured, (beside, forbidden));
         (d, full)
     };
-    let chosen = sel.chosen;
-    let kinds = sel.chosen().kinds.clone();
-    if kinds.is_empty() {
-        return of(chosen, false);
+    if sel.chosen().kinds.is_empty() {
+        return of(sel, sel.chosen, false);
     }
     // The chosen model with what may stand beside it is what a replacement must match.
-    let (beside, beside_full) = of(chosen, true);
-    let (bic, held) = if beside.found.terms.is_empty() {
+    let (beside, beside_full) = of(sel, sel.chosen, true);
+    let scores = if beside.found.terms.is_empty() {
         (sel.chosen().bic, sel.chosen().heldout_chi2)
     } else {
         (beside.found.bic, beside.found.heldout_chi2)
     };
-    let mut best: Option<(f64, usize, terms::Described, Outputs, EffectKind)> = None;
-    for (i, &kind) in kinds.iter().enumerate() {
-        let w = sel.without_index(i);
-        if w == chosen || sel.all[w].kinds.len() + 1 != kinds.len() {
-            continue;
+    let mut current = (beside, beside_full, scores);
+    // One effect at a time, while one is replaced: of two effects that each took up part of
+    // one piece of physics, the second is weighed against the terms that replaced the first.
+    loop {
+        let (bic, held) = current.2;
+        let mut best: Option<(f64, usize, terms::Described, Outputs, EffectKind)> = None;
+        let kinds = sel.chosen().kinds.clone();
+        for (i, &kind) in kinds.iter().enumerate() {
+            let w = sel.without_index(i);
+            if w == sel.chosen || sel.all[w].kinds.len() + 1 != kinds.len() {
+                continue;
+            }
+            let (d_w, full_w) = of(sel, w, false);
+            if d_w.found.terms.is_empty() {
+                continue;
+            }
+            let bic_w = d_w.found.bic;
+            let replaces = bic_w - bic <= MIN_BIC_GAIN && d_w.found.heldout_chi2 <= held;
+            if replaces && best.as_ref().is_none_or(|b| bic_w < b.0) {
+                best = Some((bic_w, w, d_w, full_w, kind));
+            }
         }
-        let (d_w, full_w) = of(w, false);
-        if d_w.found.terms.is_empty() {
-            continue;
-        }
-        let bic_w = d_w.found.bic;
-        let replaces = bic_w - bic <= MIN_BIC_GAIN && d_w.found.heldout_chi2 <= held;
-        if replaces && best.as_ref().is_none_or(|b| bic_w < b.0) {
-            best = Some((bic_w, w, d_w, full_w, kind));
-        }
-    }
-    match best {
-        Some((_, w, d_w, full_w, kind)) => {
-            sel.replace_chosen(
-                w,
-                &format!(
-                    "the terms described without {} do as well by the criterion (within {MIN_BIC_GAIN}) and on the held-out stretch",
-                    kind.name()
-                ),
-            );
-            (d_w, full_w)
-        }
-        None => (beside, beside_full),
+        let Some((_, w, d_w, full_w, kind)) = best else {
+            return (current.0, current.1);
+        };
+        sel.replace_chosen(
+            w,
+            &format!(
+                "the terms described without {} do as well by the criterion (within {MIN_BIC_GAIN}) and on the held-out stretch",
+                kind.name()
+            ),
+        );
+        let scores = (d_w.found.bic, d_w.found.heldout_chi2);
+        current = (d_w, full_w, scores);
     }
 }
 
