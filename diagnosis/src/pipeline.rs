@@ -106,7 +106,7 @@ pub struct Diagnosis {
 /// kept when it finds what acts. It passed the same two tests, on the other stretch.
 ///
 /// A channel found frozen (`stuck_channel`) reads nothing of the sensor from then on: the
-/// catalogue is fitted again without those samples ([`Data::frozen_from`]), so that its
+/// catalogue is fitted again without those samples (`Data::frozen_from`), so that its
 /// effects are chosen on what the sensor did, and that diagnosis is kept when it finds the
 /// freeze it was fitted without (a frozen Fz had the catalogue bend a lag, a power of the rod
 /// speed and a relaxation at the transducer to follow it).
