@@ -167,6 +167,27 @@ impl Data {
         self.weights[c][k]
     }
 
+    /// The data with every block weighed at zero where its channel read one value over and
+    /// over (`None` where no channel did): a channel of real values (on no lattice) never
+    /// repeats a value while it reads, so a block made of repeats is a reading held (a cell
+    /// clipped at its limit, a frozen output) and tells a fit nothing of the sensor there.
+    pub(crate) fn without_held(&self) -> Option<Data> {
+        let mut d = self.clone();
+        let mut any = false;
+        for c in (0..4).filter(|&c| self.lattice[c].is_none()) {
+            let y = &self.full.y[c];
+            let repeats =
+                |i: usize| (i > 0 && y[i] == y[i - 1]) || (i + 1 < y.len() && y[i] == y[i + 1]);
+            for (k, &(a, b)) in self.bounds.iter().enumerate() {
+                if b > a && (a..b).all(repeats) {
+                    d.weights[c][k] = 0.0;
+                    any = true;
+                }
+            }
+        }
+        any.then_some(d)
+    }
+
     /// The data with channel `c` weighed at zero from `from_s` on: a channel that froze there
     /// carries nothing about the sensor after it, and a fit must not be asked to follow it.
     pub(crate) fn frozen_from(&self, c: usize, from_s: f64) -> Data {

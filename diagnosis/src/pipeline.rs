@@ -525,12 +525,19 @@ impl Prepared {
         calibration_setup(data, &self.meta, &self.fingertip, &self.stretches, opt)
     }
 
-    /// The data without what the frozen channels read after they froze, if any froze.
+    /// The data without the readings held (`Data::without_held`) and without what the frozen
+    /// channels read after they froze; `None` where there is neither.
     fn without_frozen(&self) -> Option<Data> {
-        let (&(c, t), rest) = self.frozen.split_first()?;
-        Some(rest.iter().fold(self.data.frozen_from(c, t), |d, &(c, t)| {
-            d.frozen_from(c, t)
-        }))
+        let held = self.data.without_held();
+        if held.is_none() && self.frozen.is_empty() {
+            return None;
+        }
+        let start = held.unwrap_or_else(|| self.data.clone());
+        Some(
+            self.frozen
+                .iter()
+                .fold(start, |d, &(c, t)| d.frozen_from(c, t)),
+        )
     }
 
     /// The drive at the full rate, for the contract's RMSEs.
