@@ -323,26 +323,60 @@ pub fn best_step(
     others: &Columns,
     freeze: bool,
 ) -> Option<(f64, Columns)> {
-    let base = if others.x.is_empty() && others.fixed.is_none() {
+    let mut base = if others.x.is_empty() && others.fixed.is_none() {
         vec![0.0; ctx.len()]
     } else {
         let (beta, _) = solve(ctx, c, others)?;
         others.contribution(&beta)
     };
+    // A freeze: the other columns fitted beside it reach only the live samples, and the scan
+    // is repeated with them held there until its time stays (the columns fitted to the frozen
+    // samples too had pulled the freeze off its time, and a set that holds the peak had
+    // fitted better than the freeze at the wrong time).
+    let mut found: Option<(f64, Columns)> = None;
+    for _ in 0..if freeze { 3 } else { 1 } {
+        let k = scan_step(ctx, c, &base, freeze)?;
+        let (t0, columns) = refine_step(ctx, c, others, k, freeze)?;
+        let settled = found.as_ref().is_some_and(|f| f.0 == t0);
+        if settled {
+            break;
+        }
+        if freeze && !others.x.is_empty() {
+            let live = columns.x[0].iter().map(|h| 1.0 - h).collect::<Vec<f64>>();
+            let times = |v: &Vec<f64>| v.iter().zip(&live).map(|(a, l)| a * l).collect();
+            let held = Columns {
+                x: others.x.iter().map(times).collect(),
+                fixed: others.fixed.as_ref().map(times),
+            };
+            let (beta, _) = solve(ctx, c, &columns.joined(&held))?;
+            base = others.contribution(&beta[1..]);
+        }
+        found = Some((t0, columns));
+    }
+    found
+}
+
+/// The block where a step (or, with `freeze`, a freeze) on channel `c` removes the most
+/// chi-square, the other columns held at `base`.
+fn scan_step(ctx: &Context, c: usize, base: &[f64], freeze: bool) -> Option<usize> {
     let rows: Vec<usize> = (0..ctx.len()).filter(|&k| ctx.fit_mask[k]).collect();
     // Leave a few samples either side: a step at the stretch's edge is an offset.
     if rows.len() < 8 {
         return None;
     }
     // From the end: sums over k >= k0 of w^2, w^2 z and w^2 z^2, where z is what the step's
-    // amplitude must match (the residual, plus the model for a frozen channel), and of w^2 r^2
-    // (what the frozen stretch loses).
+    // amplitude must match (the residual; for a frozen channel the recording itself, which
+    // the other columns no longer reach), and of w^2 r^2 (what the frozen stretch loses).
     let (mut sw, mut swz, mut swzz, mut swrr) = (0.0, 0.0, 0.0, 0.0);
     let mut best: Option<(f64, usize)> = None;
     for (i, &k) in rows.iter().enumerate().rev() {
         let w2 = ctx.data.weight(c, k).powi(2);
         let r = ctx.residual[c][k] - base[k];
-        let z = if freeze { r + ctx.model[c][k] } else { r };
+        let z = if freeze {
+            ctx.residual[c][k] + ctx.model[c][k]
+        } else {
+            r
+        };
         sw += w2;
         swz += w2 * z;
         swzz += w2 * z * z;
@@ -357,9 +391,19 @@ pub fn best_step(
             best = Some((gain, k));
         }
     }
-    // Refine t0 between the neighbouring blocks: each block holds the share of its span after
-    // t0 (a step inside a block moves its mean part of the way).
-    let k = best?.1;
+    best.map(|b| b.1)
+}
+
+/// The step's time refined between the blocks either side of block `k`, with its columns:
+/// each block holds the share of its span after t0 (a step inside a block moves its mean
+/// part of the way).
+fn refine_step(
+    ctx: &Context,
+    c: usize,
+    others: &Columns,
+    k: usize,
+    freeze: bool,
+) -> Option<(f64, Columns)> {
     let (from, to) = (ctx.block_span[k.saturating_sub(1)].0, ctx.block_span[k].1);
     let step_at = |t0: f64| {
         let h: Vec<f64> = ctx
