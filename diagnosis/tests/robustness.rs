@@ -302,17 +302,24 @@ fn the_mains_on_a_load_cell_alone_is_named() {
     );
 }
 
-/// A gel that relaxes, and an Fz output that freezes half-way through, at rest, for the rest of
-/// the test: its frozen stretches had read as a channel without noise (Fz weighed a million-fold,
-/// and no effect passed), and fitted to the frozen samples the catalogue had bent a lag and a
-/// relaxation at the transducer to follow them. With the frozen samples left out of the noise
-/// and of the catalogue's fit, the relaxation is named on the load and the outputs alike,
-/// beside the freeze, and nothing else.
+/// A gel that relaxes, and an Fz output that freezes at `share` of the test (under load in the
+/// first press, or at rest between the presses) for the rest of it: its frozen stretches had
+/// read as a channel without noise (Fz weighed a million-fold, and no effect passed), and
+/// fitted to the frozen samples the catalogue had bent a lag and a relaxation at the transducer
+/// to follow them. With the frozen samples left out of the noise and of the catalogue's fit,
+/// the relaxation is named on the load and the outputs alike, beside the freeze, and nothing
+/// else.
 #[test]
 fn a_frozen_channel_does_not_hide_the_relaxation_beside_it() {
+    for share in [0.17, 0.5] {
+        frozen_beside_a_relaxation(share);
+    }
+}
+
+fn frozen_beside_a_relaxation(share: f64) {
     let (mut rec, opt) = recording(&["viscoelastic_relaxation:tau_s=4,fraction=0.3"], |_| {});
     let ch = &mut rec.channels;
-    let t_freeze_s = ch.t_s[0] + 0.5 * (ch.t_s[ch.t_s.len() - 1] - ch.t_s[0]);
+    let t_freeze_s = ch.t_s[0] + share * (ch.t_s[ch.t_s.len() - 1] - ch.t_s[0]);
     let k = ch.t_s.iter().position(|&t| t >= t_freeze_s).unwrap();
     let last = ch.fz_v[k];
     ch.fz_v[k..].iter_mut().for_each(|v| *v = last);
@@ -325,9 +332,54 @@ fn a_frozen_channel_does_not_hide_the_relaxation_beside_it() {
         .collect();
     let names: Vec<&str> = found.iter().map(|f| f.0).collect();
     assert!(names.contains(&"viscoelastic_relaxation"), "{found:?}");
-    assert!(
-        found.contains(&("stuck_channel", &["fz_V".to_string()][..])),
+    let stuck = d.report.effects.iter().find(|e| e.name == "stuck_channel");
+    assert_eq!(
+        stuck.map(|e| e.channels.as_slice()),
+        Some(&["fz_V".to_string()][..]),
+        "{share}: {found:?}"
+    );
+    assert_eq!(names.len(), 2, "{share}: {found:?}");
+    // Under load the freeze is found where it began (at rest any time before the next press
+    // reads the same).
+    let t0 = stuck
+        .unwrap()
+        .params
+        .0
+        .iter()
+        .find(|(k, _)| k == "t0_s")
+        .unwrap()
+        .1;
+    assert!(t0 <= t_freeze_s + 0.5, "{share}: {t0} for {t_freeze_s}");
+    if share < 0.2 {
+        assert!((t0 - t_freeze_s).abs() < 0.5, "{t0} for {t_freeze_s}");
+    }
+}
+
+/// A load cell whose amplifier clips below the peak of both presses: fitted to the clipped
+/// samples the calibration had bent the load's law, and the clip came out as a stiffening at
+/// the transducer (the outputs grow faster than the load that stopped). The clipped samples,
+/// one value held, are left out of the catalogue's fit, and the clip is named on the load cell
+/// at its limit, and nothing else.
+#[test]
+fn a_load_cell_that_clips_is_named_at_its_limit() {
+    let (mut rec, opt) = recording(&[], |_| {});
+    let limit_n = 30.0;
+    rec.channels
+        .load_n
+        .iter_mut()
+        .for_each(|f| *f = f.min(limit_n));
+    let d = diagnosis::diagnose(&rec, "a load cell clipping at 30 N", &opt).unwrap();
+    let found: Vec<(&str, &[String])> = d
+        .report
+        .effects
+        .iter()
+        .map(|e| (e.name.as_str(), e.channels.as_slice()))
+        .collect();
+    assert_eq!(
+        found,
+        [("amplifier_saturation", &["load_N".to_string()][..])],
         "{found:?}"
     );
-    assert_eq!(names.len(), 2, "{found:?}");
+    let limit = d.report.effects[0].params.0[0].1;
+    assert!((limit - limit_n).abs() < 0.3, "{limit}");
 }

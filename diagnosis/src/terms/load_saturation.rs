@@ -20,8 +20,10 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
     // refitted offset and scale) leave it: found in turns, each clipping the last turn's.
     let mut reads = ctx.model[c].clone();
     let mut best = None;
+    let mut resolution = 0.0;
     for _ in 0..3 {
-        let (shape, columns, beta) = best_limit(ctx, c, others, &reads)?;
+        let (shape, columns, beta, step) = best_limit(ctx, c, others, &reads)?;
+        resolution = step;
         let (all, _) = solve(ctx, c, &columns.joined(others))?;
         let rest = others.contribution(&all[1..]);
         reads = ctx.model[c].iter().zip(&rest).map(|(m, r)| m + r).collect();
@@ -29,9 +31,10 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
     }
     let (shape, columns, beta) = best?;
     // A cell that reads more above its limit is not clipping; nor is one whose recording goes
-    // above the limit (beyond three deviations of its noise, in more than one sample in a
-    // hundred: a spike is not a reading): a clip is a ceiling the recording shows.
-    if beta[0] <= 0.0 || above_limit(ctx, c, shape[0]) > 0.01 {
+    // above the limit (beyond the limit's own resolution on its grid and three deviations of
+    // its noise, in more than one sample in a hundred: a spike is not a reading): a clip is a
+    // ceiling the recording shows.
+    if beta[0] <= 0.0 || above_limit(ctx, c, shape[0] + resolution) > 0.01 {
         return None;
     }
     Some(Term {
@@ -58,13 +61,13 @@ fn above_limit(ctx: &Context, c: usize, limit: f64) -> f64 {
 
 /// The best limit for a cell that would read `reads`: a grid over their range, then a
 /// twentieth of its step around the best (a limit a step off leaves a misfit at every peak
-/// that another term would take up).
+/// that another term would take up); with the fine grid's step, the limit's resolution.
 fn best_limit(
     ctx: &Context,
     c: usize,
     others: &Columns,
     reads: &[f64],
-) -> Option<(Vec<f64>, Columns, Vec<f64>)> {
+) -> Option<(Vec<f64>, Columns, Vec<f64>, f64)> {
     let (lo, hi) = reads
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
@@ -89,7 +92,7 @@ fn best_limit(
     let (first, _, _, _) = best_shape(ctx, c, others, coarse)?;
     let fine = (-20..=20).map(|j| clip(first[0] + step * f64::from(j) / 20.0));
     let (shape, columns, beta, _) = best_shape(ctx, c, others, fine)?;
-    Some((shape, columns, beta))
+    Some((shape, columns, beta, step / 20.0))
 }
 
 pub(crate) fn describe(t: &Term) -> Description {

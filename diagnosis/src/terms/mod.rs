@@ -251,11 +251,15 @@ impl TermKind {
     /// effect's misfit on the load under a hold is a further fall, never a rise
     /// ([`material_recovery`]). A channel that freezes while the model moves after it
     /// ([`stuck_channel`]): every catalogue effect is a response to the drive or a smooth
-    /// function of time, and none stops a channel following the load.
+    /// function of time, and none stops a channel following the load; nor does any hold the
+    /// load cell at a ceiling the recording never passes ([`load_saturation`]).
     pub fn beside_catalogue(self) -> bool {
         matches!(
             self,
-            TermKind::Line | TermKind::MaterialRecovery | TermKind::StuckChannel
+            TermKind::Line
+                | TermKind::MaterialRecovery
+                | TermKind::StuckChannel
+                | TermKind::LoadSaturation
         )
     }
 
