@@ -168,13 +168,13 @@ impl Data {
     }
 
     /// The data with every block weighed at zero where its channel read one value over and
-    /// over (`None` where no channel did): a channel of real values (on no lattice) never
+    /// over (`None` where no channel did): a channel of real values ([`real_valued`]) never
     /// repeats a value while it reads, so a block made of repeats is a reading held (a cell
     /// clipped at its limit, a frozen output) and tells a fit nothing of the sensor there.
     pub(crate) fn without_held(&self) -> Option<Data> {
         let mut d = self.clone();
         let mut any = false;
-        for c in (0..4).filter(|&c| self.lattice[c].is_none()) {
+        for c in (0..4).filter(|&c| real_valued(&self.full.y[c], self.range[c])) {
             let y = &self.full.y[c];
             let repeats =
                 |i: usize| (i > 0 && y[i] == y[i - 1]) || (i + 1 < y.len() && y[i] == y[i + 1]);
@@ -244,7 +244,7 @@ fn channel_noise(
     let noise = std::array::from_fn(|k| {
         let x = quiet[k].as_deref().unwrap_or(&full.y[k]);
         let pieces: Vec<&[f64]> = still.iter().map(|r| &x[r.clone()]).collect();
-        let live: Vec<&[f64]> = live_runs(&full.y[k], &still)
+        let live: Vec<&[f64]> = live_runs(&full.y[k], range[k], &still)
             .into_iter()
             .map(|r| &x[r])
             .collect();
@@ -272,14 +272,27 @@ fn channel_noise(
     (as_precise_as_the_best(noise, &noiseless, range), noiseless)
 }
 
-/// The runs of `ranges` where channel `y` is live: a channel of real values (on no lattice)
-/// never repeats a value exactly while it reads, and a frozen one does nothing else, so the
-/// samples next to an exact repeat are left out. A stuck output's frozen stretches had read as
-/// a channel without noise and weighed it a million-fold. A channel on a lattice repeats its
-/// values while it reads (the quantum's floor covers it), and a channel with too few live
-/// samples left keeps `ranges` as they are (a dead sensor is its own finding).
-fn live_runs(y: &[f64], ranges: &[std::ops::Range<usize>]) -> Vec<std::ops::Range<usize>> {
-    if Lattice::of(y).is_some() {
+/// Whether channel `y` (of peak-to-peak `range`) holds real values: on no lattice, and with no
+/// step between neighbours as coarse as a millionth of its range (finer than any converter or
+/// export resolves, the floor the noise model keeps too). Such a channel never repeats a value
+/// exactly while it reads. A converter's or an export's channel repeats its values at rest
+/// (a Mach-1's load cell, 0.00085 N steps written to six decimals, off any one lattice).
+fn real_valued(y: &[f64], range: f64) -> bool {
+    Lattice::of(y).is_none() && crate::quantisation::quantum(y) < 1e-6 * range
+}
+
+/// The runs of `ranges` where channel `y` (of peak-to-peak `range`) is live: a channel of real
+/// values ([`real_valued`]) never repeats a value exactly while it reads, and a frozen one does
+/// nothing else, so the samples next to an exact repeat are left out. A stuck output's frozen
+/// stretches had read as a channel without noise and weighed it a million-fold. Any other
+/// channel, and one with too few live samples left, keeps `ranges` as they are (a dead sensor
+/// is its own finding).
+fn live_runs(
+    y: &[f64],
+    range: f64,
+    ranges: &[std::ops::Range<usize>],
+) -> Vec<std::ops::Range<usize>> {
+    if !real_valued(y, range) {
         return ranges.to_vec();
     }
     let repeats = |i: usize| (i > 0 && y[i] == y[i - 1]) || (i + 1 < y.len() && y[i] == y[i + 1]);
@@ -490,17 +503,23 @@ mod tests {
     }
 
     /// A channel of real values is live where it never repeats a value: its frozen tail is
-    /// left out of the noise's stretches; a channel on a lattice keeps them whole.
+    /// left out of the noise's stretches; a channel a converter resolves keeps them whole.
     #[test]
     fn a_frozen_tail_is_left_out_of_the_noise_and_a_lattice_is_not() {
         let live: Vec<f64> = (0..600).map(|k| (k as f64 * 0.7).sin() * 1e-3).collect();
         let mut y = live.clone();
         y.extend(std::iter::repeat_n(live[599], 600));
-        let runs = live_runs(&y, &[0..300, 300..1200]);
+        let runs = live_runs(&y, 10.0, &[0..300, 300..1200]);
         assert_eq!(runs, [0..300, 300..599]);
         let counts: Vec<f64> = (0..1200).map(|k| ((k / 7) % 3) as f64 * 0.5).collect();
         let whole = [0..600, 600..1200];
-        assert_eq!(live_runs(&counts, &whole), whole);
+        assert_eq!(live_runs(&counts, 1.0, &whole), whole);
+        // A converter's steps of 0.00085049 N written to six decimals: off any one lattice,
+        // but as coarse as a converter resolves; its repeats are readings.
+        let written: Vec<f64> = (0..1200)
+            .map(|k| (((k / 3) % 5) as f64 * 0.000_850_49 * 1e6).round() / 1e6)
+            .collect();
+        assert_eq!(live_runs(&written, 5.0, &whole), whole);
     }
 
     /// Blocks over the standard test at `rate_hz`: the bounds, the full-rate segments and the
