@@ -324,12 +324,7 @@ fn frozen_beside_a_relaxation(share: f64) {
     let last = ch.fz_v[k];
     ch.fz_v[k..].iter_mut().for_each(|v| *v = last);
     let d = diagnosis::diagnose(&rec, "a frozen Fz beside a relaxation", &opt).unwrap();
-    let found: Vec<(&str, &[String])> = d
-        .report
-        .effects
-        .iter()
-        .map(|e| (e.name.as_str(), e.channels.as_slice()))
-        .collect();
+    let found = named(&d);
     let names: Vec<&str> = found.iter().map(|f| f.0).collect();
     assert!(names.contains(&"viscoelastic_relaxation"), "{found:?}");
     let stuck = d.report.effects.iter().find(|e| e.name == "stuck_channel");
@@ -369,12 +364,7 @@ fn a_load_cell_that_clips_is_named_at_its_limit() {
         .iter_mut()
         .for_each(|f| *f = f.min(limit_n));
     let d = diagnosis::diagnose(&rec, "a load cell clipping at 30 N", &opt).unwrap();
-    let found: Vec<(&str, &[String])> = d
-        .report
-        .effects
-        .iter()
-        .map(|e| (e.name.as_str(), e.channels.as_slice()))
-        .collect();
+    let found = named(&d);
     assert_eq!(
         found,
         [("amplifier_saturation", &["load_N".to_string()][..])],
@@ -382,4 +372,13 @@ fn a_load_cell_that_clips_is_named_at_its_limit() {
     );
     let limit = d.report.effects[0].params.0[0].1;
     assert!((limit - limit_n).abs() < 0.3, "{limit}");
+}
+
+/// The effects of `d`, each by name with its channels.
+fn named(d: &diagnosis::Diagnosis) -> Vec<(&str, &[String])> {
+    d.report
+        .effects
+        .iter()
+        .map(|e| (e.name.as_str(), e.channels.as_slice()))
+        .collect()
 }
