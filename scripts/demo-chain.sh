@@ -61,7 +61,11 @@ qemu_start "$elf" "$out/compression-qemu.log" "${clock[@]}" \
 say "3/4 tactile log records ${qemu_pty} and merges the machine's rod/load ($out/compression.csv)"
 rm -f "$out/compression.csv"
 started=$SECONDS
-"$tactile" log --port "$qemu_pty" --no-mcap -q -o "$out/compression.csv" \
+# On the virtual clock the device's stamps are the test's time (the host sees minutes pass in
+# seconds), so the rows are timed by them.
+device_clock=()
+[ "${TACTILE_DEMO_CLOCK:-virtual}" = realtime ] || device_clock=(--device-clock)
+"$tactile" log --port "$qemu_pty" --no-mcap -q -o "$out/compression.csv" "${device_clock[@]}" \
     --contact-angle-deg 20 --azimuth-deg 60 \
     --reference "$out/machine.csv" --align start &
 log_pid=$!

@@ -78,3 +78,47 @@ fn the_logger_writes_contract_keys_filter_and_temperature() {
     assert_eq!(r.column("temp_code").unwrap()[0], f64::from(code));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A device whose clock runs 25 times faster than the host's (an emulator on a virtual clock
+/// runs a test's minutes in seconds). Mapped onto the host's clock its rows would span the
+/// seconds the host saw. With `device_clock` they span the device's time, from the first
+/// frame's receipt, and the metadata says which clock times them.
+#[test]
+fn rows_on_the_device_clock_span_the_device_time() {
+    let dir = scratch("logger-device-clock");
+    let cfg = EmuConfig::new(dir.join("unused"));
+    let info = info_for(&cfg);
+    let mut setup = Setup::from_hardware("unit test".into()).unwrap();
+    setup.device_clock = true;
+    let start = UNIX_EPOCH + Duration::from_secs(1_800_000_000);
+    let path = dir.join("r.csv");
+    let mut rec = Recorder::create(&path, &info, &setup, start).unwrap();
+    let frame_s = f64::from(cfg.batch) / f64::from(cfg.rate_hz);
+    let frames = 400u32;
+    for seq in 1..=frames {
+        let frame = truth_frame(seq, cfg.batch, cfg.rate_hz, Status::default());
+        let t_device_s = f64::from(frame.t_us) * 1e-6;
+        let mut raw = encode_vec(&Message::Sample(frame.clone())).unwrap();
+        raw.pop();
+        rec.on_event(&Event::Frame(Frame {
+            seq,
+            t_device_us: u64::from(frame.t_us),
+            host_time: start + Duration::from_secs_f64(t_device_s / 25.0),
+            session: 0,
+            frame,
+            raw,
+        }))
+        .unwrap();
+    }
+    rec.finish("test").unwrap();
+    let r = recording::read(&path).unwrap();
+    let t = &r.channels.t_s;
+    let span_s = t[t.len() - 1] - t[0];
+    let device_span_s = f64::from(frames) * frame_s - 1.0 / f64::from(cfg.rate_hz);
+    assert!(
+        (span_s - device_span_s).abs() < 1e-6,
+        "{span_s} s for {device_span_s} s"
+    );
+    let base = r.meta.other.iter().find(|(k, _)| k == "time_base").unwrap();
+    assert!(base.1.starts_with("device clock"), "{}", base.1);
+}

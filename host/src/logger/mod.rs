@@ -148,6 +148,10 @@ pub struct Setup {
     pub source: String,
     /// The temperature sensor on ADC channel 3, to write `temp_C`; `None`: no `temp_C` column.
     pub temp_sensor: Option<sim::frontend::TempSensor>,
+    /// Time the rows by the device's own stamps, from the first frame's receipt, instead of
+    /// mapping its clock onto the host's: for a device whose clock does not run in real time
+    /// (an emulator on a virtual clock, which runs a test's minutes in seconds).
+    pub device_clock: bool,
 }
 
 impl Setup {
@@ -162,6 +166,7 @@ impl Setup {
             rod_speed_mm_per_min: Some(p.fingertip.test.rod_speed_mm_per_min),
             source,
             temp_sensor: Some(sim::frontend::FrontEnd::from_params(&p).temperature),
+            device_clock: false,
         })
     }
 }
@@ -191,7 +196,15 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
             f.butterworth_order.to_string(),
         ),
         ("firmware_cutoff_hz", decimal(f.cutoff_hz).to_string()),
-        (clock_key::TIME_BASE, clock_key::TIME_BASE_VALUE.to_string()),
+        (
+            clock_key::TIME_BASE,
+            if setup.device_clock {
+                clock_key::DEVICE_TIME_BASE_VALUE
+            } else {
+                clock_key::TIME_BASE_VALUE
+            }
+            .to_string(),
+        ),
         (clock_key::PPM, PENDING.to_string()),
         (clock_key::UNCERTAINTY, PENDING.to_string()),
         (clock_key::RESTARTS, PENDING.to_string()),
@@ -221,6 +234,9 @@ pub mod clock_key {
 
     pub const TIME_BASE: &str = "time_base";
     pub const TIME_BASE_VALUE: &str = "host clock; device stamps mapped by a lower-envelope fit";
+    /// With `Setup::device_clock`: the clock fit is still reported, not applied.
+    pub const DEVICE_TIME_BASE_VALUE: &str =
+        "device clock; its stamps from the first frame's receipt (tactile log --device-clock)";
     /// The device clock's rate error against the host's, ppm, at the end of the run.
     pub const PPM: &str = "clock_ppm";
     /// The alignment's uncertainty, µs (median height of minimum-delay points above the fit).

@@ -32,6 +32,10 @@ pub struct Recorder {
     start: SystemTime,
     clock: DeviceClock,
     held: Vec<Frame>,
+    /// With `Setup::device_clock`: rows are timed by the device's stamps, and this is the first
+    /// frame's (device time, host time) that places them.
+    device_clock: bool,
+    device_origin: Option<(f64, f64)>,
     last_t_s: f64,
     last_flush: Instant,
     mcap: Option<SharedMcap>,
@@ -129,6 +133,8 @@ impl Recorder {
             start,
             clock: DeviceClock::new(),
             held: Vec::new(),
+            device_clock: setup.device_clock,
+            device_origin: None,
             // The first sample may precede the origin (replay puts it at the first frame's
             // receipt, after the sample was taken): t_s is then slightly negative, not clamped.
             last_t_s: f64::NEG_INFINITY,
@@ -234,7 +240,15 @@ impl Recorder {
         let host_s = self.host_s(f.host_time);
         let t_host = unix_s(f.host_time);
         let start = unix_s(self.start);
-        let base = |c: &DeviceClock, t_dev: f64| c.host_s(t_dev).unwrap_or(host_s);
+        let origin = *self.device_origin.get_or_insert((t_dev0_s, host_s));
+        let device_clock = self.device_clock;
+        let base = |c: &DeviceClock, t_dev: f64| {
+            if device_clock {
+                origin.1 + (t_dev - origin.0)
+            } else {
+                c.host_s(t_dev).unwrap_or(host_s)
+            }
+        };
         if let Some((m, ch)) = &self.mcap {
             let t = ns(start + base(&self.clock, t_dev0_s));
             m.borrow_mut().write(ch.raw, t, ns(t_host), &f.raw)?;
@@ -301,7 +315,12 @@ impl Recorder {
             GapKind::HostQueueFull { frames } => (gap_code::HOST_QUEUE, Some(*frames as f64)),
         };
         self.release()?;
-        let t_s = self.host_s(g.host_time).max(self.last_t_s);
+        // On the device's clock a gap has no device stamp: it is marked where the rows stopped.
+        let t_s = if self.device_clock && self.last_t_s.is_finite() {
+            self.last_t_s
+        } else {
+            self.host_s(g.host_time).max(self.last_t_s)
+        };
         self.last_t_s = t_s;
         let mut extra = [f64::NAN; EXTRA_COLUMNS.len()];
         extra[col::T_HOST] = unix_s(g.host_time);

@@ -77,6 +77,11 @@ pub struct Args {
     /// Fail as soon as a sensor vanishes instead of waiting for it.
     #[arg(long)]
     pub no_reconnect: bool,
+    /// Time the rows by the device's own clock (its stamps, from the first frame's receipt)
+    /// instead of mapping it onto the host's: for a device whose clock does not run in real
+    /// time, as an emulator on a virtual clock.
+    #[arg(long)]
+    pub device_clock: bool,
     /// Show the live terminal dashboard instead of the status line (q quits).
     #[arg(long)]
     pub live: bool,
@@ -228,6 +233,7 @@ fn open_all(args: &Args, start: SystemTime) -> anyhow::Result<(Vec<Sensor>, Opti
     let mut setup = Setup::from_hardware(String::new())
         .coded()
         .context("hardware parameters")?;
+    setup.device_clock = args.device_clock;
     if let Some(a) = args.contact_angle_deg {
         setup.contact_angle_deg = a;
     }
