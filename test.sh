@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds everything (host workspace, both
-# firmware binaries), runs every test (host, firmware host tests, QEMU, HIL, ngspice, the Python
-# package).
+# firmware binaries), runs every test (host, firmware host tests, QEMU, HIL, ngspice, the main
+# demo's chain, the Python package).
 # Style is checked first: rustfmt, clippy (functions over 80 lines included, clippy.toml) and
 # rustdoc, with warnings as errors, for both workspaces.
 # Usage: ./test.sh            (CI runs exactly this through .ci/run)
@@ -44,6 +44,13 @@ echo "== host workspace: build and test (protocol, hardware, chip, fingertip, si
 # `cargo test` builds every target it runs; the benches are type-checked by clippy above and
 # built by their own commands (a separate `cargo build --all-targets` only linked them twice).
 cargo test --workspace --locked
+
+echo "== the main demo's chain (./demo.sh), checked against what it conceals"
+# The README's first command: emulated sensor -> firmware under QEMU -> serial -> tactile log ->
+# tactile diagnose, on the builds made above. Its rows were once timed by the host clock while
+# QEMU's virtual clock ran the test 25 times faster, and nothing here ran it to see.
+TACTILE_DEMO_CHECK=1 TACTILE_DEMO_PROFILE=debug TACTILE_DEMO_OUT=target/demo-check \
+    bash scripts/demo-chain.sh
 
 echo "== Python package: wheel (pip install ./python), pytest against the binary, the example"
 bash scripts/test-python.sh

@@ -16,6 +16,8 @@
 # paces it by SysTick against the host clock instead (as slow as the test itself, or slower).
 # Usage: scripts/demo-chain.sh     Leaves out/ as above plus compression-qemu.log and plots.
 #   TACTILE_DEMO_OUT=DIR   write to DIR instead of out/ (the end-to-end test does)
+#   TACTILE_DEMO_PROFILE=debug   use the dev build of tactile (test.sh: `cargo test` built it, and
+#                          the dev profile optimises the diagnosis) instead of a release build
 #   TACTILE_DEMO_CHECK=1   fail unless the diagnosis names exactly the concealed effects, each
 #                          parameter within 20 %, held-out RMSE at most half the baseline's
 set -euo pipefail
@@ -34,9 +36,14 @@ batch=16
 
 say "build the QEMU firmware and the tactile CLI"
 (cd firmware && cargo build -q --release --bin qemu-mps2-an386) || fail "firmware build"
-cargo build -q --release -p tactile --bin tactile || fail "tactile build"
+if [ "${TACTILE_DEMO_PROFILE:-release}" = debug ]; then
+    cargo build -q -p tactile --bin tactile || fail "tactile build"
+    tactile=target/debug/tactile
+else
+    cargo build -q --release -p tactile --bin tactile || fail "tactile build"
+    tactile=target/release/tactile
+fi
 elf=firmware/target/thumbv7em-none-eabihf/release/qemu-mps2-an386
-tactile=target/release/tactile
 
 say "1/4 emulated sensor: 2 x 60 N compression at 20 deg, ${rate_hz} Hz; concealed: relaxation (tau ${relax_tau_s} s, ${relax_fraction}) + AC coupling (tau ${highpass_tau_s} s)"
 "$tactile" simulate --contact-angle 20 --azimuth 60 --peak-load 60 --then-peak-load 60 \
