@@ -63,7 +63,7 @@ fn effects(d: &Diagnosis) -> String {
         h.push_str("<p>None: no catalogue effect improved both the fit and the held-out misfit enough to be kept.</p>");
     }
     for e in &r.effects {
-        let window = words::evidence_window(e, &r.mismatches);
+        let window = words::evidence_window(e, &r.effects, &r.mismatches);
         h.push_str(&format!(
             "<h3>{} <small>({}{})</small></h3><p><b>{}</b></p><p>{} {}</p>",
             esc(&capital(&words::effect_name(&e.name))),

@@ -156,9 +156,31 @@ fn preferred_regimes(effect: &str) -> &'static [&'static str] {
 }
 
 /// The window of the baseline's misfit where `e` shows: on one of its channels, in the first of
-/// its regimes that has a window, the largest there; else its channels' largest window.
-pub fn evidence_window<'a>(e: &EffectReport, mismatches: &'a [Mismatch]) -> Option<&'a Mismatch> {
-    let on_channels = |m: &&Mismatch| e.channels.iter().any(|c| c == m.channel);
+/// its regimes that has a window, the largest there; else its channels' largest window. A
+/// channel another of the `effects` found frozen or dead is left out where `e` has others: its
+/// misfit there is the freeze's (a relaxation had been shown where Fz stood still).
+pub fn evidence_window<'a>(
+    e: &EffectReport,
+    effects: &[EffectReport],
+    mismatches: &'a [Mismatch],
+) -> Option<&'a Mismatch> {
+    let frozen = |c: &String| {
+        effects.iter().any(|o| {
+            o.name != e.name
+                && matches!(
+                    o.name.as_str(),
+                    "stuck_channel" | "dead_channel" | "dead_sensor"
+                )
+                && o.channels.contains(c)
+        })
+    };
+    let live: Vec<&String> = e.channels.iter().filter(|c| !frozen(c)).collect();
+    let channels: Vec<&String> = if live.is_empty() {
+        e.channels.iter().collect()
+    } else {
+        live
+    };
+    let on_channels = |m: &&Mismatch| channels.iter().any(|c| *c == m.channel);
     let largest = |regime: Option<&str>| {
         mismatches
             .iter()
@@ -321,6 +343,49 @@ pub fn candidate_reason(c: &CandidateReport, chosen: Option<&CandidateReport>) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn effect(name: &str, channels: &[&str]) -> EffectReport {
+        EffectReport {
+            name: name.into(),
+            stage: sim::effects::Stage::Material,
+            channels: channels.iter().map(|c| c.to_string()).collect(),
+            params: Default::default(),
+            param_stderr: Default::default(),
+            evidence: String::new(),
+            catalogue: true,
+            depends_on: None,
+            form: None,
+            parameters: Vec::new(),
+        }
+    }
+
+    fn window(channel: &'static str, share: f64) -> Mismatch {
+        Mismatch {
+            channel,
+            t_start_s: 10.0,
+            t_end_s: 12.0,
+            regime: "hold",
+            rms: 0.1,
+            share,
+        }
+    }
+
+    /// A relaxation on the load and Fz beside a freeze of Fz is shown where the load misfits,
+    /// not in the frozen Fz's larger window; the freeze itself on Fz.
+    #[test]
+    fn an_effect_is_not_shown_on_a_channel_another_found_frozen() {
+        let relax = effect("viscoelastic_relaxation", &["load_N", "fz_V"]);
+        let stuck = effect("stuck_channel", &["fz_V"]);
+        let all = [relax.clone(), stuck.clone()];
+        let windows = [window("fz_V", 0.6), window("load_N", 0.2)];
+        let shown = |e: &EffectReport| evidence_window(e, &all, &windows).map(|m| m.channel);
+        assert_eq!(shown(&relax), Some("load_N"));
+        assert_eq!(shown(&stuck), Some("fz_V"));
+        assert_eq!(
+            evidence_window(&relax, std::slice::from_ref(&relax), &windows).map(|m| m.channel),
+            Some("fz_V")
+        );
+    }
 
     fn candidate(effects: &[&str], bic: f64, chi2: f64, accepted: bool) -> CandidateReport {
         CandidateReport {
