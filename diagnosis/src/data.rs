@@ -67,6 +67,8 @@ pub struct Data {
     pub noiseless: [bool; 4],
     /// The lattice each channel's values sit on, where they do ([`Lattice`]).
     pub lattice: [Option<Lattice>; 4],
+    /// Channels of real values ([`real_valued`]), whose exact repeats are readings held.
+    real: [bool; 4],
     /// The regimes found at the full rate, with the load telling a start in contact, as index
     /// runs on `fit` (its blocks never straddle a segment's edge). Finer than detecting them on
     /// `fit` itself, where block means blur the encoder's quanta.
@@ -132,9 +134,10 @@ impl Data {
         let bounds = block_bounds(&block, &cut);
         let fit = decimate(&full, &bounds);
         let segments = on_blocks(&full_segments, &bounds);
-        let range = std::array::from_fn(|k| peak_to_peak(full.y[k].iter().copied()));
-        let (noise, noiseless) = channel_noise(&full, &full_segments, rate, &range);
-        let lattice = std::array::from_fn(|k| Lattice::of(&full.y[k]));
+        let range: [f64; 4] = std::array::from_fn(|k| peak_to_peak(full.y[k].iter().copied()));
+        let lattice: [Option<Lattice>; 4] = std::array::from_fn(|k| Lattice::of(&full.y[k]));
+        let real = std::array::from_fn(|k| real_valued(lattice[k].as_ref(), &full.y[k], range[k]));
+        let (noise, noiseless) = channel_noise(&full, &full_segments, rate, (&range, &real));
         let weights = std::array::from_fn(|c| {
             fit.count
                 .iter()
@@ -149,6 +152,7 @@ impl Data {
             noise,
             noiseless,
             lattice,
+            real,
             bounds,
             segments,
             weights,
@@ -174,12 +178,10 @@ impl Data {
     pub(crate) fn without_held(&self) -> Option<Data> {
         let mut d = self.clone();
         let mut any = false;
-        for c in (0..4).filter(|&c| real_valued(&self.full.y[c], self.range[c])) {
+        for c in (0..4).filter(|&c| self.real[c]) {
             let y = &self.full.y[c];
-            let repeats =
-                |i: usize| (i > 0 && y[i] == y[i - 1]) || (i + 1 < y.len() && y[i] == y[i + 1]);
             for (k, &(a, b)) in self.bounds.iter().enumerate() {
-                if b > a && (a..b).all(repeats) {
+                if b > a && (a..b).all(|i| repeats(y, i)) {
                     d.weights[c][k] = 0.0;
                     any = true;
                 }
@@ -207,7 +209,7 @@ fn channel_noise(
     full: &Series,
     segments: &[Segment],
     rate: f64,
-    range: &[f64; 4],
+    (range, real): (&[f64; 4], &[bool; 4]),
 ) -> ([Noise; 4], [bool; 4]) {
     // The noise is estimated without a mains line: its second differences are large and
     // strongly correlated, and read as AR(1) noise they weighed a channel down tenfold and could
@@ -244,7 +246,7 @@ fn channel_noise(
     let noise = std::array::from_fn(|k| {
         let x = quiet[k].as_deref().unwrap_or(&full.y[k]);
         let pieces: Vec<&[f64]> = still.iter().map(|r| &x[r.clone()]).collect();
-        let live: Vec<&[f64]> = live_runs(&full.y[k], range[k], &still)
+        let live: Vec<&[f64]> = live_runs(&full.y[k], real[k], &still)
             .into_iter()
             .map(|r| &x[r])
             .collect();
@@ -277,30 +279,34 @@ fn channel_noise(
 /// export resolves, the floor the noise model keeps too). Such a channel never repeats a value
 /// exactly while it reads. A converter's or an export's channel repeats its values at rest
 /// (a Mach-1's load cell, 0.00085 N steps written to six decimals, off any one lattice).
-fn real_valued(y: &[f64], range: f64) -> bool {
-    Lattice::of(y).is_none() && crate::quantisation::quantum(y) < 1e-6 * range
+fn real_valued(lattice: Option<&Lattice>, y: &[f64], range: f64) -> bool {
+    lattice.is_none() && crate::quantisation::quantum(y) < 1e-6 * range
 }
 
-/// The runs of `ranges` where channel `y` (of peak-to-peak `range`) is live: a channel of real
-/// values ([`real_valued`]) never repeats a value exactly while it reads, and a frozen one does
+/// Whether sample `i` of `y` repeats a neighbour exactly.
+fn repeats(y: &[f64], i: usize) -> bool {
+    (i > 0 && y[i] == y[i - 1]) || (i + 1 < y.len() && y[i] == y[i + 1])
+}
+
+/// The runs of `ranges` where channel `y` is live: a channel of `real` values
+/// ([`real_valued`]) never repeats a value exactly while it reads, and a frozen one does
 /// nothing else, so the samples next to an exact repeat are left out. A stuck output's frozen
 /// stretches had read as a channel without noise and weighed it a million-fold. Any other
 /// channel, and one with too few live samples left, keeps `ranges` as they are (a dead sensor
 /// is its own finding).
 fn live_runs(
     y: &[f64],
-    range: f64,
+    real: bool,
     ranges: &[std::ops::Range<usize>],
 ) -> Vec<std::ops::Range<usize>> {
-    if !real_valued(y, range) {
+    if !real {
         return ranges.to_vec();
     }
-    let repeats = |i: usize| (i > 0 && y[i] == y[i - 1]) || (i + 1 < y.len() && y[i] == y[i + 1]);
     let mut runs = Vec::new();
     for r in ranges {
         let mut start = r.start;
         for i in r.clone() {
-            if repeats(i) {
+            if repeats(y, i) {
                 if i - start >= 3 {
                     runs.push(start..i);
                 }
@@ -509,17 +515,18 @@ mod tests {
         let live: Vec<f64> = (0..600).map(|k| (k as f64 * 0.7).sin() * 1e-3).collect();
         let mut y = live.clone();
         y.extend(std::iter::repeat_n(live[599], 600));
-        let runs = live_runs(&y, 10.0, &[0..300, 300..1200]);
+        let real = |y: &[f64], range: f64| real_valued(Lattice::of(y).as_ref(), y, range);
+        let runs = live_runs(&y, real(&y, 10.0), &[0..300, 300..1200]);
         assert_eq!(runs, [0..300, 300..599]);
         let counts: Vec<f64> = (0..1200).map(|k| ((k / 7) % 3) as f64 * 0.5).collect();
         let whole = [0..600, 600..1200];
-        assert_eq!(live_runs(&counts, 1.0, &whole), whole);
+        assert_eq!(live_runs(&counts, real(&counts, 1.0), &whole), whole);
         // A converter's steps of 0.00085049 N written to six decimals: off any one lattice,
         // but as coarse as a converter resolves; its repeats are readings.
         let written: Vec<f64> = (0..1200)
             .map(|k| (((k / 3) % 5) as f64 * 0.000_850_49 * 1e6).round() / 1e6)
             .collect();
-        assert_eq!(live_runs(&written, 5.0, &whole), whole);
+        assert_eq!(live_runs(&written, real(&written, 5.0), &whole), whole);
     }
 
     /// Blocks over the standard test at `rate_hz`: the bounds, the full-rate segments and the

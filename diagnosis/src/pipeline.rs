@@ -165,9 +165,11 @@ fn diagnose_prepared(
 ) -> (Diagnosis, Vec<(usize, f64)>) {
     let (data, stretches) = (&prepared.data, &prepared.stretches);
     let setup = prepared.setup(opt);
-    // The catalogue is fitted without what a frozen channel read after it froze.
+    // The catalogue is fitted without the readings held and what a frozen channel read after
+    // it froze.
     let without_frozen = prepared.without_frozen();
-    let frozen_setup = without_frozen.as_ref().map(|d| prepared.setup_on(d, opt));
+    let fitted = without_frozen.as_ref().or(prepared.held.as_ref());
+    let frozen_setup = fitted.map(|d| prepared.setup_on(d, opt));
     let sel_setup = frozen_setup.as_ref().unwrap_or(&setup);
     // The baseline's moment direction: whether the moment scales can turn it (a precondition
     // of crosstalk) and, after the search, what a turn they made would mean.
@@ -470,6 +472,9 @@ pub(crate) struct Prepared {
     stretches: Stretches,
     fingertip: AngleBlend,
     pub meta: Meta,
+    /// The data without its readings held (`Data::without_held`), if it has any: worked out
+    /// once, for every diagnosis of the recording.
+    held: Option<Data>,
     /// Channels found frozen, each with the time it froze, s.
     frozen: Vec<(usize, f64)>,
 }
@@ -506,6 +511,7 @@ pub(crate) fn prepare(rec: &Recording, opt: &Options) -> Result<Prepared, DataEr
         meta.azimuth_deg,
     )?;
     Ok(Prepared {
+        held: data.without_held(),
         data,
         stretches,
         fingertip,
@@ -526,13 +532,12 @@ impl Prepared {
     }
 
     /// The data without the readings held (`Data::without_held`) and without what the frozen
-    /// channels read after they froze; `None` where there is neither.
+    /// channels read after they froze; `None` where none froze.
     fn without_frozen(&self) -> Option<Data> {
-        let held = self.data.without_held();
-        if held.is_none() && self.frozen.is_empty() {
+        if self.frozen.is_empty() {
             return None;
         }
-        let start = held.unwrap_or_else(|| self.data.clone());
+        let start = self.held.as_ref().unwrap_or(&self.data).clone();
         Some(
             self.frozen
                 .iter()

@@ -192,6 +192,15 @@ pub(crate) struct Columns {
 }
 
 impl Columns {
+    /// The columns and fixed part, each sample times `by`'s (a stuck channel's live share).
+    pub fn scaled(&self, by: &[f64]) -> Columns {
+        let times = |v: &Vec<f64>| v.iter().zip(by).map(|(a, b)| a * b).collect();
+        Columns {
+            x: self.x.iter().map(times).collect(),
+            fixed: self.fixed.as_ref().map(times),
+        }
+    }
+
     pub fn contribution(&self, beta: &[f64]) -> Vec<f64> {
         let n = self
             .x
@@ -342,13 +351,8 @@ pub fn best_step(
             break;
         }
         if freeze && !others.x.is_empty() {
-            let live = columns.x[0].iter().map(|h| 1.0 - h).collect::<Vec<f64>>();
-            let times = |v: &Vec<f64>| v.iter().zip(&live).map(|(a, l)| a * l).collect();
-            let held = Columns {
-                x: others.x.iter().map(times).collect(),
-                fixed: others.fixed.as_ref().map(times),
-            };
-            let (beta, _) = solve(ctx, c, &columns.joined(&held))?;
+            let live: Vec<f64> = columns.x[0].iter().map(|h| 1.0 - h).collect();
+            let (beta, _) = solve(ctx, c, &columns.joined(&others.scaled(&live)))?;
             base = others.contribution(&beta[1..]);
         }
         found = Some((t0, columns));

@@ -328,6 +328,11 @@ pub(crate) struct Term {
 }
 
 impl Term {
+    /// Whether its amplitude is one its physics admits ([`TermKind::admits`]).
+    pub fn admitted(&self) -> bool {
+        self.beta.first().is_none_or(|&b| self.kind.admits(b))
+    }
+
     /// Its contribution on the decimated series.
     pub fn contribution(&self) -> Vec<f64> {
         self.columns.contribution(&self.beta)

@@ -115,9 +115,7 @@ fn forward(
 /// Whether every term keeps an amplitude its physics admits ([`TermKind::admits`]) after the
 /// joint refit.
 fn admissible(terms: &[Term]) -> bool {
-    terms
-        .iter()
-        .all(|t| t.beta.first().is_none_or(|&b| t.kind.admits(b)))
+    terms.iter().all(Term::admitted)
 }
 
 /// Whether a forward step's BIC `gain` beats the best so far. A tie (to a millionth) goes to
@@ -212,13 +210,9 @@ pub(crate) fn live(terms: &[Term], c: usize, skip: Option<usize>) -> Option<Vec<
 
 /// `cols` of term `t` where the channel is live (the stuck term itself is what replaces it).
 fn masked(cols: &Columns, t: &Term, live: Option<&[f64]>) -> Columns {
-    let Some(live) = live.filter(|_| t.kind != TermKind::StuckChannel) else {
-        return cols.clone();
-    };
-    let times = |v: &Vec<f64>| v.iter().zip(live).map(|(a, l)| a * l).collect();
-    Columns {
-        x: cols.x.iter().map(times).collect(),
-        fixed: cols.fixed.as_ref().map(times),
+    match live.filter(|_| t.kind != TermKind::StuckChannel) {
+        Some(live) => cols.scaled(live),
+        None => cols.clone(),
     }
 }
 
@@ -292,7 +286,7 @@ fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
 }
 
 /// `terms` without number `i`, the rest refitted; the channel's refit goes with its last term.
-/// A term whose sign the refit turns goes too ([`admissible`]): without its partner it is no
+/// A term whose sign the refit turns goes too ([`Term::admitted`]): without its partner it is no
 /// longer the physics it named (a relaxation that only made up a set's shape).
 fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
     without_turned(ctx, terms, i).0
@@ -309,7 +303,7 @@ fn without_turned(ctx: &Context, terms: &[Term], i: usize) -> (Vec<Term>, bool) 
             w.retain(|t| t.channel != c);
         }
         refit(ctx, &mut w);
-        match w.iter().position(|t| !admissible(std::slice::from_ref(t))) {
+        match w.iter().position(|t| !t.admitted()) {
             Some(j) => {
                 w.remove(j);
                 turned = true;
