@@ -20,9 +20,39 @@ use crate::candidate::MIN_BIC_GAIN;
 /// in the last recovery), no data can tell the two apart, and the step, the smaller claim, is
 /// the description: the freeze is not offered. The model's course is the drive's, not the
 /// measurement's, so reading it over the held-out stretch as well tests nothing in advance.
+///
+/// And a frozen channel reads a constant: where what it reads from t0 on holds a trend in time
+/// that the criterion would keep (a load that still relaxes on a time scale the model lacks,
+/// on a real Mach-1 hold), it is not frozen, and the freeze is not offered.
 pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
     let term = fit_step(ctx, c, others, TermKind::StuckChannel)?;
-    (model_moves_after(ctx, c, term.shape[0]) > MIN_BIC_GAIN).then_some(term)
+    let t0_s = term.shape[0];
+    (model_moves_after(ctx, c, t0_s) > MIN_BIC_GAIN && trend_after(ctx, c, t0_s) <= MIN_BIC_GAIN)
+        .then_some(term)
+}
+
+/// Chi-square (noise units) that a line in time removes from what channel `c` reads from
+/// `t0_s` to the end of the recording, against its weighted mean.
+fn trend_after(ctx: &Context, c: usize, t0_s: f64) -> f64 {
+    let t = ctx.t_s();
+    let rows: Vec<usize> = (0..ctx.len()).filter(|&k| t[k] >= t0_s).collect();
+    let w2 = |k: usize| ctx.data.weight(c, k).powi(2);
+    let read = |k: usize| ctx.residual[c][k] + ctx.model[c][k];
+    let sw: f64 = rows.iter().map(|&k| w2(k)).sum();
+    if sw <= 0.0 {
+        return 0.0;
+    }
+    let t_mean = rows.iter().map(|&k| w2(k) * t[k]).sum::<f64>() / sw;
+    let y_mean = rows.iter().map(|&k| w2(k) * read(k)).sum::<f64>() / sw;
+    let stt: f64 = rows.iter().map(|&k| w2(k) * (t[k] - t_mean).powi(2)).sum();
+    let sty: f64 = rows
+        .iter()
+        .map(|&k| w2(k) * (t[k] - t_mean) * (read(k) - y_mean))
+        .sum();
+    if stt <= 0.0 {
+        return 0.0;
+    }
+    sty * sty / stt
 }
 
 /// Chi-square (noise units) of the model about its weighted mean from `t0_s` to the end of

@@ -217,6 +217,28 @@ fn a_stuck_channel_gives_its_time_and_value() {
     assert!(s.beta[0].abs() < 2e-4, "{:?}", s.beta);
 }
 
+/// A channel that leaves the model at 40 s but keeps moving after it (here a drift of 3 times
+/// its noise over the 80 s left, as a load still relaxing on a time scale the model lacks does
+/// on a real Mach-1 hold) does not read a constant: it is not frozen.
+#[test]
+fn a_channel_that_still_moves_is_not_frozen() {
+    let terms = found(|t, c, m| {
+        if c == 3 && t >= 40.0 {
+            -m + 3e-4 * (t - 40.0) / 80.0
+        } else {
+            0.0
+        }
+    });
+    assert!(
+        terms.iter().all(|t| t.kind != TermKind::StuckChannel),
+        "{:?}",
+        terms
+            .iter()
+            .map(|t| (t.kind, t.channel))
+            .collect::<Vec<_>>()
+    );
+}
+
 #[test]
 fn a_line_gives_its_frequency_and_amplitude() {
     let line = |t: f64| 0.05 * (std::f64::consts::TAU * 0.7 * t).sin();
