@@ -166,10 +166,7 @@ fn join_second_term(first: &mut EffectReport, second: Vec<ParamDetail>) {
         std::mem::swap(&mut a, &mut b);
     }
     for p in &mut b {
-        p.name = match p.name.strip_suffix("_s") {
-            Some(stem) => format!("{stem}2_s"),
-            None => format!("{}2", p.name),
-        };
+        p.name = second_term_name(&p.name);
     }
     a.extend(b);
     first.params = Numbers(a.iter().map(|p| (p.name.clone(), p.value)).collect());
@@ -179,6 +176,14 @@ fn join_second_term(first: &mut EffectReport, second: Vec<ParamDetail>) {
             .collect(),
     );
     first.parameters = a;
+}
+
+/// A second Prony term's name for its parameter `name`: `tau2_s`, `fraction2`.
+pub(crate) fn second_term_name(name: &str) -> String {
+    match name.strip_suffix("_s") {
+        Some(stem) => format!("{stem}2_s"),
+        None => format!("{name}2"),
+    }
 }
 
 /// The mains line as an effect, with Cramér–Rao standard errors for a sinusoid in white noise

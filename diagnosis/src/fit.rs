@@ -377,10 +377,25 @@ impl Problem for Model<'_, '_> {
 
 /// Index in the full vector of parameter `j` of effect `kind` among `kinds`, if it is there.
 pub fn param_index(kinds: &[EffectKind], kind: EffectKind, j: usize) -> Option<usize> {
+    nth_param_index(kinds, kind, 0, j)
+}
+
+/// As [`param_index`], of the `nth` time `kind` is among `kinds` (from 0: a relaxation may
+/// hold a second Prony term).
+pub fn nth_param_index(
+    kinds: &[EffectKind],
+    kind: EffectKind,
+    nth: usize,
+    j: usize,
+) -> Option<usize> {
     let mut first = N_BASE;
+    let mut seen = 0;
     for &k in kinds {
         if k == kind {
-            return Some(first + j);
+            if seen == nth {
+                return Some(first + j);
+            }
+            seen += 1;
         }
         first += k.param_names().len();
     }

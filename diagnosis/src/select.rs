@@ -229,11 +229,9 @@ impl<'s, 'a> Selection<'s, 'a> {
             .iter()
             .map(|&k| {
                 if nested.kinds.contains(&k) {
-                    let ln_tau = nested.fitted.full[first_param(&nested.kinds, k)];
-                    return [10f64.ln(), -(10f64.ln())]
-                        .iter()
-                        .map(|d| vec![ln_tau + d, 0.0])
-                        .collect();
+                    return crate::specs::second_prony_seeds(
+                        nested.fitted.full[first_param(&nested.kinds, k)],
+                    );
                 }
                 self.find(&[k])
                     .map(|single| vec![self.all[single].fitted.full[N_BASE..].to_vec()])

@@ -116,6 +116,15 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
     }
 }
 
+/// Where a relaxation's second Prony term starts (internal units: ln tau, then a strength of
+/// zero, so still the model it extends): a decade either side of the first term's `ln_tau`.
+pub fn second_prony_seeds(ln_tau: f64) -> Vec<Vec<f64>> {
+    [10f64.ln(), -(10f64.ln())]
+        .iter()
+        .map(|d| vec![ln_tau + d, 0.0])
+        .collect()
+}
+
 /// The starts of an effect added to a fitted model (internal units, one list of its parameters
 /// per start), the neutral one first: the values at which the effect is the identity, so the
 /// fit starts exactly at the model it extends. `seeds` are where the same effect ended in other fits (alone, or

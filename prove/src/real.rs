@@ -28,12 +28,27 @@ pub struct RealTest {
     pub strict: bool,
 }
 
-/// The three Mach-1 tests of the acceptance.
-pub const MACH1: [RealTest; 3] = [
+/// The Mach-1 tests: the three of the acceptance, and the other two sites of Hayes' holds
+/// (the same material and protocol at another place on the sample).
+pub const MACH1: [RealTest; 5] = [
     RealTest {
         file: "Hayes_data.txt",
         label: "Hayes, first site (stress relaxation)",
         pick: |b| b.kind == "Stress Relaxation",
+        expected: &[&[EffectKind::ViscoelasticRelaxation]],
+        strict: true,
+    },
+    RealTest {
+        file: "Hayes_data.txt",
+        label: "Hayes, second site (stress relaxation)",
+        pick: |b| b.index == HAYES_BLOCKS[1],
+        expected: &[&[EffectKind::ViscoelasticRelaxation]],
+        strict: true,
+    },
+    RealTest {
+        file: "Hayes_data.txt",
+        label: "Hayes, third site (stress relaxation)",
+        pick: |b| b.index == HAYES_BLOCKS[2],
         expected: &[&[EffectKind::ViscoelasticRelaxation]],
         strict: true,
     },
@@ -55,6 +70,10 @@ pub const MACH1: [RealTest; 3] = [
         strict: false,
     },
 ];
+
+/// The blocks of `Hayes_data.txt` that hold its three sites' stress relaxations (each site's
+/// two contact searches before it).
+pub const HAYES_BLOCKS: [usize; 3] = [3, 6, 9];
 
 /// How one real test was answered.
 #[derive(Debug, Clone)]

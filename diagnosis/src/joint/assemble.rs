@@ -7,7 +7,7 @@ use sim::effects::{EffectKind, Stage};
 use super::model::Layout;
 use super::output::*;
 use super::search::OWN_ALWAYS;
-use super::{distinct, Members, Outcome};
+use super::{distinct, distinct_kinds, Members, Outcome};
 use crate::data::CHANNELS;
 use crate::fit::{physical, Model, N_BASE, SCALE_AT};
 use crate::output::{EffectReport, Fit, Heldout, Numbers, Undecided, Verdict};
@@ -58,20 +58,40 @@ fn effect_report(
     let f = &outcome.fitted;
     let full = &f.fit.full[r];
     let model = model_of(m, &f.layout, full, r);
-    let at = crate::fit::param_index(&model.kinds, kind, 0).unwrap_or(N_BASE);
+    // Each term of the kind (a relaxation's two Prony terms): its values and standard errors.
+    let mut terms: Vec<Vec<(f64, Option<f64>)>> = (0..)
+        .map_while(|nth| crate::fit::nth_param_index(&model.kinds, kind, nth, 0))
+        .map(|at| {
+            (0..kind.param_names().len())
+                .map(|j| {
+                    let v = physical(&model, full, at + j);
+                    let se = f.fit.shared_stderr(at + j).map(|se| {
+                        if model.specs()[at + j].log {
+                            se * v
+                        } else {
+                            se
+                        }
+                    });
+                    (v, se.filter(|s| s.is_finite()))
+                })
+                .collect()
+        })
+        .collect();
+    // The larger share leads, as in a single recording's report.
+    if let Some(share) = kind.param_names().iter().position(|&n| n == "fraction") {
+        terms.sort_by(|a, b| b[share].0.total_cmp(&a[share].0));
+    }
     let (mut params, mut stderr) = (Numbers::default(), Numbers::default());
-    for (j, name) in kind.param_names().iter().enumerate() {
-        let v = physical(&model, full, at + j);
-        params.push(name, v);
-        let se = f.fit.shared_stderr(at + j).map(|se| {
-            if model.specs()[at + j].log {
-                se * v
-            } else {
-                se
+    for (nth, term) in terms.iter().enumerate() {
+        for (name, &(v, se)) in kind.param_names().iter().zip(term) {
+            let name = match nth {
+                0 => name.to_string(),
+                _ => crate::evidence::second_term_name(name),
+            };
+            params.push(&name, v);
+            if let Some(se) = se {
+                stderr.push(&name, se);
             }
-        });
-        if let Some(se) = se.filter(|s| s.is_finite()) {
-            stderr.push(name, se);
         }
     }
     let used: Vec<&str> = (0..4)
@@ -103,6 +123,9 @@ fn shared_effects(m: &Members, outcome: &Outcome) -> Vec<SharedEffect> {
         .gains
         .iter()
         .filter(|(k, _)| outcome.fitted.layout.shared.contains(k))
+        .enumerate()
+        .filter(|&(i, (k, _))| !outcome.gains[..i].iter().any(|(x, _)| x == k))
+        .map(|(_, kg)| kg)
         .map(|&(k, g)| {
             let words = format!(
                 "one parameter set for all {n} recordings: {}",
@@ -255,10 +278,13 @@ fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool, turned: bool)
         let words = "the moment vector turned beyond the jig's mounting tolerance in this test, unlike the session's other tests".to_string();
         effects.push(effect_report(m, outcome, r, EffectKind::Crosstalk, words));
     }
-    let own_shared = f.layout.own[r]
-        .iter()
-        .filter(|k| !OWN_ALWAYS.contains(k) && **k != EffectKind::Crosstalk);
-    for &k in own_shared {
+    let own_shared = distinct_kinds(
+        f.layout.own[r]
+            .iter()
+            .copied()
+            .filter(|k| !OWN_ALWAYS.contains(k) && *k != EffectKind::Crosstalk),
+    );
+    for k in own_shared {
         let words = format!(
             "{} acts on this recording with its own parameters: one set for the session fails the criterion or the held-out test",
             k.name()

@@ -285,18 +285,24 @@ impl Members<'_, '_> {
 /// The catalogue effects a recording's own diagnosis found that belong to it alone (its drift,
 /// its saturation): fitted per recording in every session model.
 fn own_kinds(d: &Diagnosis) -> Vec<EffectKind> {
-    d.report
+    let kinds = d
+        .report
         .effects
         .iter()
         .filter(|e| e.catalogue && !e.channels.iter().any(|c| c == "load_N"))
         .filter_map(|e| EffectKind::from_name(&e.name))
-        .filter(|k| *k != EffectKind::MainsInterference && OWN_ALWAYS.contains(k))
-        .fold(Vec::new(), |mut v, k| {
-            if !v.contains(&k) {
-                v.push(k);
-            }
-            v
-        })
+        .filter(|k| *k != EffectKind::MainsInterference && OWN_ALWAYS.contains(k));
+    distinct_kinds(kinds)
+}
+
+/// `kinds` each once, in their first order (a relaxation's two Prony terms are one effect).
+pub(crate) fn distinct_kinds(kinds: impl IntoIterator<Item = EffectKind>) -> Vec<EffectKind> {
+    kinds.into_iter().fold(Vec::new(), |mut v, k| {
+        if !v.contains(&k) {
+            v.push(k);
+        }
+        v
+    })
 }
 
 /// A recording's contact angle, azimuth and rod speed (the metadata's, else the median speed

@@ -12,9 +12,9 @@ use std::collections::BTreeMap;
 
 use sim::effects::EffectKind;
 
-use crate::fit::{Model, Setup, N_BASE, OFFSET_AT, SCALE_AT};
+use crate::fit::{nth_param_index, Model, Setup, N_BASE, OFFSET_AT, SCALE_AT};
 use crate::lm::{self, Problem};
-use crate::specs::starts;
+use crate::specs::{second_prony_seeds, starts};
 
 /// Which effects and scales are shared, and which each recording has alone.
 #[derive(Debug, Clone, PartialEq)]
@@ -272,12 +272,16 @@ impl<'s, 'a> Joint<'s, 'a> {
     /// Starting vectors for the recordings: `previous` (a fitted session with fewer effects,
     /// or the recordings' own baselines) with each new effect at each of its catalogue starts.
     pub fn starts_from(&self, previous: &[Vec<f64>], before: &Layout) -> Vec<Vec<Vec<f64>>> {
+        let count = |l: &[EffectKind], k: EffectKind| l.iter().filter(|&&x| x == k).count();
         let n_starts = self
             .layout
             .shared
             .iter()
-            .filter(|k| !before.shared.contains(k))
-            .map(|&k| starts(k, &self.specs_of(0, k), &[]).len())
+            .filter(|&&k| count(&self.layout.shared, k) > count(&before.shared, k))
+            .map(|&k| match count(&before.shared, k) {
+                0 => starts(k, &self.specs_of(0, k), &[]).len(),
+                _ => second_prony_seeds(0.0).len(),
+            })
             .max()
             .unwrap_or(1);
         (0..n_starts)
@@ -316,16 +320,24 @@ impl<'s, 'a> Joint<'s, 'a> {
     }
 
     /// Recording `r`'s vector: the baseline and each effect `before` had at their values in
-    /// `prev`, a new effect at its `s`-th catalogue start (its neutral one first).
+    /// `prev` (the n-th term of a kind at the n-th term's), a new effect at its `s`-th
+    /// catalogue start (its neutral one first), a second Prony term at its `s`-th seed beside
+    /// the first.
     fn carry(&self, r: usize, prev: &[f64], before: &Layout, s: usize) -> Vec<f64> {
         let mut v = prev[..N_BASE].to_vec();
         let before_kinds = before.kinds(r);
-        for k in self.layout.kinds(r) {
+        let kinds = self.layout.kinds(r);
+        for (i, &k) in kinds.iter().enumerate() {
             let n = k.param_names().len();
-            match crate::fit::param_index(&before_kinds, k, 0) {
+            let nth = kinds[..i].iter().filter(|&&x| x == k).count();
+            match nth_param_index(&before_kinds, k, nth, 0) {
                 Some(at) if at + n <= prev.len() => v.extend_from_slice(&prev[at..at + n]),
                 _ => {
-                    let all = starts(k, &self.specs_of(r, k), &[]);
+                    let seeds = match nth_param_index(&kinds, k, 0, 0) {
+                        Some(first) if nth > 0 => second_prony_seeds(v[first]),
+                        _ => Vec::new(),
+                    };
+                    let all = starts(k, &self.specs_of(r, k), &seeds);
                     v.extend_from_slice(&all[s.min(all.len() - 1)]);
                 }
             }

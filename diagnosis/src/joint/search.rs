@@ -12,6 +12,7 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 use sim::effects::EffectKind;
 
+use super::distinct_kinds;
 use super::model::{Joint, JointFit, Layout};
 use super::output::SessionCandidate;
 use crate::candidate::{heldout_needed, MIN_BIC_GAIN};
@@ -141,19 +142,14 @@ impl<'s, 'a> Search<'s, 'a> {
 
     fn record(&mut self, f: &Fitted, accepted: bool, reason: String) {
         let names = |v: &[EffectKind]| v.iter().map(|k| k.name().to_string()).collect();
-        let per_recording: Vec<EffectKind> = f
-            .layout
-            .own
-            .iter()
-            .flatten()
-            .copied()
-            .filter(|k| !OWN_ALWAYS.contains(k))
-            .fold(Vec::new(), |mut v, k| {
-                if !v.contains(&k) {
-                    v.push(k);
-                }
-                v
-            });
+        let per_recording = distinct_kinds(
+            f.layout
+                .own
+                .iter()
+                .flatten()
+                .copied()
+                .filter(|k| !OWN_ALWAYS.contains(k)),
+        );
         self.tried.push(SessionCandidate {
             shared: names(&f.layout.shared),
             per_recording: names(&per_recording),
@@ -202,7 +198,7 @@ impl<'s, 'a> Search<'s, 'a> {
         loop {
             let tries: Vec<(EffectKind, Fitted)> = candidates
                 .par_iter()
-                .filter(|k| !cur.layout.shared.contains(k))
+                .filter(|&&k| may_add(&cur.layout.shared, k))
                 .map(|&k| {
                     let mut layout = cur.layout.clone();
                     layout.shared.push(k);
@@ -266,11 +262,27 @@ impl<'s, 'a> Search<'s, 'a> {
 
     /// Step 3: drop a shared effect whose held-out gain is within its noise. The kept ones
     /// come back with their gain over the session without them.
+    ///
+    /// A relaxation's second Prony term is tested first, alone; the first with it, as the whole
+    /// effect.
     pub fn backward(&mut self, mut cur: Fitted) -> (Fitted, Vec<(EffectKind, Gain)>) {
         let mut kept = Vec::new();
-        for k in cur.layout.shared.clone().into_iter().rev() {
+        let order = cur.layout.shared.clone();
+        for (i, k) in order.iter().copied().enumerate().rev() {
             let mut layout = cur.layout.clone();
-            layout.shared.retain(|&s| s != k);
+            if order[i + 1..].contains(&k) {
+                if kept.iter().any(|&(x, _)| x == k) {
+                    continue;
+                }
+                layout.shared.retain(|&s| s != k);
+            } else {
+                let last = layout
+                    .shared
+                    .iter()
+                    .rposition(|&s| s == k)
+                    .expect("in the layout");
+                layout.shared.remove(last);
+            }
             let without = self.fit(layout, &cur);
             let g = Gain::of(&cur, &without);
             if g.passes() {
@@ -289,11 +301,12 @@ impl<'s, 'a> Search<'s, 'a> {
         if self.setups.len() < 2 {
             return cur;
         }
-        for k in cur.layout.shared.clone() {
+        for k in distinct_kinds(cur.layout.shared.clone()) {
             let mut layout = cur.layout.clone();
+            let terms = layout.shared.iter().filter(|&&s| s == k).count();
             layout.shared.retain(|&s| s != k);
             for own in &mut layout.own {
-                own.push(k);
+                own.extend(std::iter::repeat_n(k, terms));
             }
             let f = self.fit(layout, &cur);
             let g = Gain::of(&f, &cur);
@@ -305,6 +318,13 @@ impl<'s, 'a> Search<'s, 'a> {
         }
         cur
     }
+}
+
+/// Whether `kind` may join the session's `shared` effects: once, and a relaxation twice (a
+/// second Prony term: a gel's spectrum spans decades).
+fn may_add(shared: &[EffectKind], kind: EffectKind) -> bool {
+    let n = shared.iter().filter(|&&k| k == kind).count();
+    n == 0 || (n == 1 && kind == EffectKind::ViscoelasticRelaxation)
 }
 
 /// Effects that belong to one test whenever they are found: never shared.
