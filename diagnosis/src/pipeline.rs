@@ -95,6 +95,9 @@ pub struct Diagnosis {
     pub report: Report,
     /// What the HTML report plots.
     pub plots: PlotData,
+    /// The catalogue effects found at a stage other than the catalogue's, which a session
+    /// holds as this diagnosis found them.
+    pub(crate) at_stage: Option<crate::terms::AtStage>,
 }
 
 /// Diagnose `rec`; `name` is what OUT.json calls the recording.
@@ -237,14 +240,23 @@ fn diagnose_prepared(
         heldout: stretches.heldout,
         used: setup.used,
     };
-    let frozen = described
-        .found
-        .terms
+    let frozen = frozen_channels(&described.found.terms);
+    let at_stage = described.at_stage;
+    let d = Diagnosis {
+        report,
+        plots,
+        at_stage,
+    };
+    (d, frozen)
+}
+
+/// The channels `terms` found frozen, each with the time it froze.
+fn frozen_channels(terms: &[terms::Term]) -> Vec<(usize, f64)> {
+    terms
         .iter()
         .filter(|t| t.kind == terms::TermKind::StuckChannel)
         .map(|t| (t.channel, t.shape[0]))
-        .collect();
-    (Diagnosis { report, plots }, frozen)
+        .collect()
 }
 
 /// The chosen model with what it leaves described ([`describe`]), and the chosen model at the
@@ -521,6 +533,23 @@ pub(crate) fn prepare(rec: &Recording, opt: &Options) -> Result<Prepared, DataEr
 }
 
 impl Prepared {
+    /// The recording without the catalogue effects its own diagnosis found at a stage other
+    /// than the catalogue's (`at`): what a session's model, which has each effect at its own
+    /// stage only, is fitted to. The range and the stretches stay the recording's.
+    pub fn hold(&mut self, at: &crate::terms::AtStage) {
+        for c in 0..4 {
+            for (series, part) in [
+                (&mut self.data.full, &at.full[c]),
+                (&mut self.data.fit, &at.decimated[c]),
+            ] {
+                for (y, p) in series.y[c].iter_mut().zip(part) {
+                    *y -= p;
+                }
+            }
+        }
+        self.held = self.data.without_held();
+    }
+
     /// The calibration setup of this recording's fits.
     pub fn setup(&self, opt: &Options) -> Setup<'_> {
         self.setup_on(&self.data, opt)

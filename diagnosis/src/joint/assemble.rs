@@ -270,7 +270,8 @@ fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool, turned: bool)
         .filter(|e| e.catalogue || terms_hold)
         .filter(|e| {
             !e.catalogue
-                || EffectKind::from_name(&e.name).is_none_or(|k| !outcome.decided.contains(&k))
+                || EffectKind::from_name(&e.name)
+                    .is_none_or(|k| !outcome.decided.contains(&k) || e.stage != k.stage())
         })
         .cloned()
         .collect();

@@ -108,11 +108,18 @@ pub fn diagnose_recordings(
             .collect();
         return Err(JointError::NothingUsable(reasons.join("; ")));
     }
+    // Each recording without what its own diagnosis found at a stage the session does not
+    // search (a sensing element's relaxation, which a shared gel's would otherwise take up).
     let prepared = ok
         .par_iter()
         .map(|&i| {
-            let (rec, _) = loaded[i].as_ref().expect("ok");
-            prepare(rec, opt).map_err(|e| JointError::NothingUsable(format!("{}: {e}", files[i])))
+            let (rec, d) = loaded[i].as_ref().expect("ok");
+            let mut p = prepare(rec, opt)
+                .map_err(|e| JointError::NothingUsable(format!("{}: {e}", files[i])))?;
+            if let Some(at) = &d.at_stage {
+                p.hold(at);
+            }
+            Ok(p)
         })
         .collect::<Result<Vec<_>, _>>()?;
     let setups: Vec<Setup> = prepared.iter().map(|p| p.setup(opt)).collect();

@@ -68,6 +68,20 @@ pub(crate) struct Described {
     pub effects: Vec<EffectReport>,
     decimated: [Vec<f64>; 4],
     full: [Vec<f64>; 4],
+    /// The terms that are catalogue effects at a stage other than the catalogue's
+    /// ([`TermKind::catalogue_kind`]), if any.
+    pub at_stage: Option<AtStage>,
+}
+
+/// The contributions of the terms that are catalogue effects at a stage other than the
+/// catalogue's (a sensing element's relaxation; the load cell's lag, stiffening or clip), on
+/// the decimated series and at the full rate. A session searches each catalogue effect at its
+/// own stage only, so it holds these as the recording's own diagnosis found them
+/// ([`crate::pipeline::Prepared::hold`]).
+#[derive(Debug, Clone)]
+pub struct AtStage {
+    pub decimated: [Vec<f64>; 4],
+    pub full: [Vec<f64>; 4],
 }
 
 impl Described {
@@ -99,11 +113,22 @@ impl Described {
         let decimated: [Vec<f64>; 4] =
             std::array::from_fn(|c| search::contribution(ctx, &found.terms, c));
         let full: [Vec<f64>; 4] = std::array::from_fn(|c| at_full(ctx, &found.terms, c, full_t));
+        let staged: Vec<Term> = found
+            .terms
+            .iter()
+            .filter(|t| t.kind.catalogue_kind().is_some())
+            .cloned()
+            .collect();
+        let at_stage = (!staged.is_empty()).then(|| AtStage {
+            decimated: std::array::from_fn(|c| search::contribution(ctx, &staged, c)),
+            full: std::array::from_fn(|c| at_full(ctx, &staged, c, full_t)),
+        });
         Self {
             found,
             effects,
             decimated,
             full,
+            at_stage,
         }
     }
 
