@@ -57,12 +57,24 @@ pub struct Comparison {
     /// Held-out chi-square decrease and the least it had to be.
     pub heldout_gain: f64,
     pub heldout_needed: f64,
+    /// The held-out gain the larger model would make were it the truth: the squared norm of
+    /// the two models' difference on the held-out stretch (noise units).
+    pub heldout_reach: f64,
 }
 
 impl Comparison {
     /// Both tests passed.
     pub fn passes(&self) -> bool {
         self.bic_gain > MIN_BIC_GAIN && self.heldout_gain > self.heldout_needed
+    }
+
+    /// The criterion keeps the larger model, and the held-out stretch cannot test it: were it
+    /// the truth, its gain there would still not count (a hysteresis that acts only while the
+    /// rod moves, with the held-out stretch at rest).
+    pub fn untestable(&self) -> bool {
+        self.bic_gain > MIN_BIC_GAIN
+            && self.heldout_gain <= self.heldout_needed
+            && self.heldout_reach <= self.heldout_needed
     }
 
     /// The criterion passed: enough to enter the search's model. The held-out test is left to
@@ -230,6 +242,7 @@ impl<'s, 'a> Candidate<'s, 'a> {
             heldout_ratio: smaller.heldout_chi2 / self.heldout_chi2.max(1e-300),
             heldout_gain: smaller.heldout_chi2 - self.heldout_chi2,
             heldout_needed: heldout_needed(diff, smaller.heldout_chi2),
+            heldout_reach: d.iter().map(|x| x * x).sum(),
         }
     }
 

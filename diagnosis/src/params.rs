@@ -55,7 +55,7 @@ fn record_s(data: &Data) -> f64 {
 /// Parameter `i` of `c` in full; `name` as reported.
 /// Whether the internal value `v` sits on `spec`'s lower and upper bound (within
 /// `AT_BOUND_SHARE` of its range).
-fn on_bound(spec: &ParamSpec, v: f64) -> (bool, bool) {
+pub(crate) fn on_bound(spec: &ParamSpec, v: f64) -> (bool, bool) {
     let tol = AT_BOUND_SHARE * (spec.upper - spec.lower);
     (v <= spec.lower + tol, v >= spec.upper - tol)
 }

@@ -204,15 +204,21 @@ fn diagnose_prepared(
     }
     let full = full_rate(&setup, &base_full, &chosen_full, stretches, mains_allowed);
     let effects = all_effects(&sel, &full, described.effects, data);
-    let undecided = undecided_findings(&setup, &effects, &details, moment_phi);
+    // Below the resolution floor the baseline's residual is arithmetic, not a mismatch.
+    let verdict = verdict(
+        !effects.is_empty(),
+        local.white_after || full.fit.rmse_before < RESOLUTION_FLOOR,
+    );
+    let mut undecided = undecided_findings(&setup, &effects, &details, moment_phi);
+    // A structured residual that nothing named explains, and an effect the held-out stretch
+    // cannot test would: said, not guessed.
+    if effects.is_empty() && verdict != Verdict::NoSignificantMismatch {
+        undecided.extend(untestable_findings(&sel, stretches.heldout));
+    }
     let report = Report {
         format: FORMAT,
         recording: name.to_string(),
-        // Below the resolution floor the baseline's residual is arithmetic, not a mismatch.
-        verdict: verdict(
-            !effects.is_empty(),
-            local.white_after || full.fit.rmse_before < RESOLUTION_FLOOR,
-        ),
+        verdict,
         baseline: Baseline {
             params: baseline_params(base),
             rmse: full.baseline_rmse,
@@ -294,7 +300,21 @@ fn described_model(
         (d, full)
     };
     if sel.chosen().kinds.is_empty() {
-        return of(sel, sel.chosen, false);
+        let (d, full) = of(sel, sel.chosen, false);
+        // Terms that describe worse, by the criterion, what a catalogue effect the held-out
+        // stretch cannot test describes are not the description either: that effect is left
+        // undecided ([`untestable`]), and the terms go (a hysteresis on one press held out at
+        // rest had been described as a power of the return's speed and a clip at the peak).
+        let beaten = untestable(sel)
+            .iter()
+            .any(|&(i, _)| sel.all[i].bic < d.found.bic);
+        if beaten && !d.found.terms.is_empty() {
+            let c = &sel.all[sel.chosen];
+            let details = params::baseline(c, setup.data);
+            let plain = describe(setup, c, (&full, &details), false, (false, forbidden));
+            return (plain, full);
+        }
+        return (d, full);
     }
     // The chosen model with what may stand beside it is what a replacement must match.
     let (beside, beside_full) = of(sel, sel.chosen, true);
@@ -463,6 +483,60 @@ fn undecided_findings(
     ambiguous.into_iter().chain(gains).collect()
 }
 
+/// The catalogue effects that the criterion keeps on the fitting stretch, alone against the
+/// baseline, but that the held-out stretch cannot test (`Comparison::untestable`): were one
+/// the truth, its held-out gain would not count. Each with its candidate's index and that
+/// comparison; the chosen model's own effects are not among them.
+fn untestable(sel: &crate::select::Selection) -> Vec<(usize, crate::candidate::Comparison)> {
+    let chosen = &sel.chosen().kinds;
+    (0..sel.all.len())
+        .filter(|&i| sel.all[i].kinds.len() == 1 && !chosen.contains(&sel.all[i].kinds[0]))
+        .filter(|&i| sel.admissible_alone(i))
+        .map(|i| (i, sel.all[i].compare(sel.base())))
+        .filter(|(_, cmp)| cmp.untestable())
+        .collect()
+}
+
+/// Each [`untestable`] effect, undecided: what the fitting stretch says of it and why the
+/// held-out stretch cannot, and which recording would decide.
+///
+/// Only the effects the criterion cannot tell from the best of them (within `MIN_BIC_GAIN`):
+/// the fitting stretch decides between them, though not whether the best is there.
+fn untestable_findings(sel: &crate::select::Selection, heldout: (f64, f64)) -> Vec<Undecided> {
+    let all = untestable(sel);
+    let best = all
+        .iter()
+        .map(|&(i, _)| sel.all[i].bic)
+        .fold(f64::INFINITY, f64::min);
+    all.into_iter()
+        .filter(|&(i, _)| sel.all[i].bic <= best + MIN_BIC_GAIN)
+        .map(|(i, cmp)| {
+            let c = &sel.all[i];
+            let kind = c.kinds[0];
+            let mut params = crate::output::Numbers::default();
+            for (_, details) in params::effects(c, sel.base().model.setup.data) {
+                for p in details {
+                    params.push(&p.name, p.value);
+                }
+            }
+            Undecided {
+                effects: vec![kind.name().into()],
+                calibration: Vec::new(),
+                params,
+                reason: format!(
+                    "{} fits the fitting stretch (BIC {:.0} below the baseline's), but the held-out stretch ({:.1}-{:.1} s) cannot test it: were it the truth, it would lower the held-out misfit there by {:.1} (noise units), and the test needs more than {:.1}. A recording that shows its signature again after the stretch it is fitted on (another press and release) would decide",
+                    kind.name(),
+                    cmp.bic_gain,
+                    heldout.0,
+                    heldout.1,
+                    cmp.heldout_reach,
+                    cmp.heldout_needed
+                ),
+            }
+        })
+        .collect()
+}
+
 fn named(effects: &[EffectReport], kind: EffectKind) -> bool {
     effects.iter().any(|e| e.name == kind.name())
 }
@@ -546,6 +620,15 @@ impl Prepared {
                     *y -= p;
                 }
             }
+        }
+        self.held = self.data.without_held();
+    }
+
+    /// The recording with channel `c` read with its sign turned back (`inverted_sign`: a wire
+    /// that flips it). The offset stays free, the range the recording's.
+    pub fn flip(&mut self, c: usize) {
+        for series in [&mut self.data.full, &mut self.data.fit] {
+            series.y[c].iter_mut().for_each(|y| *y = -*y);
         }
         self.held = self.data.without_held();
     }

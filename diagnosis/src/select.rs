@@ -260,6 +260,12 @@ impl<'s, 'a> Selection<'s, 'a> {
 
     /// Whether candidate `i`, `current` plus one effect, may be taken: it beats `current` and
     /// the baseline on both tests, and its primary parameters are resolved.
+    /// Whether candidate `i` passes the tests an effect must pass to be added to the baseline,
+    /// the held-out stretch's aside (the criterion, its parameters off their bounds).
+    pub fn admissible_alone(&self, i: usize) -> bool {
+        self.addition_test(0, i).is_ok()
+    }
+
     fn addition_test(&self, current: usize, i: usize) -> Result<(), String> {
         let c = &self.all[i];
         if c.at_neutral {

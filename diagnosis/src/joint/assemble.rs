@@ -264,10 +264,12 @@ fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool, turned: bool)
     let single = &m.diags[r].report;
     let f = &outcome.fitted;
     let terms_hold = described_still_needed(m, outcome, r);
+    // A sign the session turned back is this test's finding, whatever the model fits after.
+    let flipped = m.flipped.get(r).is_some_and(|f| !f.is_empty());
     let mut effects: Vec<EffectReport> = single
         .effects
         .iter()
-        .filter(|e| e.catalogue || terms_hold)
+        .filter(|e| e.catalogue || terms_hold || (flipped && e.name == "inverted_sign"))
         .filter(|e| {
             !e.catalogue
                 || EffectKind::from_name(&e.name)
@@ -356,6 +358,14 @@ fn undecided(m: &Members, protocols: &Protocols, outcome: &Outcome) -> Vec<Undec
             }
             let turn = u.effects.iter().any(|e| e == EffectKind::Crosstalk.name());
             if turn && (azimuths || layout.shared.contains(&EffectKind::Crosstalk)) {
+                continue;
+            }
+            // What a recording's held-out stretch could not test, the session's search tested
+            // across its recordings (`search::Search::across`).
+            let searched = |e: &String| {
+                EffectKind::from_name(e).is_some_and(|k| !turn && outcome.decided.contains(&k))
+            };
+            if !u.effects.is_empty() && u.calibration.is_empty() && u.effects.iter().all(searched) {
                 continue;
             }
             if out

@@ -6,7 +6,7 @@
 
 use rayon::prelude::*;
 
-use super::model::{JointFit, Layout};
+use super::model::JointFit;
 use super::output::{LeaveOneOut, Validation};
 use super::search::{Fitted, Search};
 use super::Members;
@@ -32,12 +32,7 @@ pub(crate) fn leave_one_out(m: &Members, fitted: &Fitted) -> Validation {
 
 fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
     let keep: Vec<usize> = (0..m.setups.len()).filter(|&i| i != r).collect();
-    let sub = |l: &Layout, idx: &[usize]| Layout {
-        shared: l.shared.clone(),
-        own: idx.iter().map(|&i| l.own[i].clone()).collect(),
-        own_scales: l.own_scales.clone(),
-    };
-    let layout = sub(&fitted.layout, &keep);
+    let layout = fitted.layout.only(&keep);
     let from = Fitted {
         layout: layout.clone(),
         fit: JointFit::start(keep.iter().map(|&i| fitted.fit.full[i].clone()).collect()),
@@ -49,7 +44,7 @@ fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
     .fit(layout, &from);
     // A scale per recording is the session's angle law, not a calibration: the left-out
     // recording's is predicted from the others' along the contact angle (or azimuth).
-    let mut alone = sub(&fitted.layout, &[r]);
+    let mut alone = fitted.layout.only(&[r]);
     let mut frozen = others.fit.shared_values();
     for c in std::mem::take(&mut alone.own_scales) {
         let i = SCALE_AT + c;

@@ -108,21 +108,6 @@ pub fn diagnose_recordings(
             .collect();
         return Err(JointError::NothingUsable(reasons.join("; ")));
     }
-    // Each recording without what its own diagnosis found at a stage the session does not
-    // search (a sensing element's relaxation, which a shared gel's would otherwise take up).
-    let prepared = ok
-        .par_iter()
-        .map(|&i| {
-            let (rec, d) = loaded[i].as_ref().expect("ok");
-            let mut p = prepare(rec, opt)
-                .map_err(|e| JointError::NothingUsable(format!("{}: {e}", files[i])))?;
-            if let Some(at) = &d.at_stage {
-                p.hold(at);
-            }
-            Ok(p)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let setups: Vec<Setup> = prepared.iter().map(|p| p.setup(opt)).collect();
     let diags: Vec<&Diagnosis> = ok
         .iter()
         .map(|&i| &loaded[i].as_ref().expect("ok").1)
@@ -131,20 +116,23 @@ pub fn diagnose_recordings(
         .iter()
         .map(|&i| &loaded[i].as_ref().expect("ok").0)
         .collect();
-    let members = Members {
-        files: ok.iter().map(|&i| files[i].clone()).collect(),
-        prepared: &prepared,
-        setups: setups.iter().collect(),
-        diags,
-        protocols: recs
-            .iter()
-            .zip(&prepared)
-            .map(|(r, p)| protocol(r, p))
-            .collect(),
-    };
-    let outcome = members.search();
-    let loo = loo::leave_one_out(&members, &outcome.fitted);
-    let mut report = assemble::report(&members, &outcome, loo);
+    let names: Vec<String> = ok.iter().map(|&i| files[i].clone()).collect();
+    let as_found = prepare_all(&recs, &diags, &names, opt, &[])?;
+    let (mut report, as_is) = session_report(&as_found, &diags, &recs, &names, opt, Vec::new());
+    // A sign that a recording's own diagnosis found flipped (a wire) is that test's: the
+    // session is fitted again with it turned back, and the better session by the criterion
+    // kept where it passes both tests against the session as read. Left in, one flipped
+    // moment had bent the shared moment scale and every recording's prediction from the
+    // others; but a rotated chip can look like a flip to one recording (a lower BIC alone had
+    // taken one for a wire), so the session decides.
+    let flips: Vec<Vec<usize>> = diags.iter().map(|d| inverted_channels(d)).collect();
+    if flips.iter().any(|f| !f.is_empty()) {
+        let turned = prepare_all(&recs, &diags, &names, opt, &flips)?;
+        let (with_flips, fit) = session_report(&turned, &diags, &recs, &names, opt, flips);
+        if search::Gain::of(&fit, &as_is).passes() {
+            report = with_flips;
+        }
+    }
     report.recordings = merge_rows(&files, &loaded, report.recordings);
     report.seconds = started.elapsed().as_secs_f64();
     let singles = files
@@ -153,6 +141,72 @@ pub fn diagnose_recordings(
         .map(|(f, l)| (f, l.map(|(_, d)| d)))
         .collect();
     Ok(SessionDiagnosis { report, singles })
+}
+
+/// Each analysed recording ready for the session: without what its own diagnosis found at a
+/// stage the session does not search (a sensing element's relaxation, which a shared gel's
+/// would otherwise take up; `Prepared::hold`), and with the channels in `flips` (per
+/// recording, may be empty) turned back.
+fn prepare_all(
+    recs: &[&Recording],
+    diags: &[&Diagnosis],
+    names: &[String],
+    opt: &Options,
+    flips: &[Vec<usize>],
+) -> Result<Vec<Prepared>, JointError> {
+    (0..recs.len())
+        .into_par_iter()
+        .map(|r| {
+            let mut p = prepare(recs[r], opt)
+                .map_err(|e| JointError::NothingUsable(format!("{}: {e}", names[r])))?;
+            if let Some(at) = &diags[r].at_stage {
+                p.hold(at);
+            }
+            for &c in flips.get(r).into_iter().flatten() {
+                p.flip(c);
+            }
+            Ok(p)
+        })
+        .collect()
+}
+
+/// The session of `prepared` searched, validated and reported, and its fitted model.
+fn session_report(
+    prepared: &[Prepared],
+    diags: &[&Diagnosis],
+    recs: &[&Recording],
+    names: &[String],
+    opt: &Options,
+    flipped: Vec<Vec<usize>>,
+) -> (SessionReport, Fitted) {
+    let setups: Vec<Setup> = prepared.iter().map(|p| p.setup(opt)).collect();
+    let members = Members {
+        files: names.to_vec(),
+        prepared,
+        setups: setups.iter().collect(),
+        diags: diags.to_vec(),
+        protocols: recs
+            .iter()
+            .zip(prepared)
+            .map(|(r, p)| protocol(r, p))
+            .collect(),
+        flipped,
+    };
+    let outcome = members.search();
+    let loo = loo::leave_one_out(&members, &outcome.fitted);
+    (assemble::report(&members, &outcome, loo), outcome.fitted)
+}
+
+/// The channels (indices of `data::CHANNELS`) a recording's own diagnosis found read with
+/// their sign inverted.
+fn inverted_channels(d: &Diagnosis) -> Vec<usize> {
+    d.report
+        .effects
+        .iter()
+        .filter(|e| e.name == "inverted_sign")
+        .flat_map(|e| &e.channels)
+        .filter_map(|n| crate::data::CHANNELS.iter().position(|c| c == n))
+        .collect()
 }
 
 /// The analysed recordings' rows in input order, with an error row for each file that could
@@ -187,6 +241,9 @@ pub(crate) struct Members<'s, 'a> {
     pub setups: Vec<&'s Setup<'a>>,
     pub diags: Vec<&'s Diagnosis>,
     pub protocols: Vec<Protocol>,
+    /// Per recording, the channels turned back from an inverted sign its own diagnosis found
+    /// (empty: none, or the session that keeps them as read).
+    pub flipped: Vec<Vec<usize>>,
 }
 
 /// What the session's search found.

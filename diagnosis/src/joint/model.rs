@@ -33,6 +33,15 @@ impl Layout {
         [self.shared.as_slice(), &self.own[r]].concat()
     }
 
+    /// The layout of recordings `idx` alone (their own effects, the same shared ones).
+    pub fn only(&self, idx: &[usize]) -> Layout {
+        Layout {
+            shared: self.shared.clone(),
+            own: idx.iter().map(|&i| self.own[i].clone()).collect(),
+            own_scales: self.own_scales.clone(),
+        }
+    }
+
     fn shared_len(&self) -> usize {
         N_BASE
             + self

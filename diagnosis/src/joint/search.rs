@@ -43,22 +43,32 @@ pub struct Gain {
     /// Held-out chi-square of the smaller minus the larger's, and the least that counts.
     pub heldout: f64,
     pub needed: f64,
+    /// The held-out gain the larger would make were it the truth (the squared norm of the
+    /// two models' difference on the held-out stretches).
+    pub reach: f64,
+    /// Whether `heldout` and `needed` are across recordings ([`Search::across`]).
+    pub across: bool,
 }
 
 impl Gain {
     pub fn of(larger: &Fitted, smaller: &Fitted) -> Self {
-        let diff = larger
-            .fit
-            .heldout_r
-            .iter()
-            .zip(&smaller.fit.heldout_r)
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum::<f64>()
-            .sqrt();
+        Self::between(
+            (smaller.fit.bic(), larger.fit.bic()),
+            (smaller.fit.heldout(), larger.fit.heldout()),
+            (&smaller.fit.heldout_r, &larger.fit.heldout_r),
+        )
+    }
+
+    /// From the two models' BICs, held-out chi-squares and held-out residuals (smaller,
+    /// larger).
+    fn between(bic: (f64, f64), chi2: (f64, f64), r: (&[f64], &[f64])) -> Self {
+        let reach: f64 = r.1.iter().zip(r.0).map(|(a, b)| (a - b) * (a - b)).sum();
         Self {
-            bic: smaller.fit.bic() - larger.fit.bic(),
-            heldout: smaller.fit.heldout() - larger.fit.heldout(),
-            needed: heldout_needed(diff, smaller.fit.heldout()),
+            bic: bic.0 - bic.1,
+            heldout: chi2.0 - chi2.1,
+            needed: heldout_needed(reach.sqrt(), chi2.0),
+            reach,
+            across: false,
         }
     }
 
@@ -66,9 +76,21 @@ impl Gain {
         self.bic > MIN_BIC_GAIN && self.heldout > self.needed
     }
 
+    /// The criterion keeps the larger model, and the held-out stretches cannot test it: were
+    /// it the truth its gain there would not count (a hysteresis, with every recording held
+    /// out at rest).
+    pub fn untestable(&self) -> bool {
+        self.bic > MIN_BIC_GAIN && self.heldout <= self.needed && self.reach <= self.needed
+    }
+
     pub fn words(&self, what: &str) -> String {
+        let stretch = if self.across {
+            "the held-out stretches cannot test it; each recording predicted from the others', misfit"
+        } else {
+            "held-out misfit"
+        };
         format!(
-            "BIC {:+.0} vs {what}, held-out misfit {:+.1} (noise {:.1})",
+            "BIC {:+.0} vs {what}, {stretch} {:+.1} (noise {:.1})",
             -self.bic, -self.heldout, self.needed
         )
     }
@@ -215,7 +237,11 @@ impl<'s, 'a> Search<'s, 'a> {
                     if within {
                         words.push_str("; a static shape within what the calibration's map may bend (not a finding)");
                     }
-                    (f, g, !within && g.bic > MIN_BIC_GAIN, words)
+                    let bound = self.primary_at_bound(&f, k);
+                    if bound {
+                        words.push_str("; its primary parameter at a bound: unresolved");
+                    }
+                    (f, g, !within && !bound && g.bic > MIN_BIC_GAIN, words)
                 })
                 .collect();
             let best = (0..scored.len())
@@ -260,6 +286,26 @@ impl<'s, 'a> Search<'s, 'a> {
         })
     }
 
+    /// Whether the primary parameter of the shared effect `kind` last added sits on a bound
+    /// (as a single recording's parameters are judged, `params::on_bound`): unresolved, as a single recording's selection rejects it (a
+    /// relaxation of 0.8 % at the shortest time constant had been shared beside a hysteresis).
+    fn primary_at_bound(&self, f: &Fitted, kind: EffectKind) -> bool {
+        let nth = f.layout.shared.iter().filter(|&&k| k == kind).count();
+        let kinds = f.layout.kinds(0);
+        let Some(at) = crate::fit::nth_param_index(&kinds, kind, nth.saturating_sub(1), 0) else {
+            return false;
+        };
+        let setup = self.setups[0];
+        let model = crate::fit::Model::new(setup, &kinds, &f.fit.full[0][..crate::fit::N_BASE]);
+        let (lower, upper) = crate::params::on_bound(&model.specs()[at], f.fit.full[0][at]);
+        // A relaxation or coupling slower than the record is a bound on its time, as alone.
+        let slow_allowed = matches!(
+            kind,
+            EffectKind::ViscoelasticRelaxation | EffectKind::HighpassCoupling
+        );
+        lower || (upper && !slow_allowed)
+    }
+
     /// Step 3: drop a shared effect whose held-out gain is within its noise. The kept ones
     /// come back with their gain over the session without them.
     ///
@@ -284,7 +330,10 @@ impl<'s, 'a> Search<'s, 'a> {
                 layout.shared.remove(last);
             }
             let without = self.fit(layout, &cur);
-            let g = Gain::of(&cur, &without);
+            let mut g = Gain::of(&cur, &without);
+            if g.untestable() {
+                g = self.across(&cur, &without).unwrap_or(g);
+            }
             if g.passes() {
                 kept.push((k, g));
             } else {
@@ -317,6 +366,68 @@ impl<'s, 'a> Search<'s, 'a> {
             }
         }
         cur
+    }
+}
+
+impl Search<'_, '_> {
+    /// `larger` against `smaller` across recordings, where the held-out stretches cannot test
+    /// it: each recording's fitting stretch predicted by the shared values fitted to the
+    /// other recordings alone, its own calibration (offsets, its own effects and scales)
+    /// fitted there, the chi-squares summed. Shared physics that is the truth predicts a test
+    /// it never saw; what one recording alone cannot test, the session can. `None` below two
+    /// recordings.
+    pub fn across(&self, larger: &Fitted, smaller: &Fitted) -> Option<Gain> {
+        let n = self.setups.len();
+        if n < 2 {
+            return None;
+        }
+        let each = |f: &Fitted| -> Vec<(f64, Vec<f64>)> {
+            (0..n)
+                .into_par_iter()
+                .map(|r| self.predicted(f, r))
+                .collect()
+        };
+        let (l, s) = (each(larger), each(smaller));
+        let chi2 = |v: &[(f64, Vec<f64>)]| v.iter().map(|x| x.0).sum::<f64>();
+        let flat = |v: &[(f64, Vec<f64>)]| v.iter().flat_map(|x| x.1.clone()).collect::<Vec<_>>();
+        let g = Gain::between(
+            (smaller.fit.bic(), larger.fit.bic()),
+            (chi2(&s), chi2(&l)),
+            (&flat(&s), &flat(&l)),
+        );
+        Some(Gain { across: true, ..g })
+    }
+
+    /// Recording `r`'s fitting stretch under `f`'s layout, its shared values fitted to the
+    /// others: the chi-square and the weighted residuals.
+    fn predicted(&self, f: &Fitted, r: usize) -> (f64, Vec<f64>) {
+        let keep: Vec<usize> = (0..self.setups.len()).filter(|&i| i != r).collect();
+        let layout = f.layout.only(&keep);
+        let from = Fitted {
+            layout: layout.clone(),
+            fit: JointFit::start(keep.iter().map(|&i| f.fit.full[i].clone()).collect()),
+        };
+        let others = Search {
+            setups: keep.iter().map(|&i| self.setups[i]).collect(),
+            tried: Vec::new(),
+        }
+        .fit(layout, &from);
+        let alone = f.layout.only(&[r]);
+        let from = Fitted {
+            layout: alone.clone(),
+            fit: JointFit::start(vec![f.fit.full[r].clone()]),
+        };
+        let own = Search {
+            setups: vec![self.setups[r]],
+            tried: Vec::new(),
+        }
+        .fit_frozen(alone.clone(), &from, others.fit.shared_values());
+        let full = &own.fit.full[0];
+        let setup = self.setups[r];
+        let model = crate::fit::Model::new(setup, &alone.kinds(0), &full[..crate::fit::N_BASE]);
+        let mut res = Vec::new();
+        model.weighted(full, &setup.fit_mask, &mut res);
+        (res.iter().map(|x| x * x).sum(), res)
     }
 }
 
