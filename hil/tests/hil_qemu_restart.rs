@@ -211,8 +211,10 @@ fn hil_qemu_restart_the_host_follows_a_killed_and_rebooted_board() {
             .filter(|f| f.session == session)
             .map(|f| f.seq)
             .collect();
+        // At least the settled frames the pump waited for: on a loaded machine the host may
+        // reattach after the reboot's null has finished, and every frame it sees is settled.
         assert!(
-            seqs.len() > SETTLED_FRAMES,
+            seqs.len() >= SETTLED_FRAMES,
             "session {session}: {} frames",
             seqs.len()
         );

@@ -119,19 +119,17 @@ pub fn diagnose_recordings(
     let names: Vec<String> = ok.iter().map(|&i| files[i].clone()).collect();
     let as_found = prepare_all(&recs, &diags, &names, opt, &[])?;
     let (mut report, as_is) = session_report(&as_found, &diags, &recs, &names, opt, Vec::new());
-    // A sign that a recording's own diagnosis found flipped (a wire) is that test's: the
-    // session is fitted again with it turned back, and the better session by the criterion
-    // kept where it passes both tests against the session as read. Left in, one flipped
-    // moment had bent the shared moment scale and every recording's prediction from the
-    // others; but a rotated chip can look like a flip to one recording (a lower BIC alone had
-    // taken one for a wire), so the session decides.
-    let flips: Vec<Vec<usize>> = diags.iter().map(|d| inverted_channels(d)).collect();
+    // A sign that a recording's own diagnosis found flipped (a wire) is that test's where the
+    // session as read agrees: it needs that output's scale per recording, and this
+    // recording's of the other sign than the rest (one sensor's sensitivity does not turn
+    // over between tests). The session is then fitted again with the sign turned back. Left
+    // as read, the flipped moment's scale had been predicted for each recording from the
+    // others' (10 and 32 times the baseline's held-out misfit); but a rotated chip can look
+    // like a flip to one recording, and there the session's shared turn fits with one scale.
+    let flips = confirmed_flips(&diags, &as_is);
     if flips.iter().any(|f| !f.is_empty()) {
         let turned = prepare_all(&recs, &diags, &names, opt, &flips)?;
-        let (with_flips, fit) = session_report(&turned, &diags, &recs, &names, opt, flips);
-        if search::Gain::of(&fit, &as_is).passes() {
-            report = with_flips;
-        }
+        report = session_report(&turned, &diags, &recs, &names, opt, flips).0;
     }
     report.recordings = merge_rows(&files, &loaded, report.recordings);
     report.seconds = started.elapsed().as_secs_f64();
@@ -195,6 +193,32 @@ fn session_report(
     let outcome = members.search();
     let loo = loo::leave_one_out(&members, &outcome.fitted);
     (assemble::report(&members, &outcome, loo), outcome.fitted)
+}
+
+/// Per recording, the outputs (indices of `data::CHANNELS`) its own diagnosis found read with
+/// their sign inverted and whose scale the session `fitted` as read per recording, of the
+/// other sign than the other recordings' median.
+fn confirmed_flips(diags: &[&Diagnosis], fitted: &Fitted) -> Vec<Vec<usize>> {
+    let scale = |r: usize, c: usize| fitted.fit.full[r][crate::fit::SCALE_AT + c - 1];
+    diags
+        .iter()
+        .enumerate()
+        .map(|(r, d)| {
+            inverted_channels(d)
+                .into_iter()
+                .filter(|&c| c >= 1 && fitted.layout.own_scales.contains(&(c - 1)))
+                .filter(|&c| {
+                    let mut others: Vec<f64> = (0..diags.len())
+                        .filter(|&o| o != r)
+                        .map(|o| scale(o, c))
+                        .collect();
+                    others.sort_by(f64::total_cmp);
+                    let median = others.get(others.len() / 2).copied().unwrap_or(0.0);
+                    scale(r, c) * median < 0.0
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// The channels (indices of `data::CHANNELS`) a recording's own diagnosis found read with
