@@ -36,9 +36,13 @@ pub enum SessionKind {
     AngleLaw,
     /// Any of the three variations, nothing hidden.
     Null,
+    /// Three single presses to 60, 80 and 100 % of one load, a hysteresis: each recording is
+    /// held out at rest, where a hysteresis shows nothing, so no recording alone can test it.
+    OnePress,
 }
 
 impl SessionKind {
+    /// The category's kinds: what the sessions vary (azimuth, rod speed, contact angle).
     pub const ALL: [SessionKind; 8] = [
         SessionKind::Crosstalk,
         SessionKind::MisdeclaredGain,
@@ -49,6 +53,10 @@ impl SessionKind {
         SessionKind::AngleLaw,
         SessionKind::Null,
     ];
+
+    /// Studies beyond the category, run only by their `--kind`: their sessions are numbered
+    /// after the category's, whose ids (and so recordings) they leave unchanged.
+    pub const EXTRA: [SessionKind; 1] = [SessionKind::OnePress];
 
     /// The kind's key on the command line (`tactile prove --sessions --kind KEY`).
     pub fn key(self) -> &'static str {
@@ -61,12 +69,16 @@ impl SessionKind {
             SessionKind::Relaxation => "relaxation",
             SessionKind::AngleLaw => "angle-law",
             SessionKind::Null => "null",
+            SessionKind::OnePress => "one-press",
         }
     }
 
     /// The kind whose [`Self::key`] is `key`.
     pub fn from_key(key: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.key() == key)
+        Self::ALL
+            .into_iter()
+            .chain(Self::EXTRA)
+            .find(|k| k.key() == key)
     }
 
     pub fn name(self) -> &'static str {
@@ -79,6 +91,7 @@ impl SessionKind {
             SessionKind::Relaxation => "relaxation across speeds",
             SessionKind::AngleLaw => "angle law across contact angles",
             SessionKind::Null => "null session",
+            SessionKind::OnePress => "hysteresis, one press each",
         }
     }
 
@@ -90,6 +103,7 @@ impl SessionKind {
             SessionKind::Lag => Some(EffectKind::TimeOffset),
             SessionKind::Hysteresis => Some(EffectKind::Hysteresis),
             SessionKind::Relaxation => Some(EffectKind::ViscoelasticRelaxation),
+            SessionKind::OnePress => Some(EffectKind::Hysteresis),
             _ => None,
         }
     }
@@ -101,6 +115,29 @@ enum Vary {
     Azimuth,
     Speed,
     Angle,
+    /// One press per recording, to these shares of the session's peak load.
+    Peak,
+}
+
+impl Vary {
+    /// Test `step` of a session at (contact angle, azimuth) with presses `peaks_n`: its
+    /// (contact angle, azimuth, rod speed in mm/min) and its presses.
+    fn test(
+        self,
+        step: usize,
+        (angle, azimuth): (f64, f64),
+        peaks_n: [f64; 2],
+    ) -> ((f64, f64, f64), Vec<f64>) {
+        let (mut a, mut az, mut speed) = (angle, azimuth, 20.0);
+        let mut peaks = peaks_n.to_vec();
+        match self {
+            Vary::Azimuth => az = AZIMUTHS_DEG[step],
+            Vary::Speed => speed = SPEEDS_MM_PER_MIN[step],
+            Vary::Angle => a = ANGLES_DEG[step],
+            Vary::Peak => peaks = vec![peaks_n[0] * PEAK_SHARES[step]],
+        }
+        ((a, az, speed), peaks)
+    }
 }
 
 /// A generated session and its truth.
@@ -120,6 +157,7 @@ pub struct SessionCase {
 const AZIMUTHS_DEG: [f64; 3] = [0.0, 45.0, 90.0];
 const SPEEDS_MM_PER_MIN: [f64; 3] = [10.0, 30.0, 90.0];
 const ANGLES_DEG: [f64; 3] = [0.0, 15.0, 30.0];
+const PEAK_SHARES: [f64; 3] = [0.6, 0.8, 1.0];
 
 impl Plan {
     /// `per_kind` sessions of every kind (of `only`, when given), each from its own seed: a
@@ -129,12 +167,21 @@ impl Plan {
         per_kind: usize,
         only: Option<SessionKind>,
     ) -> Result<Vec<SessionCase>, FeResponseError> {
-        let specs: Vec<(usize, SessionKind)> = (0..per_kind)
-            .flat_map(|i| SessionKind::ALL.map(|k| (i, k)))
-            .enumerate()
-            .map(|(id, (_, k))| (id, k))
-            .filter(|&(_, k)| only.is_none_or(|o| o == k))
-            .collect();
+        let round = |kinds: &[SessionKind]| {
+            (0..per_kind)
+                .flat_map(|_| kinds.to_vec())
+                .collect::<Vec<SessionKind>>()
+        };
+        let specs: Vec<(usize, SessionKind)> =
+            [round(&SessionKind::ALL), round(&SessionKind::EXTRA)]
+                .concat()
+                .into_iter()
+                .enumerate()
+                .filter(|&(_, k)| match only {
+                    Some(o) => o == k,
+                    None => SessionKind::ALL.contains(&k),
+                })
+                .collect();
         specs
             .into_par_iter()
             .map(|(id, kind)| self.session(id, kind))
@@ -152,6 +199,7 @@ impl Plan {
             SessionKind::Crosstalk | SessionKind::MisdeclaredGain => Vary::Azimuth,
             SessionKind::AngleLaw => Vary::Angle,
             SessionKind::Null => [Vary::Azimuth, Vary::Speed, Vary::Angle][id % 3],
+            SessionKind::OnePress => Vary::Peak,
             _ => Vary::Speed,
         };
         let angle = [10.0, 15.0, 20.0][(u(0.0, 3.0) as usize).min(2)];
@@ -184,12 +232,7 @@ impl Plan {
         let mut recordings = Vec::new();
         let mut noiseless = Vec::new();
         for (i, step) in [0usize, 1, 2].into_iter().enumerate() {
-            let (mut a, mut az, mut speed) = (angle, azimuth, 20.0);
-            match vary {
-                Vary::Azimuth => az = AZIMUTHS_DEG[step],
-                Vary::Speed => speed = SPEEDS_MM_PER_MIN[step],
-                Vary::Angle => a = ANGLES_DEG[step],
-            }
+            let ((a, az, speed), peaks_n) = vary.test(step, (angle, azimuth), [peak_n, second_n]);
             // The jig is set anew for every test, within its mounting accuracy.
             base.azimuth_shift_deg = u(-1.5, 1.5);
             if let Some(ratio) = angle_ratio {
@@ -200,7 +243,8 @@ impl Plan {
                 base,
                 exponent,
                 other_family,
-                peaks_n: [peak_n, second_n],
+                reference_n: peak_n,
+                peaks_n,
                 truth: truth.iter().cloned().collect(),
                 noise,
             };
@@ -230,7 +274,10 @@ struct Sensor {
     base: baseline::BaselineParams,
     exponent: f64,
     other_family: bool,
-    peaks_n: [f64; 2],
+    /// The load at which another model's force law meets the FE's (the session's peak).
+    reference_n: f64,
+    /// The test's presses.
+    peaks_n: Vec<f64>,
     truth: Vec<Effect>,
     noise: Noise,
 }
@@ -252,7 +299,7 @@ impl Plan {
             exponent: sensor.exponent,
             d_ref_mm: sim::compression::rod_at_load(
                 |d| fe.unit_response(d).force_n * base.youngs_modulus_pa,
-                sensor.peaks_n[0],
+                sensor.reference_n,
                 60.0,
             ),
             linear_outputs: false,
@@ -271,7 +318,7 @@ impl Plan {
                 speed_mm_per_min: speed,
                 ..Default::default()
             },
-            peak_loads_n: sensor.peaks_n.to_vec(),
+            peak_loads_n: sensor.peaks_n.clone(),
             effects: sensor.truth.clone(),
             noise: if quiet {
                 Noise {
@@ -477,6 +524,7 @@ pub fn table(scores: &[SessionScore]) -> String {
     );
     let mut groups: Vec<(String, Vec<&SessionScore>)> = SessionKind::ALL
         .iter()
+        .chain(&SessionKind::EXTRA)
         .map(|k| {
             (
                 k.name().to_string(),

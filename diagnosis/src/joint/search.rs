@@ -237,9 +237,9 @@ impl<'s, 'a> Search<'s, 'a> {
                     if within {
                         words.push_str("; a static shape within what the calibration's map may bend (not a finding)");
                     }
-                    let bound = self.primary_at_bound(&f, k);
+                    let bound = self.at_bound(&f, k);
                     if bound {
-                        words.push_str("; its primary parameter at a bound: unresolved");
+                        words.push_str("; a parameter at a bound: unresolved");
                     }
                     (f, g, !within && !bound && g.bic > MIN_BIC_GAIN, words)
                 })
@@ -286,10 +286,10 @@ impl<'s, 'a> Search<'s, 'a> {
         })
     }
 
-    /// Whether the primary parameter of the shared effect `kind` last added sits on a bound
-    /// (as a single recording's parameters are judged, `params::on_bound`): unresolved, as a single recording's selection rejects it (a
+    /// Whether a parameter of the shared effect `kind` last added sits on a bound (as a single
+    /// recording's parameters are judged, `params::on_bound`): unresolved, as a single recording's selection rejects it (a
     /// relaxation of 0.8 % at the shortest time constant had been shared beside a hysteresis).
-    fn primary_at_bound(&self, f: &Fitted, kind: EffectKind) -> bool {
+    fn at_bound(&self, f: &Fitted, kind: EffectKind) -> bool {
         let nth = f.layout.shared.iter().filter(|&&k| k == kind).count();
         let kinds = f.layout.kinds(0);
         let Some(at) = crate::fit::nth_param_index(&kinds, kind, nth.saturating_sub(1), 0) else {
@@ -297,13 +297,18 @@ impl<'s, 'a> Search<'s, 'a> {
         };
         let setup = self.setups[0];
         let model = crate::fit::Model::new(setup, &kinds, &f.fit.full[0][..crate::fit::N_BASE]);
-        let (lower, upper) = crate::params::on_bound(&model.specs()[at], f.fit.full[0][at]);
-        // A relaxation or coupling slower than the record is a bound on its time, as alone.
+        // A relaxation or coupling slower than the record is a bound on its time, as alone;
+        // not with the whole response relaxing (a relaxation of 0.99 at 12578 s had taken up
+        // another model's force law).
         let slow_allowed = matches!(
             kind,
             EffectKind::ViscoelasticRelaxation | EffectKind::HighpassCoupling
         );
-        lower || (upper && !slow_allowed)
+        (0..kind.param_names().len()).any(|j| {
+            let (lower, upper) =
+                crate::params::on_bound(&model.specs()[at + j], f.fit.full[0][at + j]);
+            lower || (upper && !(slow_allowed && j == 0))
+        })
     }
 
     /// Step 3: drop a shared effect whose held-out gain is within its noise. The kept ones

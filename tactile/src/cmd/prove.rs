@@ -53,7 +53,8 @@ pub struct Args {
     /// With --sessions, sessions of each kind.
     #[arg(long, default_value_t = 2, requires = "sessions")]
     pub per_kind: usize,
-    /// With --sessions, only the sessions of this kind (the same sessions as in the whole run).
+    /// With --sessions, only the sessions of this kind (the same sessions as in the whole run);
+    /// `one-press` is a study beyond the category, run only so.
     #[arg(long, requires = "sessions", value_name = "KIND", value_parser = session_kind)]
     pub kind: Option<SessionKind>,
 }
@@ -61,7 +62,11 @@ pub struct Args {
 /// A session kind by its key, for `--kind`.
 fn session_kind(key: &str) -> Result<SessionKind, String> {
     SessionKind::from_key(key).ok_or_else(|| {
-        let keys: Vec<&str> = SessionKind::ALL.iter().map(|k| k.key()).collect();
+        let keys: Vec<&str> = SessionKind::ALL
+            .iter()
+            .chain(&SessionKind::EXTRA)
+            .map(|k| k.key())
+            .collect();
         format!("no session kind `{key}` (the kinds: {})", keys.join(", "))
     })
 }
