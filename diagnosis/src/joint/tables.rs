@@ -51,9 +51,13 @@ fn recording_row(row: &RecordingRow) -> String {
         Some(list) => list
             .iter()
             .map(|e| {
+                // Where in the chain it acts: a relaxation of the sensing element is not the
+                // gel's.
                 format!(
-                    "{}<br>{}",
+                    "{} <small>({}: {})</small><br>{}",
                     esc(&words::effect_name(&e.name)),
+                    e.stage.name(),
+                    esc(&e.channels.join(", ")),
                     param_lines(e)
                 )
             })
