@@ -607,28 +607,26 @@ pub(crate) fn prepare(rec: &Recording, opt: &Options) -> Result<Prepared, DataEr
 }
 
 impl Prepared {
-    /// The recording without the catalogue effects its own diagnosis found at a stage other
-    /// than the catalogue's (`at`): what a session's model, which has each effect at its own
-    /// stage only, is fitted to. The range and the stretches stay the recording's.
-    pub fn hold(&mut self, at: &crate::terms::AtStage) {
-        for c in 0..4 {
-            for (series, part) in [
-                (&mut self.data.full, &at.full[c]),
-                (&mut self.data.fit, &at.decimated[c]),
-            ] {
-                for (y, p) in series.y[c].iter_mut().zip(part) {
-                    *y -= p;
+    /// The recording as a session's member: without the catalogue effects its own diagnosis
+    /// found at a stage other than the catalogue's (`at`), which a session's model, with each
+    /// effect at its own stage only, is not fitted to; and with the channels `flips` read with
+    /// their sign turned back (`inverted_sign`: a wire). The range, the stretches and the free
+    /// offsets stay the recording's.
+    pub fn for_session(&mut self, at: Option<&crate::terms::AtStage>, flips: &[usize]) {
+        let parts = at.map(|a| [&a.full, &a.decimated]);
+        for (k, series) in [&mut self.data.full, &mut self.data.fit]
+            .into_iter()
+            .enumerate()
+        {
+            for c in 0..4 {
+                if let Some(parts) = parts {
+                    let part = &parts[k][c];
+                    series.y[c].iter_mut().zip(part).for_each(|(y, p)| *y -= p);
+                }
+                if flips.contains(&c) {
+                    series.y[c].iter_mut().for_each(|y| *y = -*y);
                 }
             }
-        }
-        self.held = self.data.without_held();
-    }
-
-    /// The recording with channel `c` read with its sign turned back (`inverted_sign`: a wire
-    /// that flips it). The offset stays free, the range the recording's.
-    pub fn flip(&mut self, c: usize) {
-        for series in [&mut self.data.full, &mut self.data.fit] {
-            series.y[c].iter_mut().for_each(|y| *y = -*y);
         }
         self.held = self.data.without_held();
     }

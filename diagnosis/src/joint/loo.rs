@@ -6,11 +6,10 @@
 
 use rayon::prelude::*;
 
-use super::model::JointFit;
 use super::output::{LeaveOneOut, Validation};
 use super::search::{Fitted, Search};
 use super::Members;
-use crate::fit::{Model, N_BASE, SCALE_AT};
+use crate::fit::SCALE_AT;
 
 /// The validation of `fitted` over the session's recordings (none below two).
 pub(crate) fn leave_one_out(m: &Members, fitted: &Fitted) -> Validation {
@@ -32,16 +31,11 @@ pub(crate) fn leave_one_out(m: &Members, fitted: &Fitted) -> Validation {
 
 fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
     let keep: Vec<usize> = (0..m.setups.len()).filter(|&i| i != r).collect();
-    let layout = fitted.layout.only(&keep);
-    let from = Fitted {
-        layout: layout.clone(),
-        fit: JointFit::start(keep.iter().map(|&i| fitted.fit.full[i].clone()).collect()),
-    };
-    let others = Search {
-        setups: keep.iter().map(|&i| m.setups[i]).collect(),
+    let search = Search {
+        setups: m.setups.clone(),
         tried: Vec::new(),
-    }
-    .fit(layout, &from);
+    };
+    let others = search.without_recording(fitted, r);
     // A scale per recording is the session's angle law, not a calibration: the left-out
     // recording's is predicted from the others' along the contact angle (or azimuth).
     let mut alone = fitted.layout.only(&[r]);
@@ -58,18 +52,10 @@ fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
             frozen.insert(i, v);
         }
     }
-    let from = Fitted {
-        layout: alone.clone(),
-        fit: JointFit::start(vec![fitted.fit.full[r].clone()]),
-    };
-    let own = Search {
-        setups: vec![m.setups[r]],
-        tried: Vec::new(),
-    }
-    .fit_frozen(alone.clone(), &from, frozen);
+    let own = search.recording_alone(fitted, r, alone, frozen);
     let full = &own.fit.full[0];
     let setup = m.setups[r];
-    let model = Model::new(setup, &alone.kinds(0), &full[..N_BASE]);
+    let model = own.model(setup);
     let predicted = model.outputs(full, &m.prepared[r].full_drive(setup));
     LeaveOneOut {
         file: m.files[r].clone(),

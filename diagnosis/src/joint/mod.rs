@@ -143,8 +143,8 @@ pub fn diagnose_recordings(
 
 /// Each analysed recording ready for the session: without what its own diagnosis found at a
 /// stage the session does not search (a sensing element's relaxation, which a shared gel's
-/// would otherwise take up; `Prepared::hold`), and with the channels in `flips` (per
-/// recording, may be empty) turned back.
+/// would otherwise take up), and with the channels in `flips` (per recording, may be empty)
+/// turned back (`Prepared::for_session`).
 fn prepare_all(
     recs: &[&Recording],
     diags: &[&Diagnosis],
@@ -157,12 +157,10 @@ fn prepare_all(
         .map(|r| {
             let mut p = prepare(recs[r], opt)
                 .map_err(|e| JointError::NothingUsable(format!("{}: {e}", names[r])))?;
-            if let Some(at) = &diags[r].at_stage {
-                p.hold(at);
-            }
-            for &c in flips.get(r).into_iter().flatten() {
-                p.flip(c);
-            }
+            p.for_session(
+                diags[r].at_stage.as_ref(),
+                flips.get(r).map_or(&[][..], Vec::as_slice),
+            );
             Ok(p)
         })
         .collect()

@@ -295,8 +295,7 @@ impl<'s, 'a> Search<'s, 'a> {
         let Some(at) = crate::fit::nth_param_index(&kinds, kind, nth.saturating_sub(1), 0) else {
             return false;
         };
-        let setup = self.setups[0];
-        let model = crate::fit::Model::new(setup, &kinds, &f.fit.full[0][..crate::fit::N_BASE]);
+        let model = f.model(self.setups[0]);
         // A relaxation or coupling slower than the record is a bound on its time, as alone;
         // not with the whole response relaxing (a relaxation of 0.99 at 12578 s had taken up
         // another model's force law).
@@ -406,33 +405,61 @@ impl Search<'_, '_> {
     /// Recording `r`'s fitting stretch under `f`'s layout, its shared values fitted to the
     /// others: the chi-square and the weighted residuals.
     fn predicted(&self, f: &Fitted, r: usize) -> (f64, Vec<f64>) {
+        let others = self.without_recording(f, r);
+        let own = self.recording_alone(f, r, f.layout.only(&[r]), others.fit.shared_values());
+        let full = &own.fit.full[0];
+        let setup = self.setups[r];
+        let model = own.model(setup);
+        let mut res = Vec::new();
+        model.weighted(full, &setup.fit_mask, &mut res);
+        (res.iter().map(|x| x * x).sum(), res)
+    }
+
+    /// The session `f` fitted to its recordings other than `r`, from where `f` left them: the
+    /// shared physics a test it never saw is predicted from.
+    pub fn without_recording(&self, f: &Fitted, r: usize) -> Fitted {
         let keep: Vec<usize> = (0..self.setups.len()).filter(|&i| i != r).collect();
         let layout = f.layout.only(&keep);
         let from = Fitted {
             layout: layout.clone(),
             fit: JointFit::start(keep.iter().map(|&i| f.fit.full[i].clone()).collect()),
         };
-        let others = Search {
+        Search {
             setups: keep.iter().map(|&i| self.setups[i]).collect(),
             tried: Vec::new(),
         }
-        .fit(layout, &from);
-        let alone = f.layout.only(&[r]);
+        .fit(layout, &from)
+    }
+
+    /// Recording `r` alone under `layout`, its shared values `frozen` held: only its own
+    /// calibration fitted, from where `f` left it.
+    pub fn recording_alone(
+        &self,
+        f: &Fitted,
+        r: usize,
+        layout: Layout,
+        frozen: BTreeMap<usize, f64>,
+    ) -> Fitted {
         let from = Fitted {
-            layout: alone.clone(),
+            layout: layout.clone(),
             fit: JointFit::start(vec![f.fit.full[r].clone()]),
         };
-        let own = Search {
+        Search {
             setups: vec![self.setups[r]],
             tried: Vec::new(),
         }
-        .fit_frozen(alone.clone(), &from, others.fit.shared_values());
-        let full = &own.fit.full[0];
-        let setup = self.setups[r];
-        let model = crate::fit::Model::new(setup, &alone.kinds(0), &full[..crate::fit::N_BASE]);
-        let mut res = Vec::new();
-        model.weighted(full, &setup.fit_mask, &mut res);
-        (res.iter().map(|x| x * x).sum(), res)
+        .fit_frozen(layout, &from, frozen)
+    }
+}
+
+impl Fitted {
+    /// The model of this fit's first recording on `setup` (its shared effects, and its own).
+    pub fn model<'s, 'a>(&self, setup: &'s Setup<'a>) -> crate::fit::Model<'s, 'a> {
+        crate::fit::Model::new(
+            setup,
+            &self.layout.kinds(0),
+            &self.fit.full[0][..crate::fit::N_BASE],
+        )
     }
 }
 

@@ -77,7 +77,7 @@ pub(crate) struct Described {
 /// catalogue's (a sensing element's relaxation; the load cell's lag, stiffening or clip), on
 /// the decimated series and at the full rate. A session searches each catalogue effect at its
 /// own stage only, so it holds these as the recording's own diagnosis found them
-/// ([`crate::pipeline::Prepared::hold`]).
+/// ([`crate::pipeline::Prepared::for_session`]).
 #[derive(Debug, Clone)]
 pub struct AtStage {
     pub decimated: [Vec<f64>; 4],
