@@ -113,6 +113,7 @@ fn effect_report(
         catalogue: true,
         depends_on: None,
         form: None,
+        inclusion: None,
         parameters: Vec::new(),
     }
 }
@@ -251,6 +252,7 @@ fn angle_dependence(
             catalogue: true,
             depends_on: None,
             form: None,
+            inclusion: None,
             parameters: Vec::new(),
         },
         channel_param: Some(channel.to_string()),

@@ -20,6 +20,7 @@ fn angle_law() -> SharedEffect {
             catalogue: true,
             depends_on: None,
             form: None,
+            inclusion: None,
             parameters: Vec::new(),
         },
         channel_param: Some("fz_V".into()),

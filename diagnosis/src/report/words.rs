@@ -355,6 +355,7 @@ mod tests {
             catalogue: true,
             depends_on: None,
             form: None,
+            inclusion: None,
             parameters: Vec::new(),
         }
     }

@@ -54,8 +54,16 @@ pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
         }
         banned.extend(dropped);
     }
+    // Beside the whole catalogue model only what no catalogue effect's misfit can mimic is
+    // offered (`TermKind::beside_catalogue`); a dictionary can write any smooth misfit.
+    if !ctx.beside_catalogue {
+        terms = super::discover::discover(ctx, nested, terms);
+    }
     let evidence = (0..terms.len())
         .map(|i| {
+            if let Some(info) = &terms[i].info {
+                return super::discover::group_evidence(ctx, nested, &terms, info.group);
+            }
             let cmp = compare_without(ctx, nested, &terms, i);
             let bic_gain = if terms[i].kind == TermKind::Recalibration {
                 f64::INFINITY
@@ -187,7 +195,7 @@ fn candidates(ctx: &Context, terms: &[Term]) -> Vec<Term> {
 
 /// The columns of the terms on channel `c`, leaving out term number `skip`, each reaching only
 /// the samples where the channel is [`live`].
-fn columns_on(terms: &[Term], c: usize, skip: Option<usize>) -> Columns {
+pub(super) fn columns_on(terms: &[Term], c: usize, skip: Option<usize>) -> Columns {
     let live = live(terms, c, skip);
     terms
         .iter()
@@ -217,7 +225,7 @@ fn masked(cols: &Columns, t: &Term, live: Option<&[f64]>) -> Columns {
 }
 
 /// Refit the amplitudes of each channel's terms jointly.
-fn refit(ctx: &Context, terms: &mut [Term]) {
+pub(super) fn refit(ctx: &Context, terms: &mut [Term]) {
     for c in 0..4 {
         let cols = columns_on(terms, c, None);
         if cols.x.is_empty() {
@@ -260,11 +268,11 @@ fn chi2(ctx: &Context, base: f64, terms: &[Term], mask: &[bool]) -> f64 {
     total
 }
 
-fn heldout(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
+pub(super) fn heldout(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
     chi2(ctx, nested.heldout_chi2, terms, ctx.heldout_mask)
 }
 
-fn bic(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
+pub(super) fn bic(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
     let n = nested.n as f64;
     let sse = chi2(ctx, nested.fit_chi2, terms, ctx.fit_mask).max(1e-300);
     let k = nested.k + terms.iter().map(|t| t.n_params).sum::<usize>();
@@ -277,7 +285,7 @@ fn bic(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
 /// model without: the refit of the catalogue's shared parameters channel by channel
 /// ([`Context::catalogue`]) gains on its own where the joint fit balanced the channels, and
 /// that gain is not the term's.
-fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
+pub(super) fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
     if !terms.iter().any(|t| t.channel == c) {
         terms.push(TermKind::recalibration(ctx, c));
         refit(ctx, &mut terms);
@@ -288,7 +296,7 @@ fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
 /// `terms` without number `i`, the rest refitted; the channel's refit goes with its last term.
 /// A term whose sign the refit turns goes too ([`Term::admitted`]): without its partner it is no
 /// longer the physics it named (a relaxation that only made up a set's shape).
-fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
+pub(super) fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
     without_turned(ctx, terms, i).0
 }
 
