@@ -219,6 +219,16 @@ fn the_truth_table_is_complete() {
         assert!(!t.channels.is_empty(), "{label}");
         assert!(!t.depends_any.is_empty(), "{label}");
         assert!(t.depends_any.iter().all(|q| t.depends_allowed.contains(q)));
+        for list in [&t.depends_any, &t.depends_allowed, &t.channels] {
+            let mut sorted = list.clone();
+            sorted.sort();
+            sorted.dedup();
+            assert_eq!(
+                sorted.len(),
+                list.len(),
+                "{label}: {list:?} names a quantity twice"
+            );
+        }
         assert!(t.depends_allowed.iter().all(|q| VOCABULARY.contains(q)));
         assert!(!t.params.is_empty(), "{label}: parameters drawn");
         if h.material_alone {

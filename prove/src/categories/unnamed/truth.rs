@@ -135,7 +135,7 @@ fn shape(kind: Kind, hidden: &Hidden) -> Shape {
         // A function of the channel's own value, which follows the load.
         CounterWrap => {
             let mut any = TRAVEL.to_vec();
-            any.extend(on.iter().copied());
+            any.extend(on.iter().filter(|c| !TRAVEL.contains(c)));
             (vec![ELECTRONICS], on, any, Vec::new())
         }
         // The gain follows a memory of the output's own power. A bridge's dissipation is set by
