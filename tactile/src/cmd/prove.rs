@@ -33,7 +33,8 @@ pub struct Args {
     #[arg(long)]
     pub write_recordings: bool,
     /// Score the categories instead (protocols, another model's baseline, three effects,
-    /// nuisances, then physics out of the catalogue and the catalogue at new stages):
+    /// nuisances, then physics out of the catalogue, the catalogue at new stages and physics
+    /// nobody named):
     /// categories.md in the output folder, one table row per category.
     #[arg(long)]
     pub categories: bool,
@@ -45,6 +46,10 @@ pub struct Args {
     /// catalogue at new stages): the quick run while the method is worked on.
     #[arg(long, requires = "categories")]
     pub described_only: bool,
+    /// With --categories, only the group of physics nobody named (a row per kind, and null
+    /// recordings): the quick run while the discovery step is worked on.
+    #[arg(long, requires = "categories", conflicts_with = "described_only")]
+    pub unnamed_only: bool,
     /// Score the session category instead: sessions of three recordings across azimuths, rod
     /// speeds and contact angles, diagnosed jointly (`tactile diagnose --joint`): sessions.md
     /// and each session's JSON in the output folder.
@@ -174,16 +179,20 @@ fn run_sessions(plan: &Plan, args: &Args) -> anyhow::Result<()> {
 
 /// `--categories`: every category's recordings diagnosed blind, a row per category.
 fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
-    if args.described_only {
+    if args.described_only || args.unnamed_only {
         std::fs::create_dir_all(&args.out)
             .with_context(|| format!("creating {}", args.out.display()))?;
         let mut text = String::new();
-        let pass = run_described(plan, args, &mut text)?;
+        let (pass, group) = if args.unnamed_only {
+            (run_unnamed(plan, args, &mut text)?, "physics nobody named")
+        } else {
+            (run_described(plan, args, &mut text)?, "described physics")
+        };
         let path = args.out.join("categories.md");
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
         anyhow::ensure!(
             pass,
-            "the described physics misses the acceptance bar (see the table)"
+            "the {group} misses the acceptance bar (see the table)"
         );
         return Ok(());
     }
@@ -215,10 +224,11 @@ fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
         text.push_str(&format!("\n{real_table}"));
     }
     let described_pass = run_described(plan, args, &mut text)?;
+    let unnamed_pass = run_unnamed(plan, args, &mut text)?;
     let path = args.out.join("categories.md");
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     anyhow::ensure!(
-        categories::all_pass(&labelled, &scores) && real_pass && described_pass,
+        categories::all_pass(&labelled, &scores) && real_pass && described_pass && unnamed_pass,
         "some categories miss the acceptance bar (see the table)"
     );
     Ok(())
@@ -244,6 +254,29 @@ fn run_described(plan: &Plan, args: &Args, text: &mut String) -> anyhow::Result<
         "\n## Physics the catalogue lacks, and the catalogue at new stages\n\n{table}"
     ));
     Ok(categories::described::all_pass(&labelled, &scores))
+}
+
+/// Physics nobody named and the null recordings beside it, diagnosed blind: its table (a row per
+/// kind, then every recording) appended to `text`; whether the group passes its bar.
+fn run_unnamed(plan: &Plan, args: &Args, text: &mut String) -> anyhow::Result<bool> {
+    let started = Instant::now();
+    let (labelled, cases) = plan.generate_unnamed()?;
+    if args.write_recordings {
+        write_recordings(&cases, &args.out)?;
+    }
+    let scores = score(&cases, &plan.options);
+    let table = categories::unnamed::table(&labelled, &scores);
+    println!("{table}");
+    println!(
+        "{} recordings of physics nobody named in {:.1} s",
+        labelled.len(),
+        started.elapsed().as_secs_f64()
+    );
+    text.push_str(&format!(
+        "\n## Physics nobody named (seed {}, blind)\n\n{table}",
+        plan.seed
+    ));
+    Ok(categories::unnamed::totals(&labelled, &scores).passes())
 }
 
 /// The text of `name` from the Mach-1 examples at `source` (their zip, or a folder), each byte
