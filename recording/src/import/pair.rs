@@ -356,12 +356,12 @@ fn position_note(r: &CsvOptions) -> String {
         .contact_at
         .map_or("its first reading".to_string(), |c| c.to_string());
     let way = if r.press_down {
-        "decreasing"
+        "decreases"
     } else {
-        "increasing"
+        "increases"
     };
     format!(
-        "{} in {}, pressing in {way}, contact at {contact}",
+        "{} in {}, {way} as the indenter presses in, contact at {contact}",
         r.displacement, r.length_unit.name
     )
 }
