@@ -43,7 +43,8 @@ pub enum Command {
     Diagnose(cmd::diagnose::Args),
     /// Generate recordings with concealed effects, diagnose them blind and score the result.
     Prove(cmd::prove::Args),
-    /// Convert a test machine's export (Mach-1 text, generic CSV) to a recording.
+    /// Convert a test machine's export (Mach-1 text, generic CSV), or a sensor's log with a
+    /// reference's log, to a recording.
     Import(cmd::import::Args),
 }
 
