@@ -171,6 +171,27 @@ pub fn table(scores: &[LabScore]) -> String {
             v.len(),
         );
     }
+    let with_gaps = scores
+        .iter()
+        .filter(|s| s.report.is_some() && !s.judgement.contract_gaps.is_empty())
+        .count();
+    let mut keys: Vec<&String> = scores
+        .iter()
+        .flat_map(|s| &s.judgement.contract_gaps)
+        .collect();
+    keys.sort();
+    keys.dedup();
+    let _ = writeln!(
+        out,
+        "\nReports lacking a key the contract requires (not scored): {with_gaps} of {}{}.",
+        scores.iter().filter(|s| s.report.is_some()).count(),
+        if keys.is_empty() {
+            String::new()
+        } else {
+            let keys: Vec<&str> = keys.iter().map(|k| k.as_str()).collect();
+            format!(" (`{}`)", keys.join("`, `"))
+        }
+    );
     let t = Totals::of(scores);
     let _ = writeln!(
         out,

@@ -112,6 +112,8 @@ pub struct Judgement {
     pub undecided: Vec<String>,
     /// Recordings reported in error, with their message.
     pub errors: Vec<String>,
+    /// Keys the contract requires that the report lacks (not part of right: a figure).
+    pub contract_gaps: Vec<String>,
 }
 
 impl Judgement {
@@ -183,7 +185,40 @@ pub fn judge(kind: LabKind, truth: &Truth, report: &Value) -> Judgement {
         answer: named.iter().map(answer_cell).collect(),
         undecided: undecided(report),
         errors,
+        contract_gaps: contract_gaps(report),
     }
+}
+
+/// The session-v1 keys every report carries: `format` (its value), `verdict`, `recordings`
+/// (each with `file`), `shared`, `validation.leave_one_out`, and, since the amendment of
+/// 2026-11-27, `undecided` and `contradicted` always (empty lists when there is nothing).
+pub fn contract_gaps(report: &Value) -> Vec<String> {
+    let mut gaps = Vec::new();
+    if report.get("format").and_then(Value::as_str) != Some("tactile-session-diagnosis/1") {
+        gaps.push("format".to_string());
+    }
+    for key in [
+        "verdict",
+        "recordings",
+        "shared",
+        "undecided",
+        "contradicted",
+    ] {
+        if report.get(key).is_none() {
+            gaps.push(key.to_string());
+        }
+    }
+    let rows = report.get("recordings").and_then(Value::as_array);
+    if rows.is_some_and(|r| {
+        r.iter()
+            .any(|x| x.get("file").and_then(Value::as_str).is_none())
+    }) {
+        gaps.push("recordings[].file".into());
+    }
+    if report.pointer("/validation/leave_one_out").is_none() {
+        gaps.push("validation.leave_one_out".into());
+    }
+    gaps
 }
 
 /// The truth as the report would name it (shared over all recordings).

@@ -4,7 +4,7 @@ use serde_json::json;
 use sim::effects::{Effect, EffectKind};
 
 use super::design::{draw, Family, LabKind, Own, SessionDesign, TestDesign};
-use super::score::{judge, Truth};
+use super::score::{contract_gaps, judge, Truth};
 
 fn designs(seed: u64, kind: LabKind, n: usize) -> Vec<SessionDesign> {
     (0..n)
@@ -231,6 +231,7 @@ fn row(file: &str, effects: serde_json::Value) -> serde_json::Value {
 fn report(shared: serde_json::Value, b_effects: serde_json::Value) -> serde_json::Value {
     json!({
         "format": "tactile-session-diagnosis/1",
+        "verdict": "explained",
         "recordings": [row("a.csv", json!([])), row("b.csv", b_effects), row("c.csv", json!([]))],
         "shared": shared,
         "validation": { "leave_one_out": [
@@ -265,6 +266,7 @@ fn the_judge_wants_each_name_in_its_place_and_nothing_else() {
     assert!(j.false_alarms.is_empty());
     assert_eq!(j.params_within(0.2), 3);
     assert!((j.loo_ratio.unwrap() - 0.4).abs() < 1e-12);
+    assert!(j.contract_gaps.is_empty(), "{:?}", j.contract_gaps);
 
     // The own effect shared instead: wrong, no false alarm (it was hidden).
     let mut shared = right_shared();
@@ -340,4 +342,18 @@ fn friction_is_right_only_with_mu_within_20_percent() {
     assert!(!judge(LabKind::FrictionSpeeds, &t, &with(0.125)).right);
     // Elsewhere the parameter is a figure, not part of right.
     assert!(judge(LabKind::HysteresisOrRelaxation, &t, &with(0.125)).right);
+}
+
+#[test]
+fn a_report_without_a_key_the_contract_requires_is_named_for_it() {
+    let mut r = report(json!([]), json!([]));
+    assert!(contract_gaps(&r).is_empty());
+    r.as_object_mut().unwrap().remove("contradicted");
+    r["format"] = json!("tactile-diagnosis/1");
+    r["validation"] = json!({});
+    assert_eq!(
+        contract_gaps(&r),
+        ["format", "contradicted", "validation.leave_one_out"]
+    );
+    assert!(contract_gaps(&serde_json::Value::Null).len() >= 6);
 }
