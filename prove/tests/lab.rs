@@ -146,22 +146,29 @@ fn lab_sessions_are_what_their_designs_say() {
     assert_ne!(other[0], cases[0].design, "another seed, another session");
 }
 
-/// The category blind at a seed it was not written against: issue 41's bar. Expected to fail
-/// until the joint diagnosis is fixed; the bar is not to be lowered.
+/// The category blind at the two seeds of `prove/README.md`'s figures (41, chosen before any
+/// run, and 7): issue 41's bar at each. Expected to fail until the joint diagnosis is fixed;
+/// the bar is not to be lowered.
 #[test]
-#[ignore = "slow: 21 sessions diagnosed jointly; run with --release"]
+#[ignore = "slow: 2 x 21 sessions diagnosed jointly (~20 min on 2 cores); run with --release"]
 fn lab_sessions_meet_the_bar_blind() {
-    let p = plan(41, 500.0);
-    let cases = p.lab_sessions(3, None).expect("FE tables");
-    let scores = lab::run(&cases, &p.options);
-    println!("{}", lab::table(&scores));
-    println!("{}", lab::details(&scores, &cases));
-    let t = lab::Totals::of(&scores);
+    let mut missed = Vec::new();
+    for seed in [41, 7] {
+        let p = plan(seed, 500.0);
+        let cases = p.lab_sessions(3, None).expect("FE tables");
+        let scores = lab::run(&cases, &p.options);
+        println!("seed {seed}\n{}", lab::table(&scores));
+        println!("{}", lab::details(&scores, &cases));
+        let t = lab::Totals::of(&scores);
+        if !t.passes() {
+            missed.push(format!(
+                "seed {seed}: {}/{} sessions right, {} with a false alarm",
+                t.right, t.sessions, t.false_alarm_sessions
+            ));
+        }
+    }
     assert!(
-        t.right_share() >= lab::BAR_RIGHT_SHARE,
-        "sessions right {}/{}",
-        t.right,
-        t.sessions
+        missed.is_empty(),
+        "the bar (>= 90 % right, no false alarm): {missed:?}"
     );
-    assert_eq!(t.false_alarm_sessions, 0, "sessions with a false alarm");
 }
