@@ -128,81 +128,77 @@ impl Totals {
 
 /// Per kind and in total: sessions right, recordings right, sessions with a false alarm,
 /// primary parameters within 20 %, the mean leave-one-out ratio, the time per session; then
-/// the bar.
+/// the contract's missing keys and the bar.
 pub fn table(scores: &[LabScore]) -> String {
     let mut out = String::from(
         "| kind | sessions right | recordings right | sessions with a false alarm | params within 20 % | leave-one-out after/before | s per session |\n|---|---|---|---|---|---|---|\n",
     );
-    let mut groups: Vec<(String, Vec<&LabScore>)> = LabKind::ALL
-        .iter()
-        .map(|k| {
-            (
-                k.name().to_string(),
-                scores.iter().filter(|s| s.kind == *k).collect(),
-            )
-        })
-        .filter(|(_, v): &(String, Vec<&LabScore>)| !v.is_empty())
-        .collect();
-    groups.push(("**all**".into(), scores.iter().collect()));
-    for (name, v) in groups {
-        let j = |s: &&LabScore| s.judgement.clone();
-        let right = v.iter().filter(|s| s.judgement.right).count();
-        let recs: usize = v.iter().map(|s| j(s).recordings_right).sum();
-        let recs_all: usize = v.iter().map(|s| j(s).recordings).sum();
-        let alarms = v.iter().filter(|s| !j(s).false_alarms.is_empty()).count();
-        let params: usize = v.iter().map(|s| j(s).param_errors.len()).sum();
-        let within: usize = v.iter().map(|s| j(s).params_within(PARAM_TOLERANCE)).sum();
-        let loo: Vec<f64> = v.iter().filter_map(|s| j(s).loo_ratio).collect();
-        let loo = if loo.is_empty() {
-            "–".to_string()
-        } else {
-            format!("{:.3}", loo.iter().sum::<f64>() / loo.len() as f64)
-        };
-        let params = if params == 0 {
-            "–".to_string()
-        } else {
-            format!("{within}/{params}")
-        };
-        let secs = v.iter().map(|s| s.seconds).sum::<f64>() / v.len().max(1) as f64;
-        let _ = writeln!(
-            out,
-            "| {name} | {right}/{} | {recs}/{recs_all} | {alarms}/{} | {params} | {loo} | {secs:.0} |",
-            v.len(),
-            v.len(),
-        );
-    }
-    let with_gaps = scores
-        .iter()
-        .filter(|s| s.report.is_some() && !s.judgement.contract_gaps.is_empty())
-        .count();
-    let mut keys: Vec<&String> = scores
-        .iter()
-        .flat_map(|s| &s.judgement.contract_gaps)
-        .collect();
-    keys.sort();
-    keys.dedup();
-    let _ = writeln!(
-        out,
-        "\nReports lacking a key the contract requires (not scored): {with_gaps} of {}{}.",
-        scores.iter().filter(|s| s.report.is_some()).count(),
-        if keys.is_empty() {
-            String::new()
-        } else {
-            let keys: Vec<&str> = keys.iter().map(|k| k.as_str()).collect();
-            format!(" (`{}`)", keys.join("`, `"))
+    for kind in LabKind::ALL {
+        let v: Vec<&LabScore> = scores.iter().filter(|s| s.kind == kind).collect();
+        if !v.is_empty() {
+            out.push_str(&row(kind.name(), &v));
         }
-    );
+    }
+    out.push_str(&row("**all**", &scores.iter().collect::<Vec<_>>()));
+    out.push_str(&footer(scores));
+    out
+}
+
+/// One line of [`table`] over the sessions `v`.
+fn row(name: &str, v: &[&LabScore]) -> String {
+    let j: Vec<&Judgement> = v.iter().map(|s| &s.judgement).collect();
+    let right = j.iter().filter(|j| j.right).count();
+    let recs: usize = j.iter().map(|j| j.recordings_right).sum();
+    let recs_all: usize = j.iter().map(|j| j.recordings).sum();
+    let alarms = j.iter().filter(|j| !j.false_alarms.is_empty()).count();
+    let params: usize = j.iter().map(|j| j.param_errors.len()).sum();
+    let within: usize = j.iter().map(|j| j.params_within(PARAM_TOLERANCE)).sum();
+    let loo: Vec<f64> = j.iter().filter_map(|j| j.loo_ratio).collect();
+    let loo = if loo.is_empty() {
+        "–".to_string()
+    } else {
+        format!("{:.3}", loo.iter().sum::<f64>() / loo.len() as f64)
+    };
+    let params = if params == 0 {
+        "–".to_string()
+    } else {
+        format!("{within}/{params}")
+    };
+    let secs = v.iter().map(|s| s.seconds).sum::<f64>() / v.len().max(1) as f64;
+    let n = v.len();
+    format!(
+        "| {name} | {right}/{n} | {recs}/{recs_all} | {alarms}/{n} | {params} | {loo} | {secs:.0} |\n"
+    )
+}
+
+/// The reports that lack a key the contract requires, then the bar.
+fn footer(scores: &[LabScore]) -> String {
+    let reports = scores.iter().filter(|s| s.report.is_some());
+    let with_gaps = reports
+        .clone()
+        .filter(|s| !s.judgement.contract_gaps.is_empty())
+        .count();
+    let mut keys: Vec<&str> = reports
+        .clone()
+        .flat_map(|s| s.judgement.contract_gaps.iter().map(String::as_str))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    let keys = if keys.is_empty() {
+        String::new()
+    } else {
+        format!(" (`{}`)", keys.join("`, `"))
+    };
     let t = Totals::of(scores);
-    let _ = writeln!(
-        out,
-        "\n**{} sessions: right {:.0} % (need >= {:.0} %), sessions with a false alarm {} (need 0). {}**",
+    format!(
+        "\nReports lacking a key the contract requires (not scored): {with_gaps} of {}{keys}.\n\n**{} sessions: right {:.0} % (need >= {:.0} %), sessions with a false alarm {} (need 0). {}**\n",
+        reports.count(),
         t.sessions,
         100.0 * t.right_share(),
         100.0 * BAR_RIGHT_SHARE,
         t.false_alarm_sessions,
         if t.passes() { "PASS" } else { "FAIL" }
-    );
-    out
+    )
 }
 
 /// One row per session: what it varies and hides, what was named, the figures.

@@ -8,7 +8,7 @@ use sim::effects::{AmplifierSaturation, Effect};
 use super::design::{self, Family, LabKind, Own, SessionDesign, TestDesign};
 use crate::categories::OtherFingertip;
 use crate::{peak_output_v, Plan};
-use baseline::fe_response::FeResponseError;
+use baseline::fe_response::{AngleBlend, FeResponseError};
 use baseline::synth::{simulate, SimSpec};
 use baseline::FingertipResponse;
 use recording::Recording;
@@ -97,22 +97,7 @@ impl Plan {
             *g *= f;
         }
         readout.signal.excitation_v *= t.excitation_factor;
-        let other = match d.family {
-            Family::Ours => None,
-            Family::Other {
-                exponent,
-                linear_outputs,
-            } => Some(OtherFingertip {
-                fe: &fe,
-                exponent,
-                d_ref_mm: sim::compression::rod_at_load(
-                    |r| fe.unit_response(r).force_n * base.youngs_modulus_pa,
-                    d.reference_n,
-                    60.0,
-                ),
-                linear_outputs,
-            }),
-        };
+        let other = other_fingertip(d, &fe, base.youngs_modulus_pa);
         let fingertip: &dyn FingertipResponse = match &other {
             Some(o) => o,
             None => &fe,
@@ -153,4 +138,30 @@ impl Plan {
         };
         Ok((simulate(&spec), own))
     }
+}
+
+/// Another model's fingertip where the session is pressed on one: its force law meets the FE's
+/// at the session's peak load.
+fn other_fingertip<'a>(
+    d: &SessionDesign,
+    fe: &'a AngleBlend,
+    modulus_pa: f64,
+) -> Option<OtherFingertip<'a>> {
+    let Family::Other {
+        exponent,
+        linear_outputs,
+    } = d.family
+    else {
+        return None;
+    };
+    Some(OtherFingertip {
+        fe,
+        exponent,
+        d_ref_mm: sim::compression::rod_at_load(
+            |r| fe.unit_response(r).force_n * modulus_pa,
+            d.reference_n,
+            60.0,
+        ),
+        linear_outputs,
+    })
 }

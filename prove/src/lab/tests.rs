@@ -357,3 +357,32 @@ fn a_report_without_a_key_the_contract_requires_is_named_for_it() {
     );
     assert!(contract_gaps(&serde_json::Value::Null).len() >= 6);
 }
+
+#[test]
+fn the_table_counts_per_kind_and_states_the_bar() {
+    let score = |kind: LabKind, report: serde_json::Value| super::LabScore {
+        id: 0,
+        kind,
+        judgement: judge(kind, &truth(), &report),
+        report: Some(report),
+        failure: None,
+        seconds: 10.0,
+    };
+    let mut without = report(right_shared(), json!([]));
+    without.as_object_mut().unwrap().remove("contradicted");
+    let scores = [
+        score(LabKind::Mixed, report(right_shared(), drift(0.05))),
+        score(LabKind::Mixed, without),
+    ];
+    let t = super::table(&scores);
+    assert!(
+        t.contains("| mixed: two shared, one test's own | 1/2 | 5/6 | 0/2 | 5/6 | 0.400 | 10 |"),
+        "{t}"
+    );
+    assert!(t.contains("| **all** | 1/2 |"), "{t}");
+    assert!(
+        t.contains("requires (not scored): 1 of 2 (`contradicted`)"),
+        "{t}"
+    );
+    assert!(t.contains("right 50 % (need >= 90 %), sessions with a false alarm 0 (need 0). FAIL"));
+}
