@@ -124,16 +124,15 @@ fn diagnose_frame(
 }
 
 /// `tactile diagnose --joint`'s JSON (the same text, through `diagnosis::joint::json_text`) for
-/// the recordings at `paths`: files, and for a folder every `*.csv` in it, as the command
-/// expands them.
+/// the recordings at `paths`: files, and for a folder every `*.csv` in it, checked and
+/// expanded by the library as for the command.
 #[pyfunction]
 fn diagnose_session_json(py: Python<'_>, paths: Vec<PathBuf>) -> PyResult<String> {
-    let inputs = diagnosis::session::expand_inputs(&paths).map_err(|e| error::raise(None, &e))?;
     let hw = hardware()?;
     let options = diagnosis::Options::from_hardware(&hw).map_err(|e| error::raise(None, &e))?;
     let text = py
         .detach(|| {
-            diagnosis::joint::diagnose_session(&inputs, &options)
+            diagnosis::joint::diagnose_session(&paths, &options)
                 .map(|d| diagnosis::joint::json_text(&d))
         })
         .map_err(|e| error::raise(None, &e))?;

@@ -147,7 +147,10 @@ def diagnose_session(paths: Union[PathLike, Sequence[PathLike]]) -> Dict[str, An
     every ``*.csv`` in them (sorted), in order; one path alone is a session of itself. A file
     that cannot be analysed is reported in its row of ``recordings`` with ``"error"``, as the
     command does (which then exits 65); when none can, :class:`TactileDataError` is raised
-    with the command's message."""
+    with the command's message. Before any work, as the command: a missing file raises
+    :class:`TactileFileError`; an empty list, a recording given twice (the same file, a link
+    to it, a byte-identical copy) or recordings of another sensor or fingertip (their
+    ``fingertip_radius_mm`` or ``chip_serial``) raise :class:`TactileDataError` naming them."""
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     return json.loads(_tactile.diagnose_session_json([os.fspath(p) for p in paths]))
