@@ -104,11 +104,13 @@ def simulate(
     smoother_alpha: Optional[float] = None,
     ambient_swing: Optional[Sequence[float]] = None,
     excitation_v: Optional[float] = None,
+    rod_speed: Optional[float] = None,
 ) -> pd.DataFrame:
     """The recording ``tactile simulate`` writes for the same options (one keyword per flag,
     same defaults; ``None`` takes the value of ``hardware/``). ``then_peak_load`` and
     ``effect`` take one value or a list, like the repeatable flags; ``gain`` is (Fz, Mx, My)
-    and ``ambient_swing`` (amplitude degC, period s)."""
+    and ``ambient_swing`` (amplitude degC, period s); ``rod_speed`` is ``--rod-speed``, mm/min.
+    ``peak_load`` is the recorded load's peak, whatever the effects on the load."""
     table = _tactile.simulate(
         float(contact_angle),
         float(azimuth),
@@ -125,6 +127,7 @@ def simulate(
         smoother_alpha=smoother_alpha,
         ambient_swing=None if ambient_swing is None else tuple(ambient_swing),
         excitation_v=excitation_v,
+        rod_speed=rod_speed,
     )
     return _frame(table)
 
