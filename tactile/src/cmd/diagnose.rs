@@ -1,8 +1,10 @@
-//! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`), and a
-//! whole session at once: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
+//! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`), a
+//! batch, each recording alone: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
 //! recordings) through `diagnosis::session`; or jointly, one model for the session:
 //! `tactile diagnose --joint A.csv B.csv ... --json OUT.json [--report OUT.html]`
-//! (`docs/session-format.md`) through `diagnosis::joint`.
+//! (`docs/session-format.md`) through `diagnosis::joint`. In every mode the inputs are there
+//! and the outputs can be written before any work (`diagnosis::inputs`, `diagnosis::outputs`),
+//! and each output is written whole.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -202,6 +204,7 @@ fn options() -> anyhow::Result<Options> {
     Ok(Options::from_hardware(&hw).coded()?)
 }
 
+/// One recording into `json` (and its page).
 fn single(
     recording: &Path,
     json: &Path,
