@@ -175,8 +175,8 @@ pub struct Report {
     pub baseline: Baseline,
     pub mismatches: Vec<Mismatch>,
     pub effects: Vec<EffectReport>,
-    /// What the recording shows but cannot attribute (extra field).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    /// What the recording shows but cannot attribute (extra field); always present, `[]`
+    /// when there is nothing, as in the session's output.
     pub undecided: Vec<Undecided>,
     pub fit: Fit,
     pub localisation: Localisation,

@@ -45,7 +45,7 @@ fn write_recording(columns: Columns<'_>, attrs: Bound<'_, PyDict>, path: PathBuf
 #[pyo3(signature = (
     contact_angle, azimuth, peak_load, rate=None, recovery_s=None, modulus_pa=None, then_peak_load=None,
     noise_v=None, noise_load_n=None, seed=None, effect=None, gain=None, smoother_alpha=None,
-    ambient_swing=None, excitation_v=None
+    ambient_swing=None, excitation_v=None, rod_speed=None
 ))]
 #[allow(clippy::too_many_arguments)] // One keyword per flag of the command.
 fn simulate(
@@ -65,10 +65,12 @@ fn simulate(
     smoother_alpha: Option<f64>,
     ambient_swing: Option<(f64, f64)>,
     excitation_v: Option<f64>,
+    rod_speed: Option<f64>,
 ) -> PyResult<Table<'_>> {
     let defaults = SimulateOptions::new(contact_angle, azimuth, peak_load);
     let options = SimulateOptions {
         rate_hz: rate,
+        rod_speed_mm_per_min: rod_speed,
         recovery_s,
         modulus_pa,
         then_peak_loads_n: then_peak_load.unwrap_or(defaults.then_peak_loads_n.clone()),
@@ -124,16 +126,15 @@ fn diagnose_frame(
 }
 
 /// `tactile diagnose --joint`'s JSON (the same text, through `diagnosis::joint::json_text`) for
-/// the recordings at `paths`: files, and for a folder every `*.csv` in it, as the command
-/// expands them.
+/// the recordings at `paths`: files, and for a folder every `*.csv` in it, checked and
+/// expanded by the library as for the command.
 #[pyfunction]
 fn diagnose_session_json(py: Python<'_>, paths: Vec<PathBuf>) -> PyResult<String> {
-    let inputs = diagnosis::session::expand_inputs(&paths).map_err(|e| error::raise(None, &e))?;
     let hw = hardware()?;
     let options = diagnosis::Options::from_hardware(&hw).map_err(|e| error::raise(None, &e))?;
     let text = py
         .detach(|| {
-            diagnosis::joint::diagnose_session(&inputs, &options)
+            diagnosis::joint::diagnose_session(&paths, &options)
                 .map(|d| diagnosis::joint::json_text(&d))
         })
         .map_err(|e| error::raise(None, &e))?;

@@ -34,12 +34,10 @@ pub fn report_html(d: &SessionDiagnosis) -> String {
     h
 }
 
-/// Write [`report_html`] of `d` to `path` (a file, e.g. `session.html`), creating its folder.
+/// Write [`report_html`] of `d` to `path` (a file, e.g. `session.html`) whole, creating its
+/// folder ([`crate::outputs::write_whole`]).
 pub fn write_report(path: &Path, d: &SessionDiagnosis) -> std::io::Result<()> {
-    if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
-    }
-    std::fs::write(path, report_html(d))
+    crate::outputs::write_whole(path, report_html(d).as_bytes())
 }
 
 /// "a, b and c".

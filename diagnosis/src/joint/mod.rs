@@ -29,6 +29,7 @@ use recording::Recording;
 use sim::effects::EffectKind;
 
 use crate::fit::{Model, Setup};
+use crate::inputs::InputError;
 use crate::pipeline::{diagnose, prepare, Diagnosis, Options, Prepared};
 use model::{JointFit, Layout};
 use output::{Protocol, SessionReport};
@@ -41,6 +42,9 @@ const BASE_ITERATIONS: usize = 80;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum JointError {
+    /// The inputs are not one sensor's recordings, each once ([`crate::inputs`]).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// No input could be read and diagnosed; each file's reason follows.
     #[error("no recording of the session could be analysed: {0}")]
     NothingUsable(String),
@@ -48,7 +52,10 @@ pub enum JointError {
 
 impl sysexit::ExitStatus for JointError {
     fn exit_code(&self) -> u8 {
-        sysexit::DATA
+        match self {
+            Self::Input(e) => sysexit::ExitStatus::exit_code(e),
+            Self::NothingUsable(_) => sysexit::DATA,
+        }
     }
 }
 
@@ -64,7 +71,7 @@ pub fn json_text(d: &SessionDiagnosis) -> serde_json::Result<String> {
     Ok(serde_json::to_string_pretty(&d.report)? + "\n")
 }
 
-/// The name a recording has in the session's output: its file name.
+/// A recording's file name.
 pub fn file_name(path: &Path) -> String {
     path.file_name().map_or_else(
         || path.display().to_string(),
@@ -72,24 +79,60 @@ pub fn file_name(path: &Path) -> String {
     )
 }
 
-/// Diagnose the recordings at `inputs` (files) jointly.
-pub fn diagnose_session(inputs: &[PathBuf], opt: &Options) -> Result<SessionDiagnosis, JointError> {
-    let read = inputs
+/// The names the recordings at `files` have in the session's output: each its file name, but
+/// the path as given where another recording has the same file name (`day1/rec.csv`,
+/// `day2/rec.csv`).
+pub fn row_names(files: &[PathBuf]) -> Vec<String> {
+    let names: Vec<String> = files.iter().map(|f| file_name(f)).collect();
+    names
         .iter()
-        .map(|path| {
-            let rec = recording::read(path).map_err(|e| e.to_string());
-            (file_name(path), rec)
+        .zip(files)
+        .map(|(name, path)| {
+            if names.iter().filter(|n| *n == name).count() > 1 {
+                path.display().to_string()
+            } else {
+                name.clone()
+            }
         })
+        .collect()
+}
+
+/// Diagnose the recordings `inputs` name (files, and for a folder every `*.csv` in it) jointly.
+/// Before any work the inputs are checked ([`crate::inputs`]): each there, each recording once
+/// by content, and, once read, of one sensor in one fingertip.
+pub fn diagnose_session(inputs: &[PathBuf], opt: &Options) -> Result<SessionDiagnosis, JointError> {
+    let files = crate::inputs::recordings(inputs)?;
+    let read: Vec<(String, Result<Recording, String>)> = files
+        .iter()
+        .zip(row_names(&files))
+        .map(|(path, name)| (name, recording::read(path).map_err(|e| e.to_string())))
         .collect();
+    // Named by their paths as given here, as every other refusal of an input is.
+    let paths: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    crate::inputs::one_sensor(
+        paths
+            .iter()
+            .zip(&read)
+            .filter_map(|(path, (_, rec))| Some((path.as_str(), &rec.as_ref().ok()?.meta))),
+    )?;
     diagnose_recordings(read, opt)
 }
 
 /// Diagnose recordings already read (each named, or the one-line reason it could not be read)
-/// jointly.
+/// jointly. The readable ones must be of one sensor in one fingertip
+/// ([`crate::inputs::one_sensor`]), judged against the first.
 pub fn diagnose_recordings(
     inputs: Vec<(String, Result<Recording, String>)>,
     opt: &Options,
 ) -> Result<SessionDiagnosis, JointError> {
+    if inputs.is_empty() {
+        return Err(InputError::Nothing.into());
+    }
+    crate::inputs::one_sensor(
+        inputs
+            .iter()
+            .filter_map(|(name, rec)| Some((name.as_str(), &rec.as_ref().ok()?.meta))),
+    )?;
     let started = Instant::now();
     let files: Vec<String> = inputs.iter().map(|(f, _)| f.clone()).collect();
     let loaded: Vec<Result<(Recording, Diagnosis), String>> = inputs

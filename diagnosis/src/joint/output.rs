@@ -19,8 +19,8 @@ pub struct SessionReport {
     pub undecided: Vec<Undecided>,
     /// Extra: what the session's protocols vary, which decides what it can separate.
     pub protocols: Protocols,
-    /// Extra: shared parameters the recordings contradict, in words.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    /// Extra: shared parameters the recordings contradict, in words; always present, `[]` when
+    /// there is nothing (the contract's amendment of 2026-11-27).
     pub contradicted: Vec<Contradiction>,
     /// Extra: every session model tried, for the record.
     pub candidates: Vec<SessionCandidate>,
