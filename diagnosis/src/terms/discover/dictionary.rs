@@ -205,57 +205,18 @@ fn product(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(a, b)| a * b).collect()
 }
 
-/// The drive's quantities and their plain forms.
-fn drive_features(q: &Quantities, out: &mut Vec<Raw>) {
+/// The recorded quantities at each instant, each a feature alone and with every other as a
+/// product: the drive (x, v, |v|, sgn v), the load (L, dL/dt), the load's stiffness at the
+/// travel (dL/dx: a travel read with an error d moves the load by dL/dx d), whether the travel
+/// is below the largest so far (a material that has been there before), time, the temperature
+/// where it moves, the channel's own signal and the other outputs.
+fn instantaneous(ctx: &Context, q: &Quantities, c: usize) -> Vec<Raw> {
     use Quantity::*;
     let v_max = q.v.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
     // The direction of motion, smooth through the rod's stops (a twentieth of its top speed).
     let sgn: Vec<f64> = q.v.iter().map(|v| v / v.hypot(0.05 * v_max)).collect();
     let abs_v: Vec<f64> = q.v.iter().map(|v| v.abs()).collect();
     let x_in: Vec<f64> = q.x.iter().map(|x| x.max(0.0)).collect();
-    out.push(raw("x", "x", "mm", &[RodMm], x_in.clone()));
-    out.push(raw("v", "v", "mm/s", &[RodSpeed], q.v.clone()));
-    out.push(raw("|v|", "|v|", "mm/s", &[RodSpeed], abs_v.clone()));
-    out.push(raw("sgn v", "sgn(v)", "1", &[RodSpeed], sgn.clone()));
-    out.push(raw("L", "L", "N", &[LoadN], q.load.clone()));
-    out.push(raw(
-        "L^2",
-        "L^2",
-        "N^2",
-        &[LoadN],
-        product(&q.load, &q.load),
-    ));
-    let l3: Vec<f64> = q.load.iter().map(|l| l.powi(3)).collect();
-    out.push(raw("L^3", "L^3", "N^3", &[LoadN], l3));
-    out.push(raw(
-        "dL/dt",
-        "dL/dt",
-        "N/s",
-        &[LoadRate],
-        q.load_rate.clone(),
-    ));
-    out.push(raw(
-        "L sgn v",
-        "L sgn(v)",
-        "N",
-        &[LoadN, RodSpeed],
-        product(&q.load, &sgn),
-    ));
-    out.push(raw(
-        "L |v|",
-        "L |v|",
-        "N mm/s",
-        &[LoadN, RodSpeed],
-        product(&q.load, &abs_v),
-    ));
-    out.push(raw(
-        "x sgn v",
-        "x sgn(v)",
-        "mm",
-        &[RodMm, RodSpeed],
-        product(&x_in, &sgn),
-    ));
-    // Where the travel is below the largest so far: a material that has been there before.
     let mut top = 0.0f64;
     let below: Vec<f64> = x_in
         .iter()
@@ -268,29 +229,141 @@ fn drive_features(q: &Quantities, out: &mut Vec<Raw>) {
             }
         })
         .collect();
-    out.push(raw(
-        "L (1 - x/x_max)",
-        "L (1 - x / max past x)",
-        "N",
-        &[LoadN, RodMm],
-        product(&q.load, &below),
-    ));
+    let mut b = vec![
+        raw("x", "x", "mm", &[RodMm], x_in.clone()),
+        raw("v", "v", "mm/s", &[RodSpeed], q.v.clone()),
+        raw("|v|", "|v|", "mm/s", &[RodSpeed], abs_v),
+        raw("sgn v", "sgn(v)", "1", &[RodSpeed], sgn),
+        raw("L", "L", "N", &[LoadN], q.load.clone()),
+        raw("dL/dt", "dL/dt", "N/s", &[LoadRate], q.load_rate.clone()),
+        raw(
+            "dL/dx",
+            "dL/dx",
+            "N/mm",
+            &[RodMm],
+            stiffness(&x_in, &q.load),
+        ),
+        raw("below", "(1 - x / max past x)", "1", &[RodMm], below),
+        raw("t", "t", "s", &[Time], q.t.clone()),
+    ];
+    if let Some(temp) = &q.temp {
+        b.push(raw("T", "(T - T0)", "K", &[TempC], temp.clone()));
+    }
+    if c > 0 {
+        let name = crate::data::CHANNELS[c];
+        b.push(raw("s", name, "V", &[Channel(c)], ctx.signal(c)));
+    }
+    // Another output leaking into an output (a shared reference, a shared supply); the load
+    // cell's chain shares nothing with the sensor's.
+    for j in (1..4).filter(|&j| c > 0 && j != c && ctx.used[j]) {
+        let y: Vec<f64> = ctx.data.fit.y[j]
+            .iter()
+            .map(|y| y - ctx.offset[j])
+            .collect();
+        let name = crate::data::CHANNELS[j];
+        b.push(raw(&format!("y {name}"), name, "V", &[Channel(j)], y));
+    }
+    b
 }
 
-/// Time and temperature, alone and with the load.
+/// The load's stiffness against the travel, dL/dx, from the local exponent of the load's law:
+/// ln L fitted by a quadratic in ln x where in contact, so n(x) = d ln L / d ln x and dL/dx =
+/// n(x) L / x (smooth where the rod stands still, where a difference quotient has no value).
+fn stiffness(x: &[f64], load: &[f64]) -> Vec<f64> {
+    let top = load.iter().fold(0.0f64, |m, v| m.max(*v));
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(load)
+        .filter(|(x, l)| **x > 0.0 && **l > 0.01 * top)
+        .map(|(x, l)| (x.ln(), l.ln()))
+        .collect();
+    let Some(coef) = quadratic(&pts) else {
+        return vec![0.0; x.len()];
+    };
+    x.iter()
+        .zip(load)
+        .map(|(&x, &l)| {
+            if x > 0.0 && l > 0.01 * top {
+                let n = coef[1] + 2.0 * coef[2] * x.ln();
+                n * l / x
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+/// Least-squares coefficients of y = a + b u + c u^2 over `pts` (u, y).
+fn quadratic(pts: &[(f64, f64)]) -> Option<[f64; 3]> {
+    use nalgebra::{Matrix3, Vector3};
+    if pts.len() < 3 {
+        return None;
+    }
+    let mut a = Matrix3::zeros();
+    let mut r = Vector3::zeros();
+    for &(u, y) in pts {
+        let v = Vector3::new(1.0, u, u * u);
+        a += v * v.transpose();
+        r += v * y;
+    }
+    let s = a.try_inverse()? * r;
+    Some([s[0], s[1], s[2]])
+}
+
+/// Pairs whose product is another quantity or says nothing new: v |v|, v sgn v, |v| sgn v.
+fn redundant(a: &str, b: &str) -> bool {
+    let speed = |f: &str| matches!(f, "v" | "|v|" | "sgn v");
+    speed(a) && speed(b)
+}
+
+/// Every instantaneous quantity alone, with every other as a product, and the load's and the
+/// channel's own square and cube (a gain that changes with the level).
+fn products(base: &[Raw], out: &mut Vec<Raw>) {
+    for (i, a) in base.iter().enumerate() {
+        for b in &base[i + 1..] {
+            if redundant(&a.family, &b.family) {
+                continue;
+            }
+            let mut depends = a.depends.clone();
+            depends.extend(b.depends.iter().copied());
+            depends.sort();
+            depends.dedup();
+            out.push(raw(
+                &format!("{} * {}", a.family, b.family),
+                &format!("{} {}", a.expr, b.expr),
+                &product_unit(&a.unit, &b.unit),
+                &depends,
+                product(&a.values, &b.values),
+            ));
+        }
+    }
+    for r in base.iter().filter(|r| r.family == "L" || r.family == "s") {
+        for (k, name) in [(2, "^2"), (3, "^3")] {
+            out.push(raw(
+                &format!("{}{name}", r.family),
+                &format!("{}{name}", r.expr),
+                &format!("{}{name}", r.unit),
+                &r.depends,
+                r.values.iter().map(|v| v.powi(k)).collect(),
+            ));
+        }
+    }
+}
+
+fn product_unit(a: &str, b: &str) -> String {
+    match (a, b) {
+        ("1", u) | (u, "1") => u.to_string(),
+        (a, b) => format!("{a} {b}"),
+    }
+}
+
+/// Time alone, beyond the instantaneous quantities: its square and decays over the record (a
+/// warm-up, a settling), of a time constant beyond a thirtieth of the record.
 fn time_features(q: &Quantities, out: &mut Vec<Raw>) {
     use Quantity::*;
     let span = q.span_s();
     let t2: Vec<f64> = q.t.iter().map(|t| t * t).collect();
-    out.push(raw("t", "t", "s", &[Time], q.t.clone()));
     out.push(raw("t^2", "t^2", "s^2", &[Time], t2));
-    out.push(raw(
-        "L t",
-        "L t",
-        "N s",
-        &[LoadN, Time],
-        product(&q.load, &q.t),
-    ));
     for tau in time_constants(q)
         .into_iter()
         .filter(|&tau| tau > span / 30.0)
@@ -300,16 +373,6 @@ fn time_features(q: &Quantities, out: &mut Vec<Raw>) {
             grid: Some(tau),
             ..raw("e^-t/tau", &format!("e^(-t / {tau:.3} s)"), "1", &[Time], e)
         });
-    }
-    if let Some(temp) = &q.temp {
-        out.push(raw("T", "(T - T0)", "K", &[TempC], temp.clone()));
-        out.push(raw(
-            "L T",
-            "L (T - T0)",
-            "N K",
-            &[LoadN, TempC],
-            product(&q.load, temp),
-        ));
     }
 }
 
@@ -402,73 +465,15 @@ fn ringing(q: &Quantities, since: &[Option<f64>], out: &mut Vec<Raw>) {
     }
 }
 
-/// The channel's own signal and the other recorded channels.
-fn channel_features(ctx: &Context, q: &Quantities, c: usize, out: &mut Vec<Raw>) {
-    use Quantity::*;
-    if c > 0 {
-        let s = ctx.signal(c);
-        let me = Channel(c);
-        let name = crate::data::CHANNELS[c];
-        let abs_v: Vec<f64> = q.v.iter().map(|v| v.abs()).collect();
-        out.push(raw(
-            "s^2",
-            &format!("{name}^2"),
-            "V^2",
-            &[me],
-            product(&s, &s),
-        ));
-        let s3: Vec<f64> = s.iter().map(|v| v.powi(3)).collect();
-        out.push(raw("s^3", &format!("{name}^3"), "V^3", &[me], s3));
-        out.push(raw(
-            "s t",
-            &format!("{name} t"),
-            "V s",
-            &[me, Time],
-            product(&s, &q.t),
-        ));
-        out.push(raw(
-            "s |v|",
-            &format!("{name} |v|"),
-            "V mm/s",
-            &[me, RodSpeed],
-            product(&s, &abs_v),
-        ));
-        if let Some(temp) = &q.temp {
-            out.push(raw(
-                "s T",
-                &format!("{name} (T - T0)"),
-                "V K",
-                &[me, TempC],
-                product(&s, temp),
-            ));
-        }
-    }
-    // Another output leaking into an output (a shared reference, a shared supply); the load
-    // cell's chain shares nothing with the sensor's.
-    for j in (1..4).filter(|&j| c > 0 && j != c && ctx.used[j]) {
-        let y: Vec<f64> = ctx.data.fit.y[j]
-            .iter()
-            .map(|y| y - ctx.offset[j])
-            .collect();
-        let name = crate::data::CHANNELS[j];
-        out.push(raw(
-            &format!("y {name}"),
-            name,
-            "V",
-            &[Quantity::Channel(j)],
-            y,
-        ));
-    }
-}
-
 /// Every feature for channel `c`, each scaled to unit weighted RMS on the fitting stretch;
 /// features that do not reach the fitting stretch (all zero there) are left out.
 pub(crate) fn features(ctx: &Context, q: &Quantities, c: usize) -> Vec<Feature> {
+    let base = instantaneous(ctx, q, c);
     let mut raws = Vec::new();
-    drive_features(q, &mut raws);
+    products(&base, &mut raws);
+    raws.extend(base);
     time_features(q, &mut raws);
     history_features(q, &mut raws);
-    channel_features(ctx, q, c, &mut raws);
     let rows: Vec<usize> = (0..ctx.len()).filter(|&k| ctx.fit_mask[k]).collect();
     raws.into_iter()
         .filter_map(|r| {

@@ -164,6 +164,7 @@ fn add(ctx: &Context, nested: Nested, q: &Quantities, terms: &[Term]) -> Option<
     let mut h = stage::hypotheses(ctx, &ch, &rows)
         .into_iter()
         .max_by(|a, b| a.net.total_cmp(&b.net))?;
+    stage::trim(ctx, &ch, &mut h, &rows);
     let group = next_group(terms);
     let (stage, note) = stage::stage_of(ctx, &ch, &h);
     let reference = reference(ctx, terms, &h);

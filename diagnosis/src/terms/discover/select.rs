@@ -227,7 +227,7 @@ fn backward(problems: &[Problem], mut chosen: Vec<usize>, prices: &[f64]) -> (Ve
 }
 
 /// The chi-square `chosen` removes from `problems` together.
-fn explained(problems: &[Problem], chosen: &[usize]) -> f64 {
+pub(crate) fn explained(problems: &[Problem], chosen: &[usize]) -> f64 {
     problems
         .iter()
         .map(|p| {

@@ -19,8 +19,8 @@
 
 use super::super::fitting::{solve, Columns, Context};
 use super::super::Term;
-use super::dictionary::Feature;
-use super::select::{prices, select, Block, Problem, Rows};
+use super::dictionary::{Feature, Quantity};
+use super::select::{explained, prices, select, Block, Problem, Rows};
 use super::{term, FeatureInfo, Info};
 use crate::candidate::MIN_BIC_GAIN;
 use sim::effects::Stage;
@@ -196,12 +196,90 @@ fn joint_features(ch: &Channels, shape: &Shape, channels: &[usize]) -> Vec<Vec<u
         .collect()
 }
 
+/// Hypothesis `h` (the outputs together) on the outputs that carry its term: each keeps it
+/// where its features remove more chi-square there than their price (an amplitude each, ln n,
+/// and the criterion's margin); one output left is that output alone.
+pub(super) fn trim(ctx: &Context, ch: &Channels, h: &mut Hypothesis, rows: &Rows) {
+    if !matches!(h.shape, Shape::Outputs(_)) || h.chosen.is_empty() {
+        return;
+    }
+    let problems = h.problems(ctx, ch, rows);
+    let price = h.chosen.len() as f64 * rows.n().max(2.0).ln() + MIN_BIC_GAIN;
+    let keep: Vec<usize> = (0..h.channels.len())
+        .filter(|&b| explained(&problems[b..=b], &h.chosen) > price)
+        .collect();
+    if keep.is_empty() || keep.len() == h.channels.len() {
+        return;
+    }
+    h.channels = keep.iter().map(|&b| h.channels[b]).collect();
+    h.joint = h
+        .joint
+        .iter()
+        .map(|per| keep.iter().map(|&b| per[b]).collect())
+        .collect();
+    h.shape = match h.channels.as_slice() {
+        [c] => Shape::Output(*c),
+        cs => Shape::Outputs(cs.to_vec()),
+    };
+}
+
+/// Whether the term of `h` acts where the rod does not touch (its travel at or below zero, the
+/// contract's first contact): the term as it is fits the channels better, by more than the
+/// criterion's margin, than the same term held at zero there. Neither the material nor the
+/// transducer acts without a load: such a term is the electronics' (a motor's pickup moves with
+/// the rod, touching or not).
+fn acts_out_of_contact(ctx: &Context, ch: &Channels, h: &Hypothesis) -> bool {
+    // The contract's travel is zero at first contact: at or below it the rod does not touch.
+    let touching: Vec<f64> = ctx
+        .data
+        .fit
+        .rod_mm
+        .iter()
+        .map(|&x| if x > 0.0 { 1.0 } else { 0.0 })
+        .collect();
+    if !(0..ctx.len()).any(|k| ctx.fit_mask[k] && touching[k] == 0.0) {
+        return false;
+    }
+    let material_outputs = matches!(h.shape, Shape::Material);
+    let gain: f64 = (0..h.channels.len())
+        .filter(|&b| !(material_outputs && b > 0))
+        .map(|b| {
+            let c = h.channels[b];
+            let cols = columns(ch, h, b, &h.chosen);
+            let others = &ch.others[c];
+            let held = cols.scaled(&touching);
+            match (
+                solve(ctx, c, &held.joined(others)),
+                solve(ctx, c, &cols.joined(others)),
+            ) {
+                (Some((_, in_contact)), Some((_, everywhere))) => in_contact - everywhere,
+                _ => 0.0,
+            }
+        })
+        .sum();
+    gain > MIN_BIC_GAIN
+}
+
 /// The stage of hypothesis `h` and why, in words.
 pub(super) fn stage_of(ctx: &Context, ch: &Channels, h: &Hypothesis) -> (Stage, String) {
     let drive = h
         .chosen
         .iter()
         .any(|&j| h.feature(ch, 0, j).follows_drive());
+    // A term with a memory (of the load, of a regime change) may go on after the rod leaves:
+    // the gel creeps back, a bridge cools. Only a term of the instant must vanish there.
+    let memory = h.chosen.iter().any(|&j| {
+        h.feature(ch, 0, j)
+            .depends
+            .iter()
+            .any(|q| matches!(q, Quantity::LoadHistory | Quantity::TimeSinceChange))
+    });
+    if drive && !memory && acts_out_of_contact(ctx, ch, h) {
+        return (
+            Stage::Electronics,
+            "it acts where the rod does not touch, which neither the material nor the transducer does: the electronics".into(),
+        );
+    }
     let by_drive = if drive {
         Stage::Material
     } else {
