@@ -16,8 +16,8 @@ use crate::data::CHANNELS;
 use crate::localise::Mismatch;
 use crate::output::{Report, Verdict};
 use crate::pipeline::{Diagnosis, PlotData};
-use crate::report::figs;
 use crate::report::page::{esc, figure, verdict_label};
+use crate::report::{figs, remains};
 
 /// What the session's model is called in the figures.
 const MODEL: &str = "session's model";
@@ -101,7 +101,46 @@ fn recording(single: &Diagnosis, row: &RecordingRow, p: &PlotData) -> String {
         row.file
     );
     h.push_str(&figure(figs::stacked(p, MODEL, &bands), &caption));
+    if let Some(rem) = &row.remains {
+        h.push_str(&what_is_left(row, rem, p, &bands));
+    }
     h
+}
+
+/// A recording the session's model does not explain: the residual of the channel where it
+/// misses most, on its own scale (beside the baseline's, a misfit of a few hundred µV is a flat
+/// line), with its trend and the windows shaded.
+fn what_is_left(
+    row: &RecordingRow,
+    rem: &Remaining,
+    p: &PlotData,
+    bands: &[Vec<Band>; 4],
+) -> String {
+    let analysed = remains::analyse(p);
+    let channel = rem
+        .windows
+        .first()
+        .and_then(|m| CHANNELS.iter().position(|c| *c == m.channel))
+        .or_else(|| analysed.first().map(|r| r.channel));
+    let Some(c) = channel else {
+        return String::new();
+    };
+    let slope = analysed
+        .iter()
+        .find(|r| r.channel == c)
+        .map_or(0.0, |r| r.trend.slope);
+    let still: Vec<Band> = bands[c]
+        .iter()
+        .filter(|b| b.colour == STILL_MISSES)
+        .cloned()
+        .collect();
+    let caption = format!(
+        "{}: what the {MODEL} leaves on {} (the channel where it misses most), with its \
+         straight-line trend; purple: the windows where it still misses.",
+        row.file,
+        figs::quantity_name(c)
+    );
+    figure(figs::remainder(p, c, slope, MODEL, &still), &caption)
 }
 
 /// The recording's verdict in a sentence: noise left, or where and how the model still misses.

@@ -122,7 +122,12 @@ fn verdict(r: &SessionReport) -> String {
     };
     let (quiet, left): (Vec<&RecordingRow>, Vec<&RecordingRow>) =
         analysed.iter().partition(|x| noise(x));
-    let left: Vec<String> = left.iter().map(|x| left_in(x)).collect();
+    // One recording left: where and how in full; several: each with its largest window, the
+    // rest in its row.
+    let left: Vec<String> = match left.as_slice() {
+        [one] => vec![left_in(one)],
+        many => many.iter().map(|x| briefly(x)).collect(),
+    };
     match r.verdict {
         // Rows that disagree with the verdict (a report put together by hand): no list.
         Verdict::PartiallyExplained | Verdict::Unexplained if left.is_empty() => {
@@ -191,18 +196,37 @@ fn found(r: &SessionReport, n: usize) -> String {
 }
 
 /// A recording the session's model does not explain, with what remains in it: "c.csv, where it
-/// still misses Fz during the hold at 30–42 s (RMS 1.2 mV, 55 % of what it leaves): a slow
-/// drift on Fz". The two largest windows; the residual's character where it has one.
+/// still misses Fz during the hold at 30–42 s (RMS 1.2 mV, 55 % of what it leaves); its
+/// residual shows a slow drift on Fz". The largest window (the row and the page list the
+/// others); the residual's character where it has one.
 fn left_in(x: &RecordingRow) -> String {
     let Some(rem) = &x.remains else {
         return x.file.clone();
     };
     let character = (!rem.channels.is_empty()).then_some(rem.character.as_str());
-    let at: Vec<String> = rem.windows.iter().take(2).map(window).collect();
-    match (at.is_empty(), character) {
-        (true, _) => format!("{} ({})", x.file, rem.character),
-        (false, None) => format!("{}, where it still misses {}", x.file, list(&at)),
-        (false, Some(c)) => format!("{}, where it still misses {}: {c}", x.file, list(&at)),
+    match (rem.windows.first(), character) {
+        (None, _) => format!("{} ({})", x.file, rem.character),
+        (Some(w), None) => format!("{}, where it still misses {}", x.file, window(w)),
+        (Some(w), Some(c)) => format!(
+            "{}, where it still misses {}; its residual shows {c}",
+            x.file,
+            window(w)
+        ),
+    }
+}
+
+/// "c.csv (Fz during the hold at 30–42 s)": a recording left unexplained among several.
+fn briefly(x: &RecordingRow) -> String {
+    match x.remains.as_ref().and_then(|r| r.windows.first()) {
+        Some(m) => format!(
+            "{} ({} during the {} at {}–{} s)",
+            x.file,
+            words::channel_name(m.channel),
+            m.regime,
+            plain(m.t_start_s),
+            plain(m.t_end_s)
+        ),
+        None => x.file.clone(),
     }
 }
 

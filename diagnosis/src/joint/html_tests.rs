@@ -203,7 +203,7 @@ fn the_headline_says_what_is_explained_what_is_not_and_which_file_failed() {
         s.contains(
             "What the session's model leaves is noise in a.csv and b.csv but not in c.csv, \
              where it still misses Fz during the hold at 30–42 s (RMS 1.20 mV, 55 % of what it \
-             leaves): a slow drift on Fz."
+             leaves); its residual shows a slow drift on Fz."
         ),
         "{s}"
     );
@@ -224,8 +224,27 @@ fn the_headline_says_what_is_explained_what_is_not_and_which_file_failed() {
     let h = report_html(&d);
     assert!(h.contains("<p id=verdict class='verdict partially_explained failed'><span class=failure>1 of 4 files could not be analysed (day2/bad.csv line 3: `x` is not a number); the session is diagnosed from the other 3.</span> Session partially explained"), "{h}");
     // The recordings' table says where c.csv is still missed.
-    assert!(h.contains("partially explained<br><small class=remains>still misses Fz during the hold at 30–42 s"), "{h}");
+    assert!(h.contains("partially explained<br><small class=remains>still misses Fz during the hold at 30–42 s</small>"), "{h}");
     assert!(h.contains("<td class=same>no change</td>"), "{h}");
+}
+
+#[test]
+fn several_recordings_left_are_each_named_with_where_the_model_misses_most() {
+    let mut r = partial();
+    r.verdict = Verdict::Unexplained;
+    for i in [0, 1] {
+        r.recordings[i].verdict = Some(Verdict::Unexplained);
+        r.recordings[i].remains = r.recordings[3].remains.clone();
+    }
+    let s = super::headline::sentence(&r);
+    assert!(
+        s.contains(
+            "what the session's model leaves is not noise in a.csv (Fz during the hold at \
+             30–42 s), b.csv (Fz during the hold at 30–42 s) and c.csv (Fz during the hold at \
+             30–42 s)."
+        ),
+        "{s}"
+    );
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! The session page's tables: the recordings with their protocol, verdict, own effects and
 //! held-out misfit (or their error), and the shared effects with their parameters.
 
-use super::headline::{self, pct, plain};
+use super::headline::{pct, plain};
 use super::output::{RecordingRow, SessionReport, SharedEffect};
 use crate::output::EffectReport;
 use crate::report::page::{esc, verdict_label};
@@ -47,13 +47,18 @@ fn recording_row(row: &RecordingRow) -> String {
         )
     });
     let mut verdict = esc(row.verdict.map_or("", |v| verdict_label(v).1));
-    // A recording the session's model does not explain: where it still misses.
+    // A recording the session's model does not explain: where it still misses most (the
+    // rest under "Each recording").
     if let Some(rem) = &row.remains {
-        let at: Vec<String> = rem.windows.iter().map(headline::window).collect();
-        let at = if at.is_empty() {
-            rem.character.clone()
-        } else {
-            format!("still misses {}: {}", headline::list(&at), rem.character)
+        let at = match rem.windows.first() {
+            Some(m) => format!(
+                "still misses {} during the {} at {}–{} s",
+                words::channel_name(m.channel),
+                m.regime,
+                plain(m.t_start_s),
+                plain(m.t_end_s)
+            ),
+            None => rem.character.clone(),
         };
         verdict.push_str(&format!("<br><small class=remains>{}</small>", esc(&at)));
     }

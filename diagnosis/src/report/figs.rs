@@ -128,8 +128,15 @@ pub fn zoom(p: &PlotData, c: usize, window: (f64, f64), what: &str) -> Result<St
     two_panels(&channel_panels(p, c, Some(range), &[band], IMPROVED))
 }
 
-/// The final residual of channel `c` with its straight-line trend.
-pub fn remainder(p: &PlotData, c: usize, slope: f64) -> Result<String, Error> {
+/// The final residual of channel `c` (of the model `p.improved`, called `model`) with its
+/// straight-line trend, `bands` shaded besides the held-out stretch.
+pub fn remainder(
+    p: &PlotData,
+    c: usize,
+    slope: f64,
+    model: &str,
+    bands: &[Band],
+) -> Result<String, Error> {
     let unit = channel_unit(CHANNELS[c]);
     let after = minus(&p.recorded[c], &p.improved[c]);
     let n = after.len().max(1) as f64;
@@ -138,10 +145,11 @@ pub fn remainder(p: &PlotData, c: usize, slope: f64) -> Result<String, Error> {
     let name = format!("{} residual", quantity_name(c));
     let mut panel = Panel::new(time(), Quantity::new(&name, unit));
     panel.zero_line = true;
-    panel.bands = vec![heldout(p)];
+    panel.bands = bands.to_vec();
+    panel.bands.push(heldout(p));
     panel.lines = vec![
         Line::new(
-            "residual, improved",
+            &format!("residual, {model}"),
             figures::Style {
                 width: 1,
                 ..styles::IMPROVED
