@@ -1017,7 +1017,7 @@ fn localise_residual(
 /// bins (a spike is one bin at 10 Hz) are not structure in time and are set aside. A residual
 /// whose RMS stays below [`RESOLUTION_FLOOR`] of the channel's range (a noiseless channel the
 /// model reproduces: a simulation's load cell) is white: no measurement could show it.
-fn white(setup: &Setup, m: &[Vec<f64>; 4]) -> bool {
+pub(crate) fn white(setup: &Setup, m: &[Vec<f64>; 4]) -> bool {
     let data = setup.data;
     let compared = setup.used.iter().filter(|u| **u).count().max(1);
     let bin = data.fit.count.iter().copied().max().unwrap_or(1);

@@ -9,6 +9,8 @@
 //! `tables`, `validation`).
 
 mod assemble;
+mod each;
+mod headline;
 mod html;
 #[cfg(test)]
 mod html_tests;
@@ -16,8 +18,10 @@ mod loo;
 mod model;
 pub mod output;
 mod search;
+mod seen;
 mod tables;
 mod validation;
+mod verdict;
 
 pub use html::{report_html, write_report};
 
@@ -30,7 +34,7 @@ use sim::effects::EffectKind;
 
 use crate::fit::{Model, Setup};
 use crate::inputs::InputError;
-use crate::pipeline::{diagnose, prepare, Diagnosis, Options, Prepared};
+use crate::pipeline::{diagnose, prepare, Diagnosis, Options, PlotData, Prepared};
 use model::{JointFit, Layout};
 use output::{Protocol, SessionReport};
 use search::{Fitted, Search, OWN_ALWAYS};
@@ -64,6 +68,10 @@ impl sysexit::ExitStatus for JointError {
 pub struct SessionDiagnosis {
     pub report: SessionReport,
     pub singles: Vec<(String, Result<Diagnosis, String>)>,
+    /// Per input file, in `singles`' order, its series as the session's model sees them: the
+    /// recording, the baseline calibrated to it alone, and as `improved` the session's model
+    /// (`None`: not analysed).
+    pub plots: Vec<Option<PlotData>>,
 }
 
 /// OUT.json's text for `d`, as `tactile diagnose --joint` writes it (pretty, one final newline).
@@ -161,7 +169,8 @@ pub fn diagnose_recordings(
         .collect();
     let names: Vec<String> = ok.iter().map(|&i| files[i].clone()).collect();
     let as_found = prepare_all(&recs, &diags, &names, opt, &[])?;
-    let (mut report, as_is) = session_report(&as_found, &diags, &recs, &names, opt, Vec::new());
+    let (mut report, as_is, mut plots) =
+        session_report(&as_found, &diags, &recs, &names, opt, Vec::new());
     // A sign that a recording's own diagnosis found flipped (a wire) is that test's where the
     // session as read agrees: it needs that output's scale per recording, and this
     // recording's of the other sign than the rest (one sensor's sensitivity does not turn
@@ -172,16 +181,26 @@ pub fn diagnose_recordings(
     let flips = confirmed_flips(&diags, &as_is);
     if flips.iter().any(|f| !f.is_empty()) {
         let turned = prepare_all(&recs, &diags, &names, opt, &flips)?;
-        report = session_report(&turned, &diags, &recs, &names, opt, flips).0;
+        (report, _, plots) = session_report(&turned, &diags, &recs, &names, opt, flips);
     }
     report.recordings = merge_rows(&files, &loaded, report.recordings);
+    report.summary = headline::sentence(&report);
     report.seconds = started.elapsed().as_secs_f64();
+    let mut plots = plots.into_iter();
+    let plots = loaded
+        .iter()
+        .map(|l| l.as_ref().ok().and_then(|_| plots.next()))
+        .collect();
     let singles = files
         .into_iter()
         .zip(loaded)
         .map(|(f, l)| (f, l.map(|(_, d)| d)))
         .collect();
-    Ok(SessionDiagnosis { report, singles })
+    Ok(SessionDiagnosis {
+        report,
+        singles,
+        plots,
+    })
 }
 
 /// Each analysed recording ready for the session: without what its own diagnosis found at a
@@ -209,7 +228,8 @@ fn prepare_all(
         .collect()
 }
 
-/// The session of `prepared` searched, validated and reported, and its fitted model.
+/// The session of `prepared` searched, validated and reported, its fitted model, and each
+/// recording's series under it.
 fn session_report(
     prepared: &[Prepared],
     diags: &[&Diagnosis],
@@ -217,7 +237,7 @@ fn session_report(
     names: &[String],
     opt: &Options,
     flipped: Vec<Vec<usize>>,
-) -> (SessionReport, Fitted) {
+) -> (SessionReport, Fitted, Vec<PlotData>) {
     let setups: Vec<Setup> = prepared.iter().map(|p| p.setup(opt)).collect();
     let members = Members {
         files: names.to_vec(),
@@ -233,7 +253,8 @@ fn session_report(
     };
     let outcome = members.search();
     let loo = loo::leave_one_out(&members, &outcome.fitted);
-    (assemble::report(&members, &outcome, loo), outcome.fitted)
+    let (report, plots) = assemble::report(&members, &outcome, loo);
+    (report, outcome.fitted, plots)
 }
 
 /// Per recording, the outputs (indices of `data::CHANNELS`) its own diagnosis found read with
@@ -293,6 +314,7 @@ fn merge_rows(
                 effects: None,
                 fit: None,
                 protocol: None,
+                remains: None,
                 error: Some(e.replace(['\r', '\n'], " ")),
             },
         })

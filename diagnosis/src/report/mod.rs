@@ -154,7 +154,7 @@ fn what_remains(d: &Diagnosis, remains: &[Remains]) -> String {
             figs::quantity_name(r.channel)
         );
         h.push_str(&figure(
-            figs::remainder(p, r.channel, r.trend.slope),
+            figs::remainder(p, r.channel, r.trend.slope, figs::IMPROVED, &[]),
             &caption,
         ));
     }
