@@ -201,20 +201,6 @@ impl Data {
         }
         d
     }
-    /// The data less `parts` (per channel, on the decimated series and at the full rate): what
-    /// the recording shows without a term found in it, for a calibration that must not bend
-    /// towards that term. Its noise, weights and regimes stay the recording's.
-    pub(crate) fn without_parts(&self, parts: &crate::terms::AtStage) -> Data {
-        let mut d = self.clone();
-        for c in 0..4 {
-            let less = |y: &mut Vec<f64>, p: &[f64]| {
-                y.iter_mut().zip(p).for_each(|(y, p)| *y -= p);
-            };
-            less(&mut d.fit.y[c], &parts.decimated[c]);
-            less(&mut d.full.y[c], &parts.full[c]);
-        }
-        d
-    }
 }
 
 /// Each channel's noise ([`Noise`]) over the full-rate series `full` with its `segments`, and

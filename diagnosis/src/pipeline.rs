@@ -729,7 +729,7 @@ impl Prepared {
     fn fitted_data(&self) -> Option<Data> {
         let base = self.without_frozen().or_else(|| self.held.clone());
         match &self.discovered {
-            Some(parts) => Some(base.as_ref().unwrap_or(&self.data).without_parts(parts)),
+            Some(parts) => Some(parts.taken_from(base.as_ref().unwrap_or(&self.data))),
             None => base,
         }
     }

@@ -39,6 +39,7 @@ pub(crate) mod output_set;
 pub(crate) mod permanent_set;
 pub(crate) mod report;
 pub(crate) mod sanity;
+mod score;
 mod search;
 pub(crate) mod speed_power;
 pub(crate) mod stuck_channel;
@@ -47,7 +48,8 @@ pub(crate) mod temperature_span;
 mod tests;
 
 pub(crate) use fitting::Context;
-pub(crate) use search::{search, Found, Nested};
+pub(crate) use score::Nested;
+pub(crate) use search::{search, Found};
 
 use crate::output::{EffectReport, ParamDetail};
 use baseline::Outputs;
@@ -87,6 +89,23 @@ pub struct AtStage {
     pub full: [Vec<f64>; 4],
 }
 
+impl AtStage {
+    /// `data` less these parts (per channel, on the decimated series and at the full rate):
+    /// what the recording shows without a term found in it, for a calibration that must not
+    /// bend towards that term. Its noise, weights and regimes stay the recording's.
+    pub(crate) fn taken_from(&self, data: &crate::data::Data) -> crate::data::Data {
+        let mut d = data.clone();
+        for c in 0..4 {
+            let less = |y: &mut Vec<f64>, p: &[f64]| {
+                y.iter_mut().zip(p).for_each(|(y, p)| *y -= p);
+            };
+            less(&mut d.fit.y[c], &self.decimated[c]);
+            less(&mut d.full.y[c], &self.full[c]);
+        }
+        d
+    }
+}
+
 impl Described {
     /// The calibration's sanity findings, and with `structured` (the chosen model's residual is
     /// not noise) the library's terms that pass both tests.
@@ -114,7 +133,7 @@ impl Described {
         effects.extend(report::effects(&found));
         let full_t = &ctx.data.full.t_s;
         let decimated: [Vec<f64>; 4] =
-            std::array::from_fn(|c| search::contribution(ctx, &found.terms, c));
+            std::array::from_fn(|c| score::contribution(ctx, &found.terms, c));
         let full: [Vec<f64>; 4] = std::array::from_fn(|c| at_full(ctx, &found.terms, c, full_t));
         let staged: Vec<Term> = found
             .terms
@@ -124,7 +143,7 @@ impl Described {
             .collect();
         let parts = |terms: &[Term]| {
             (!terms.is_empty()).then(|| AtStage {
-                decimated: std::array::from_fn(|c| search::contribution(ctx, terms, c)),
+                decimated: std::array::from_fn(|c| score::contribution(ctx, terms, c)),
                 full: std::array::from_fn(|c| at_full(ctx, terms, c, full_t)),
             })
         };
@@ -168,7 +187,7 @@ impl Described {
 
 /// Channel `c`'s terms at the full rate's times `t_s`, each where the channel is live.
 fn at_full(ctx: &Context, terms: &[Term], c: usize, t_s: &[f64]) -> Vec<f64> {
-    let live = search::live(terms, c, None).map(|l| {
+    let live = score::live(terms, c, None).map(|l| {
         t_s.iter()
             .map(|&t| sim::effects::interpolate(ctx.t_s(), &l, t))
             .collect::<Vec<f64>>()

@@ -24,7 +24,7 @@ pub(crate) use report::{describe, effect};
 use std::sync::Arc;
 
 use super::fitting::Context;
-use super::search::{bic, columns_on, heldout, refit, Nested};
+use super::score::{bic, columns_on, heldout, refit, Nested};
 use super::{Term, TermKind};
 use crate::candidate::{heldout_needed, MIN_BIC_GAIN};
 use dictionary::{Feature, Quantities, Quantity};
@@ -394,8 +394,8 @@ fn heldout_diff(ctx: &Context, a: &[Term], b: &[Term]) -> f64 {
         .filter(|&c| ctx.used[c])
         .map(|c| {
             let (pa, pb) = (
-                super::search::contribution(ctx, a, c),
-                super::search::contribution(ctx, b, c),
+                super::score::contribution(ctx, a, c),
+                super::score::contribution(ctx, b, c),
             );
             heldout_noise(ctx, c, &pb, &pa).powi(2)
         })
