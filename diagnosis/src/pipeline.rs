@@ -171,7 +171,11 @@ fn with_discovery_refitted(
         prepared.discovered = Some(parts);
         let (again, _) = diagnose_prepared(prepared, name, opt);
         let after = discovered_names(&again.report.effects);
-        if after.is_empty() {
+        // The refit is kept only where it still discovers and predicts the held-out stretch
+        // no worse: an alternation that wandered (a calibration bent around a wrong term) is
+        // not a better joint fit.
+        let held = |d: &Diagnosis| d.report.fit.heldout.rmse_after;
+        if after.is_empty() || held(&again) > held(&d) {
             break;
         }
         d = with_baseline_of(again, &d);

@@ -120,6 +120,11 @@ impl<'d> Context<'d> {
         }
     }
 
+    /// [`Self::orthonormal`] of `cols` on channel `c`.
+    pub fn orthonormal_of(&self, c: usize, cols: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        self.orthonormal(c, cols)
+    }
+
     /// An orthonormal basis (weighted inner product over the fitting stretch) of `cols`, by the
     /// singular value decomposition of the weighted columns.
     fn orthonormal(&self, c: usize, cols: &[Vec<f64>]) -> Vec<Vec<f64>> {

@@ -103,4 +103,3 @@ pub(crate) fn bic(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
     let k = nested.k + terms.iter().map(|t| t.n_params).sum::<usize>();
     n * (sse / n).ln() + k as f64 * n.ln()
 }
-

@@ -13,7 +13,7 @@ use super::super::fitting::Context;
 use super::super::Term;
 use super::dictionary::Feature;
 use super::select::Rows;
-use super::stage::{Channels, Hypothesis};
+use super::stage::{Channels, Hypothesis, Shape};
 
 /// Resamples of the selection: enough for a share to a few hundredths.
 const RESAMPLES: usize = 40;
@@ -52,7 +52,9 @@ pub(super) fn inclusion(
     let shares: Vec<f64> = (0..h.chosen.len())
         .map(|i| hits.iter().filter(|x| x[i]).count() as f64 / RESAMPLES as f64)
         .collect();
-    for t in with.iter_mut() {
+    // The part's channels (a material term's outputs follow the load's features).
+    let mine = |c: usize| h.channels.contains(&c) || matches!(h.shape, Shape::Material);
+    for t in with.iter_mut().filter(|t| mine(t.channel)) {
         if let Some(info) = t.info.as_mut().filter(|i| i.group == group) {
             Arc::make_mut(info).inclusion = shares.clone();
         }

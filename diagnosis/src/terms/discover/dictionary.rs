@@ -417,6 +417,38 @@ fn history_features(q: &Quantities, out: &mut Vec<Raw>) {
     ringing(q, &since, out);
 }
 
+/// The channel's own level times the load's memory at each time constant: a gain (or, on the
+/// load, a stiffness) that follows what the load has done (a gel softened by the work done on
+/// it, an amplifier whose gain droops while its output stays high).
+fn level_with_memory(base: &[Raw], out: &mut Vec<Raw>) {
+    let level = base
+        .iter()
+        .find(|r| r.family == "s")
+        .or_else(|| base.iter().find(|r| r.family == "L"));
+    let Some(level) = level else {
+        return;
+    };
+    let memories: Vec<Raw> = out
+        .iter()
+        .filter(|r| r.family == "h(L)")
+        .map(|m| {
+            let mut depends = level.depends.clone();
+            depends.push(Quantity::LoadHistory);
+            Raw {
+                grid: m.grid,
+                ..raw(
+                    &format!("{} * h(L)", level.family),
+                    &format!("{} {}", level.expr, m.expr),
+                    &product_unit(&level.unit, &m.unit),
+                    &depends,
+                    product(&level.values, &m.values),
+                )
+            }
+        })
+        .collect();
+    out.extend(memories);
+}
+
 /// Time since the last regime change at each sample (none before the first).
 fn time_since_change(q: &Quantities) -> Vec<Option<f64>> {
     let mut last: Option<f64> = None;
@@ -471,9 +503,10 @@ pub(crate) fn features(ctx: &Context, q: &Quantities, c: usize) -> Vec<Feature> 
     let base = instantaneous(ctx, q, c);
     let mut raws = Vec::new();
     products(&base, &mut raws);
-    raws.extend(base);
     time_features(q, &mut raws);
     history_features(q, &mut raws);
+    level_with_memory(&base, &mut raws);
+    raws.extend(base);
     let rows: Vec<usize> = (0..ctx.len()).filter(|&k| ctx.fit_mask[k]).collect();
     raws.into_iter()
         .filter_map(|r| {

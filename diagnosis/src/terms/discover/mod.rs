@@ -156,28 +156,33 @@ fn library_groups(terms: &[Term]) -> Vec<Vec<usize>> {
     groups
 }
 
-/// `terms` with one more discovered effect, if one passes both tests: the hypothesis of how the
-/// channels share it that gains most ([`stage`]), its features pruned by the held-out test.
+/// `terms` with one more discovered effect, if one passes both tests: the way the channels
+/// share it that gains most ([`stage`]), each part's features pruned by the held-out test.
 fn add(ctx: &Context, nested: Nested, q: &Quantities, terms: &[Term]) -> Option<Vec<Term>> {
     let ch = channels(ctx, q, terms);
     let rows = select::Rows::fitting(ctx);
-    let mut h = stage::hypotheses(ctx, &ch, &rows)
-        .into_iter()
-        .max_by(|a, b| a.net.total_cmp(&b.net))?;
-    stage::trim(ctx, &ch, &mut h, &rows);
+    let hs = stage::hypotheses(ctx, &ch, &rows);
+    let mut parts = stage::best(ctx, &ch, &rows, hs)?;
     let group = next_group(terms);
-    let (stage, note) = stage::stage_of(ctx, &ch, &h);
-    let reference = reference(ctx, terms, &h);
-    h.chosen = prune_heldout(ctx, nested, &reference, &ch, &h, (group, stage, &note));
-    debug(&ch, &h, stage);
-    if h.chosen.is_empty() {
+    let mut r = terms.to_vec();
+    for h in &parts {
+        r = reference(ctx, &r, h);
+    }
+    let reference = r;
+    let (stage, note) = stage::stage_of_parts(ctx, &ch, &parts);
+    for h in &mut parts {
+        h.chosen = prune_heldout(ctx, nested, &reference, &ch, h, (group, stage, &note));
+    }
+    parts.retain(|h| !h.chosen.is_empty());
+    if parts.is_empty() {
         return None;
     }
-    let with = joined(
-        ctx,
-        &reference,
-        stage::terms_of(ctx, &ch, &h, &h.chosen, (group, stage, &note)),
-    );
+    let (stage, note) = stage::stage_of_parts(ctx, &ch, &parts);
+    let new: Vec<Term> = parts
+        .iter()
+        .flat_map(|h| stage::terms_of(ctx, &ch, h, &h.chosen, (group, stage, &note)))
+        .collect();
+    let mut with = joined(ctx, &reference, new);
     let gain = bic(ctx, nested, &reference) - bic(ctx, nested, &with);
     let (h_without, h_with) = (
         heldout(ctx, nested, &reference),
@@ -187,8 +192,9 @@ fn add(ctx: &Context, nested: Nested, q: &Quantities, terms: &[Term]) -> Option<
     if !(gain > MIN_BIC_GAIN && h_without - h_with > needed) {
         return None;
     }
-    let mut with = with;
-    bootstrap::inclusion(ctx, &ch, &h, &mut with, group);
+    for h in &parts {
+        bootstrap::inclusion(ctx, &ch, h, &mut with, group);
+    }
     Some(with)
 }
 
@@ -211,8 +217,8 @@ fn channels(ctx: &Context, q: &Quantities, terms: &[Term]) -> stage::Channels {
     ch
 }
 
-/// The model a new term of `h` is weighed against: `terms` with the refits it brings on its
-/// channels (the calibration along its directions), refitted.
+/// `terms` with the refits a new term of `h` brings on its channels (the calibration along its
+/// directions), refitted: what the term is weighed against.
 fn reference(ctx: &Context, terms: &[Term], h: &stage::Hypothesis) -> Vec<Term> {
     let mut r = terms.to_vec();
     for &c in &h.channels {
@@ -281,19 +287,6 @@ fn prune_heldout(
     chosen
 }
 
-/// What the selection chose, on stderr where `TACTILE_DEBUG_DISCOVER` is set.
-fn debug(ch: &stage::Channels, h: &stage::Hypothesis, stage: Stage) {
-    if std::env::var_os("TACTILE_DEBUG_DISCOVER").is_none() {
-        return;
-    }
-    let e: Vec<&str> = h
-        .chosen
-        .iter()
-        .map(|&j| h.feature(ch, 0, j).expr.as_str())
-        .collect();
-    eprintln!("discover: {:?} {stage:?} net {:.1} {e:?}", h.shape, h.net);
-}
-
 /// What of the discovered terms' contributions `parts` no change of the calibration makes: each
 /// channel's part less its projection on the calibration's directions ([`Context::directions`],
 /// weighted on the fitting stretch), on both series. The catalogue is fitted again without this
@@ -303,7 +296,13 @@ fn debug(ch: &stage::Channels, h: &stage::Hypothesis, stage: Stage) {
 pub(crate) fn beyond_calibration(ctx: &Context, mut parts: super::AtStage) -> super::AtStage {
     let rows: Vec<usize> = (0..ctx.len()).filter(|&k| ctx.fit_mask[k]).collect();
     for c in 0..4 {
-        for q in &ctx.directions[c] {
+        let plain = ctx.orthonormal_of(c, &[vec![1.0; ctx.len()], ctx.signal(c)]);
+        let directions = if ctx.directions[c].is_empty() {
+            &plain
+        } else {
+            &ctx.directions[c]
+        };
+        for q in directions {
             let w2 = |k: usize| ctx.data.weight(c, k).powi(2);
             let a: f64 = rows
                 .iter()
