@@ -4,7 +4,9 @@
 //!
 //! Over the samples loaded to 5-100 % of the largest load, the calibration may move output k's
 //! map anywhere between the FE's and one linear in the load: a change of ln(output / load) of up
-//! to S_k = max ln r_k - min ln r_k (r_k the FE's departure from linear, [`Drive`]). An effect
+//! to S_k = (b_max - b_min) (max ln r_k - min ln r_k) (r_k the FE's departure from linear,
+//! [`Drive`]; b the map blend's bounds, 0 to 1, and 0 to 0 where the baseline is a user's
+//! simulation, whose maps are its own). An effect
 //! with strength s bends output k by B_k(s) = max - min of ln(y / x) over the same samples, x at
 //! its FE level u = x / max|x|:
 //! - stiffening, y = X sign(x) (|x| / X)^p: ln(y / x) = (p - 1) ln|u|;
@@ -31,7 +33,8 @@ pub struct Span {
 }
 
 impl Span {
-    pub fn of(drive: &Drive) -> Self {
+    pub fn of(drive: &Drive, bounds: &hardware::FitBounds) -> Self {
+        let blend_range = bounds.map_blend_max - bounds.map_blend_min;
         let unit = &drive.unit;
         let force_max = unit.iter().map(|u| u.force_n).fold(0.0, f64::max);
         let chip_max: [f64; 3] =
@@ -40,7 +43,9 @@ impl Span {
             .filter(|&i| force_max > 0.0 && unit[i].force_n >= LOADED_SHARE * force_max)
             .collect();
         let departure = drive.ln_map_departure();
-        let span = std::array::from_fn(|k| peak_to_peak(loaded.iter().map(|&i| departure[i][k])));
+        let span = std::array::from_fn(|k| {
+            blend_range * peak_to_peak(loaded.iter().map(|&i| departure[i][k]))
+        });
         let levels = loaded
             .iter()
             .map(|&i| {
