@@ -2,7 +2,8 @@
 //! whole session at once: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
 //! recordings) through `diagnosis::session`; or jointly, one model for the session:
 //! `tactile diagnose --joint A.csv B.csv ... --json OUT.json [--report OUT.html]`
-//! (`docs/session-format.md`) through `diagnosis::joint`.
+//! (`docs/session-format.md`) through `diagnosis::joint`. Each may take the user's own
+//! simulation as the baseline (`--simulation`, `docs/simulation-format.md`).
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -11,7 +12,8 @@ use sysexit::ResultExt as _;
 
 use anyhow::Context;
 
-use diagnosis::{diagnose, report, session, Options};
+use diagnosis::simulation::Simulations;
+use diagnosis::{diagnose, report, session, BaselineSource, Options};
 
 use sysexit::{self as exit, ExitStatus};
 
@@ -36,6 +38,12 @@ pub struct Args {
     /// JSON into --json, the session's page into --report).
     #[arg(long)]
     pub joint: bool,
+    /// The user's own simulation of the test as the baseline instead of ours: a recording of
+    /// the simulated test or a static response table (docs/simulation-format.md). One for every
+    /// recording, one per recording (repeated, in the recordings' order), or one folder
+    /// holding a simulation named as each recording.
+    #[arg(long, value_name = "SIM")]
+    pub simulation: Vec<PathBuf>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -121,19 +129,30 @@ impl Config {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let show = !args.quiet && std::io::stderr().is_terminal();
+    let sims = args.simulation.clone();
     match Config::of(args).coded()? {
         Config::Single {
             recording,
             json,
             report,
-        } => single(&recording, &json, report.as_deref(), show),
-        Config::Session { inputs, out_dir } => whole_session(&inputs, &out_dir, show),
+        } => single(&recording, &json, report.as_deref(), (show, &sims)),
+        Config::Session { inputs, out_dir } => whole_session(&inputs, &out_dir, (show, &sims)),
         Config::Joint {
             inputs,
             json,
             report,
-        } => joint(&inputs, &json, report.as_deref(), show),
+        } => joint(&inputs, &json, report.as_deref(), (show, &sims)),
     }
+}
+
+/// The baseline of `recordings`: ours, or the simulations `sims` paired with them.
+fn baseline(recordings: &[PathBuf], sims: &[PathBuf]) -> anyhow::Result<BaselineSource> {
+    if sims.is_empty() {
+        return Ok(BaselineSource::Fe);
+    }
+    Ok(BaselineSource::Simulation(
+        Simulations::pair(recordings, sims).coded()?,
+    ))
 }
 
 /// The session diagnosed jointly; [`exit::DATA`] after writing when a file could not be
@@ -142,10 +161,10 @@ fn joint(
     inputs: &[PathBuf],
     json: &Path,
     report_path: Option<&Path>,
-    show: bool,
+    (show, sims): (bool, &[PathBuf]),
 ) -> anyhow::Result<()> {
     let inputs = session::expand_inputs(inputs).coded()?;
-    let opt = options()?;
+    let opt = options(baseline(&inputs, sims)?)?;
     let bar = progress_bar(show, "diagnosing the session");
     bar.set_length(1);
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
@@ -168,21 +187,25 @@ fn joint(
     unanalysed(&bad, d.report.recordings.len())
 }
 
-fn options() -> anyhow::Result<Options> {
+fn options(baseline: BaselineSource) -> anyhow::Result<Options> {
     let hw = hardware::Params::load_default()
         .coded()
         .context("loading hardware/")?;
-    Ok(Options::from_hardware(&hw).coded()?)
+    Ok(Options {
+        baseline,
+        ..Options::from_hardware(&hw).coded()?
+    })
 }
 
 fn single(
     recording: &std::path::Path,
     json: &std::path::Path,
     report_path: Option<&std::path::Path>,
-    show: bool,
+    (show, sims): (bool, &[PathBuf]),
 ) -> anyhow::Result<()> {
+    let baseline = baseline(&[recording.to_path_buf()], sims)?;
     let rec = recording::read(recording).coded()?;
-    let mut opt = options()?;
+    let mut opt = options(baseline)?;
     let bar = progress_bar(show, "fitting candidate models");
     let shown = bar.clone();
     opt.progress = Some(Arc::new(move |done, total| {
@@ -217,9 +240,13 @@ fn report_file(path: &Path) -> PathBuf {
 
 /// Every recording into `out_dir`; one stderr line per recording that could not be analysed,
 /// then [`exit::DATA`] if there was any.
-fn whole_session(inputs: &[PathBuf], out_dir: &std::path::Path, show: bool) -> anyhow::Result<()> {
+fn whole_session(
+    inputs: &[PathBuf],
+    out_dir: &std::path::Path,
+    (show, sims): (bool, &[PathBuf]),
+) -> anyhow::Result<()> {
     let inputs = session::expand_inputs(inputs).coded()?;
-    let opt = options()?;
+    let opt = options(baseline(&inputs, sims)?)?;
     let bar = progress_bar(show, "diagnosing recordings");
     bar.set_length(inputs.len() as u64);
     let rows = session::run(&inputs, out_dir, &opt, &|done, _| {
