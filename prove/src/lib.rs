@@ -7,6 +7,7 @@ pub mod categories;
 pub mod real;
 pub mod reported;
 pub mod sessions;
+pub mod simulation;
 
 use std::fmt::Write as _;
 
@@ -14,7 +15,7 @@ use rayon::prelude::*;
 use sim::compression::RodSchedule;
 use sim::effects::{Effect, EffectKind};
 
-use baseline::fe_response::{AngleBlend, FeResponseError};
+use baseline::fe_response::FeResponseError;
 use baseline::synth::{simulate, simulate_path, Gaussian, Noise, SimSpec};
 use baseline::{BaselineParams, Drive, FingertipResponse};
 use categories::described::{Injection, Truth};
@@ -373,12 +374,11 @@ fn truth_baseline(modulus_pa: f64, u: &mut impl FnMut(f64, f64) -> f64) -> Basel
 
 /// The largest output magnitude of the noise-free baseline at `peak` (to place a rail).
 fn peak_output_v(
-    fingertip: &AngleBlend,
+    fingertip: &dyn FingertipResponse,
     readout: &baseline::Readout,
     base: &BaselineParams,
     peak: f64,
 ) -> f64 {
-    use baseline::FingertipResponse;
     let e = base.youngs_modulus_pa;
     let rod = sim::compression::rod_at_load(|d| fingertip.unit_response(d).force_n * e, peak, 60.0);
     let drive = Drive::new(fingertip, vec![0.0], &[rod]);
