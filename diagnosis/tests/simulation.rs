@@ -235,6 +235,30 @@ fn what_the_simulation_lacks_is_named_and_its_missing_channels_are_not_compared(
     assert!(r.baseline.rmse.get("mx_V").is_none() && r.baseline.rmse.get("fz_V").is_some());
 }
 
+/// A static shape is named against a simulation without the load, as with one: where the
+/// baseline models no load, the outputs' own levels say which samples are loaded (the span the
+/// threshold reads them over had been empty, so any bend was taken as the calibration's).
+#[test]
+fn a_bridge_nonlinearity_is_named_against_a_simulation_without_the_load() {
+    let (model, d) = (lumped(), dir("shape"));
+    let bend = EffectKind::BridgeNonlinearity.with_params(&[0.25]);
+    let rec = recording(&model, vec![bend]);
+    let table = d.join("outputs.csv");
+    write_table(
+        &table,
+        &model,
+        E_REC,
+        largest_rod(&rec) + 0.2,
+        &[1, 2, 3],
+        "",
+    );
+    let r = against(&rec, &table).unwrap();
+    let names: Vec<&str> = r.effects.iter().map(|e| e.name.as_str()).collect();
+    assert_eq!(names, ["bridge_nonlinearity"], "{:?}", r.candidates);
+    let q = r.effects[0].params.get("quadratic").unwrap();
+    assert!((q / 0.25 - 1.0).abs() < 0.1, "{q}");
+}
+
 /// The one line a refused simulation gives, and its exit code.
 fn refused(rec: &Recording, sim: &Path) -> (String, u8) {
     let e = against(rec, sim).expect_err("refused");
