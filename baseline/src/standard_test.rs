@@ -12,7 +12,7 @@ use sim::effects::Effect;
 use crate::fe_response::{FeResponseError, FeSource};
 use crate::model::{smoother_tau_s, BaselineParams, Readout};
 use crate::response::FingertipResponse;
-use crate::synth::{simulate, Noise, SimSpec};
+use crate::synth::{simulate_to_peaks, Noise, SimSpec};
 use recording::SMOOTHER_KEY;
 
 /// The options of `tactile simulate` that shape the recording (the command's output files are
@@ -23,10 +23,14 @@ pub struct SimulateOptions {
     pub contact_angle_deg: f64,
     /// Azimuth phi of the tilt plane from the chip's x axis, deg.
     pub azimuth_deg: f64,
-    /// Load at which the rod stops and holds, N.
+    /// Load at which the rod stops and holds, N: the recorded load's peak, whatever the
+    /// effects on the load ([`crate::synth::rod_history_to_peaks`]).
     pub peak_load_n: f64,
     /// Sample rate, Hz [default: `fingertip.toml` test.sample_rate_hz].
     pub rate_hz: Option<f64>,
+    /// The rod's speed while it loads, mm/min [default: `fingertip.toml`
+    /// test.rod_speed_mm_per_min].
+    pub rod_speed_mm_per_min: Option<f64>,
     /// Rest after each return, s [default: `fingertip.toml` test.recovery_s]. With further
     /// cycles it sets the length of a long recording (the batch benchmark's 300 s).
     pub recovery_s: Option<f64>,
@@ -61,6 +65,7 @@ impl SimulateOptions {
             azimuth_deg,
             peak_load_n,
             rate_hz: None,
+            rod_speed_mm_per_min: None,
             recovery_s: None,
             modulus_pa: None,
             then_peak_loads_n: Vec::new(),
@@ -79,7 +84,9 @@ impl SimulateOptions {
     pub fn compression_test(&self, tip: &hardware::Fingertip) -> RodSchedule {
         RodSchedule {
             sample_rate_hz: self.rate_hz.unwrap_or(tip.test.sample_rate_hz),
-            speed_mm_per_min: tip.test.rod_speed_mm_per_min,
+            speed_mm_per_min: self
+                .rod_speed_mm_per_min
+                .unwrap_or(tip.test.rod_speed_mm_per_min),
             hold_s: tip.test.hold_s,
             return_speed_mm_per_min: tip.test.return_speed_mm_per_min,
             recovery_s: self.recovery_s.unwrap_or(tip.test.recovery_s),
@@ -92,6 +99,12 @@ impl SimulateOptions {
     pub fn check(&self) -> Result<(), SimulateError> {
         if !positive(self.peak_load_n) {
             return Err(SimulateError::PeakLoad);
+        }
+        if self
+            .rod_speed_mm_per_min
+            .is_some_and(|v| !(positive(v) && v.is_finite()))
+        {
+            return Err(SimulateError::RodSpeed);
         }
         if let Some(recovery_s) = self.recovery_s {
             if !(recovery_s.is_finite() && recovery_s >= 0.0) {
@@ -126,6 +139,9 @@ pub enum SimulateError {
     /// A peak load that is not positive.
     #[error("--peak-load must be positive")]
     PeakLoad,
+    /// A rod speed that is not a positive number.
+    #[error("--rod-speed must be positive (mm/min)")]
+    RodSpeed,
     /// A rest after the return that is negative or not a number.
     #[error("--recovery-s must be zero or positive")]
     Recovery,
@@ -154,7 +170,8 @@ impl sysexit::ExitStatus for SimulateError {
 }
 
 /// The recording of the standard test with `opt`, through the same forward model as the
-/// emulated sensor ([`simulate`]); a smoother is named in the metadata ([`SMOOTHER_KEY`]).
+/// emulated sensor ([`simulate_to_peaks`]: each cycle stops where the recorded load reaches
+/// its peak); a smoother is named in the metadata ([`SMOOTHER_KEY`]).
 pub fn simulate_standard_test(
     opt: &SimulateOptions,
     params: &hardware::Params,
@@ -185,7 +202,7 @@ pub fn simulate_standard_test_with(
     )?;
     let mut spec = spec(opt, params, &fingertip, readout, test, effects);
     adjust(&mut spec.baseline);
-    let mut rec = simulate(&spec);
+    let mut rec = simulate_to_peaks(&spec);
     if let Some(alpha) = opt.smoother_alpha {
         rec.meta
             .other
@@ -260,6 +277,13 @@ mod tests {
         assert!(ok.check().is_ok());
         let cases = [
             (SimulateOptions::new(10.0, 0.0, 0.0), "--peak-load"),
+            (
+                SimulateOptions {
+                    rod_speed_mm_per_min: Some(0.0),
+                    ..ok.clone()
+                },
+                "--rod-speed",
+            ),
             (
                 SimulateOptions {
                     ambient_swing: Some((1.0, 0.0)),

@@ -46,31 +46,23 @@ pub struct SimSpec<'a> {
 /// Largest rod travel searched for the peak load.
 const MAX_ROD_MM: f64 = 60.0;
 
-/// Run the baseline (plus effects and noise) through the standard test.
+/// Run the baseline (plus effects and noise) through the standard test, each cycle turning
+/// where the truth's baseline alone reaches its peak load.
 pub fn simulate(spec: &SimSpec) -> Recording {
     simulate_path(spec, rod_history(spec))
+}
+
+/// Run the baseline (plus effects and noise) through the standard test, each cycle turning
+/// where the recorded load reaches its peak, as a test machine that stops at a load does:
+/// [`rod_history_to_peaks`].
+pub fn simulate_to_peaks(spec: &SimSpec) -> Recording {
+    simulate_path(spec, rod_history_to_peaks(spec))
 }
 
 /// The same along any rod path (a protocol other than the standard test's cycles; `spec.test`
 /// then gives only the sample rate and the speed written into the metadata).
 pub fn simulate_path(spec: &SimSpec, history: RodHistory) -> Recording {
-    let warm_up = spec.effects.iter().find_map(|e| match e {
-        Effect::ThermalDrift(d) => Some(*d),
-        _ => None,
-    });
-    // The true temperature; the offset drift follows it (for a pure warm-up this is exactly
-    // the exponential law, `ThermalDrift::apply_regressed`).
-    let rise_c = warm_up.map_or(0.0, |_| spec.warm_up_rise_c);
-    let true_temp_c = true_temperature_c(spec, &history.t_s, warm_up, rise_c);
-    let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm)
-        .with_temperature(Some(true_temp_c.clone()));
-    let mut chain = EffectSet::new(spec.effects.clone());
-    if rise_c != 0.0 {
-        chain.thermal_reference = Some(ThermalReference {
-            t0_c: spec.ambient_c,
-            rise_c,
-        });
-    }
+    let (drive, chain, true_temp_c) = drive_and_chain(spec, &history);
     let mut rng = Gaussian::new(spec.seed);
     let noise = spec.noise;
     let mut add_noise = |v: &mut [Vec<f64>; 3]| {
@@ -110,6 +102,115 @@ pub fn simulate_path(spec: &SimSpec, history: RodHistory) -> Recording {
         temp_c: Some(temp_c),
         extra: Vec::new(),
     }
+}
+
+/// The drive along `history` with the true temperature, and the effects switched on: the
+/// truth's chain, shared by the recording and the search for its turns.
+fn drive_and_chain(spec: &SimSpec, history: &RodHistory) -> (Drive, EffectSet, Vec<f64>) {
+    let warm_up = spec.effects.iter().find_map(|e| match e {
+        Effect::ThermalDrift(d) => Some(*d),
+        _ => None,
+    });
+    // The true temperature; the offset drift follows it (for a pure warm-up this is exactly
+    // the exponential law, `ThermalDrift::apply_regressed`).
+    let rise_c = warm_up.map_or(0.0, |_| spec.warm_up_rise_c);
+    let true_temp_c = true_temperature_c(spec, &history.t_s, warm_up, rise_c);
+    let drive = Drive::new(spec.fingertip, history.t_s.clone(), &history.rod_mm)
+        .with_temperature(Some(true_temp_c.clone()));
+    let mut chain = EffectSet::new(spec.effects.clone());
+    if rise_c != 0.0 {
+        chain.thermal_reference = Some(ThermalReference {
+            t0_c: spec.ambient_c,
+            rise_c,
+        });
+    }
+    (drive, chain, true_temp_c)
+}
+
+/// Largest error of a recorded peak load that [`rod_history_to_peaks`] accepts, relative to
+/// the peak: far below any load cell's noise.
+const PEAK_REL_TOL: f64 = 1e-6;
+/// Most secant steps of [`rod_history_to_peaks`]; it needs a handful.
+const PEAK_STEPS: usize = 30;
+
+/// The rod's travel when each cycle stops where the *recorded* load reaches its peak: the
+/// load the recording shows, the gel's effects on it included (a relaxation loads less than
+/// the elastic law at a travel), without noise. Starting from the elastic turns, each cycle's
+/// turn is found by a secant iteration on its recorded peak (one simulation of the whole
+/// history a step, every cycle at once: an earlier cycle's memory moves a later one's peak a
+/// little). Without an effect on the load the elastic turns are exact.
+pub fn rod_history_to_peaks(spec: &SimSpec) -> RodHistory {
+    let mut x: Vec<f64> = spec.peak_loads_n.iter().map(|&l| rod_at(spec, l)).collect();
+    let moves_load = spec
+        .effects
+        .iter()
+        .any(|e| e.kind().channels().contains(&"load_N"));
+    if !moves_load || x.is_empty() {
+        return spec.test.rod_history(&x);
+    }
+    let miss = |x: &[f64]| -> Vec<f64> {
+        let peaks = recorded_peaks_n(spec, x);
+        peaks
+            .iter()
+            .zip(&spec.peak_loads_n)
+            .map(|(p, l)| p - l)
+            .collect()
+    };
+    let mut f = miss(&x);
+    // The second point: the elastic turn at the peak raised by the ratio it fell short.
+    let mut prev: Vec<(f64, f64)> = x.iter().copied().zip(f.iter().copied()).collect();
+    for (k, xk) in x.iter_mut().enumerate() {
+        let (peak, got) = (spec.peak_loads_n[k], spec.peak_loads_n[k] + f[k]);
+        if got > 0.0 {
+            *xk = rod_at(spec, peak * peak / got);
+        }
+    }
+    for _ in 0..PEAK_STEPS {
+        f = miss(&x);
+        let done = f
+            .iter()
+            .zip(&spec.peak_loads_n)
+            .all(|(e, l)| e.abs() <= PEAK_REL_TOL * l);
+        if done {
+            break;
+        }
+        for k in 0..x.len() {
+            let (x0, f0) = prev[k];
+            prev[k] = (x[k], f[k]);
+            if f[k] != f0 {
+                x[k] = (x[k] - f[k] * (x[k] - x0) / (f[k] - f0)).clamp(0.0, MAX_ROD_MM);
+            }
+        }
+    }
+    spec.test.rod_history(&x)
+}
+
+/// The largest recorded load of each cycle (its loading and hold) when the cycles turn at
+/// `turns_mm`, without noise.
+fn recorded_peaks_n(spec: &SimSpec, turns_mm: &[f64]) -> Vec<f64> {
+    let history = spec.test.rod_history(turns_mm);
+    let (drive, chain, _) = drive_and_chain(spec, &history);
+    let out = evaluate(
+        &drive,
+        &spec.readout,
+        &spec.baseline,
+        &chain,
+        spec.contact_angle_deg,
+        None,
+    );
+    spec.test
+        .loading_and_hold_s(turns_mm)
+        .iter()
+        .map(|&(start_s, end_s)| {
+            history
+                .t_s
+                .iter()
+                .zip(&out.load_n)
+                .filter(|(t, _)| (start_s..=end_s).contains(*t))
+                .map(|(_, l)| *l)
+                .fold(f64::NEG_INFINITY, f64::max)
+        })
+        .collect()
 }
 
 /// The rod's travel: the standard test turning at each peak load of the truth's baseline.

@@ -19,7 +19,7 @@ const HELDOUT_Z: f64 = 2.0;
 /// the smaller model: below half a percent an effect changes the held-out RMSE by less than a
 /// quarter of a percent, which changes no conclusion about the fit even when it is significant
 /// (on real rigs with a large structured misfit, tiny significant gains are the rule).
-const MIN_HELDOUT_SHARE: f64 = 0.005;
+pub(crate) const MIN_HELDOUT_SHARE: f64 = 0.005;
 
 /// One fitted candidate.
 pub struct Candidate<'s, 'a> {
@@ -270,7 +270,7 @@ impl<'s, 'a> Candidate<'s, 'a> {
 /// Standard deviation of sum_k d_k e_k, `d` a difference of weighted residuals on `mask` (the
 /// used channels one after the other, as [`Model::weighted`] lays them out) and e the noise in
 /// the same units, under each channel's noise model: |d| for white noise.
-fn sum_deviation(setup: &Setup, mask: &[bool], d: &[f64]) -> f64 {
+pub(crate) fn sum_deviation(setup: &Setup, mask: &[bool], d: &[f64]) -> f64 {
     let data = setup.data;
     let rows: Vec<usize> = (0..mask.len()).filter(|&k| mask[k]).collect();
     let blocks: Vec<(usize, usize)> = rows.iter().map(|&k| data.bounds[k]).collect();

@@ -147,6 +147,7 @@ pub fn effect_reports(sel: &Selection, data: &Data) -> Vec<EffectReport> {
             catalogue: true,
             depends_on: None,
             form: None,
+            inclusion: None,
             parameters,
         });
     }
@@ -263,6 +264,7 @@ fn mains_on(line: &Line, data: &Data, chans: &[usize]) -> EffectReport {
         catalogue: true,
         depends_on: None,
         form: None,
+        inclusion: None,
         parameters,
     }
 }

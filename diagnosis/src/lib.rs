@@ -6,7 +6,8 @@
 //!
 //! The public API: [`diagnose`] with its [`Options`] gives a [`Diagnosis`]; [`output`] is its
 //! JSON (`tactile-diagnosis/1`), [`report::write`] its HTML page, [`session`] a batch of
-//! recordings with their summary.
+//! recordings with their summary, [`joint`] a session diagnosed jointly; [`inputs`] and
+//! [`outputs`] check the files a run reads and writes before any work.
 //!
 //! The steps are private modules, each importing only those before it:
 //! `stats` (tests and estimators) -> `data` (read, decimate; `noise`, `quantisation`) ->
@@ -20,12 +21,14 @@ mod candidate;
 mod data;
 mod evidence;
 mod fit;
+pub mod inputs;
 pub mod joint;
 mod lm;
 mod localise;
 mod mains;
 mod noise;
 pub mod output;
+pub mod outputs;
 mod params;
 mod pipeline;
 mod preconditions;

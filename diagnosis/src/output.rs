@@ -107,6 +107,10 @@ pub struct EffectReport {
     /// A described term's fitted expression, in words and symbols.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub form: Option<String>,
+    /// A discovered term's features (as its `form` writes them), each with the share of
+    /// bootstrap resamples whose selection kept it (0-1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub inclusion: Option<Numbers>,
     /// Extra: `params` with units, bounds and bound flags.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub parameters: Vec<ParamDetail>,
@@ -176,8 +180,8 @@ pub struct Report {
     pub baseline: Baseline,
     pub mismatches: Vec<Mismatch>,
     pub effects: Vec<EffectReport>,
-    /// What the recording shows but cannot attribute (extra field).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    /// What the recording shows but cannot attribute (extra field); always present, `[]`
+    /// when there is nothing, as in the session's output.
     pub undecided: Vec<Undecided>,
     pub fit: Fit,
     pub localisation: Localisation,

@@ -5,8 +5,10 @@
 //! and without fetching anything, every figure (the leave-one-out bars, one per recording) must
 //! be drawn and laid out with a non-zero size, the verdict sentence must be in the first screen,
 //! and every section must be there: the recordings with the bad file's error in red, the shared
-//! effect, the validation's table and bars, the models tried collapsed. A screenshot is taken
-//! too. Chromium comes from `scripts/setup.sh`; without it this test fails (it never skips).
+//! effect, the validation's table and bars, the models tried collapsed. The verdict's box must
+//! say, in red and first, that the bad file failed and why; each recording's figure must draw
+//! the recording under the session's model and the baseline, a residual panel under each
+//! channel and the held-out stretch. A screenshot is taken too. Chromium comes from `scripts/setup.sh`; without it this test fails (it never skips).
 
 #[path = "support/browser.rs"]
 mod browser;
@@ -44,6 +46,16 @@ return b.width>4&&b.height>4}).length)}\
 document.querySelectorAll('td.error').forEach(td=>out.push('error-cell '+getComputedStyle(td).color.replace(/ /g,'')));\
 document.querySelectorAll('details').forEach(d=>out.push('details '+(d.open?1:0)+' '+d.querySelectorAll('tr').length));\
 out.push('links '+document.querySelectorAll('a,link,img,iframe,object,embed').length);\
+const v=document.getElementById('verdict'),fail=v&&v.querySelector('.failure');\
+out.push('verdict-border '+getComputedStyle(v).borderLeftColor.replace(/ /g,''));\
+if(fail){out.push('failure '+getComputedStyle(fail).color.replace(/ /g,'')+' '+fail.textContent)}\
+document.querySelectorAll('h2#each ~ figure svg').forEach((s,i)=>{\
+const t=[...s.querySelectorAll('text')].map(x=>x.textContent.trim());\
+const has=l=>t.includes(l)?1:0;if(!has('recording'))return;\
+const wide=[...s.querySelectorAll('polyline')].filter(p=>p.getAttribute('stroke-width')==='7').length;\
+const held=[...s.querySelectorAll('rect')].filter(r=>r.getAttribute('fill')==='#969696'&&r.getBoundingClientRect().height>40).length;\
+out.push(['each',i,has('recording'),has(\"session's model\"),has('baseline'),has('held out (never fitted)'),\
+has('residual, baseline'),has(\"residual, session's model\"),t.filter(x=>x.startsWith('residual [')).length,wide,held].join(' '))});\
 const pre=document.createElement('pre');pre.id='session-check';pre.textContent=out.join('\\n');\
 document.body.appendChild(pre)}</script>";
 
@@ -118,6 +130,54 @@ fn check_session(lines: &[String], recordings: usize, analysed: usize) {
         "candidates not collapsed: {details:?}"
     );
     assert_eq!(get("links").next().map(String::as_str), Some("links 0"));
+    check_headline(lines, recordings - analysed);
+    check_each(lines, analysed);
+}
+
+/// With a file that failed, the verdict's box is not green: its border is red and it leads
+/// with the failure, in red, naming the file.
+fn check_headline(lines: &[String], failed: usize) {
+    let find = |key: &str| lines.iter().find(|l| l.split(' ').next() == Some(key));
+    let border = find("verdict-border").expect("no verdict border");
+    let failure = find("failure");
+    if failed == 0 {
+        assert!(failure.is_none(), "{failure:?}");
+        return;
+    }
+    assert!(border.ends_with("rgb(214,39,40)"), "{border}");
+    let failure = failure.expect("the headline does not say a file failed");
+    assert!(
+        failure.starts_with(&format!("failure rgb(187,0,0) {failed} of ")),
+        "{failure}"
+    );
+    assert!(
+        failure.contains("bad<i>.csv") && failure.contains("could not be analysed"),
+        "{failure}"
+    );
+}
+
+/// Each analysed recording's figure (of those under "Each recording", the ones that draw the
+/// recording): the recording (wide, under the models), the session's model and the baseline
+/// named in the legends, a residual panel under each signal panel, the held-out stretch
+/// shaded.
+fn check_each(lines: &[String], analysed: usize) {
+    let each: Vec<Vec<usize>> = lines
+        .iter()
+        .filter(|l| l.split(' ').next() == Some("each"))
+        .map(|l| l.split(' ').skip(1).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(each.len(), analysed, "{lines:#?}");
+    for e in &each {
+        let (named, residuals, wide, held) = (&e[1..7], e[7], e[8], e[9]);
+        assert!(
+            named.iter().all(|&n| n == 1),
+            "a legend entry missing: {e:?}"
+        );
+        // One residual panel per signal panel, and the recording drawn wide in each (its
+        // legend's swatches are wide too).
+        assert!(residuals >= 2 && wide >= residuals, "{e:?}");
+        assert!(held >= residuals, "the held-out stretch not shaded: {e:?}");
+    }
 }
 
 #[test]
@@ -144,10 +204,16 @@ fn session_report_renders_in_headless_chromium() {
     diagnosis::joint::write_report(&page, &d).unwrap();
     let html = std::fs::read_to_string(&page).unwrap();
     let figures = html.matches("<svg").count();
+    let left = d
+        .report
+        .recordings
+        .iter()
+        .filter(|r| r.remains.is_some())
+        .count();
     assert_eq!(
         figures,
-        1 + analysed,
-        "the bars and one figure per recording"
+        1 + analysed + left,
+        "the bars, one figure per recording and one of what remains in each not explained"
     );
     for banned in [
         "<script", "<a ", "href=", "src=", "<link", "@import", "url(",
@@ -197,6 +263,11 @@ fn the_session_checks_catch_a_broken_page() {
                 "error-cell rgb(187,0,0)",
                 "details 0 27",
                 "links 0",
+                "verdict-border rgb(214,39,40)",
+                "failure rgb(187,0,0) 1 of 4 files could not be analysed (bad<i>.csv: not a recording)",
+                "each 0 1 1 1 1 1 1 3 3 6",
+                "each 1 1 1 1 1 1 1 3 3 6",
+                "each 2 1 1 1 1 1 1 3 3 6",
             ]
             .map(String::from),
         )
@@ -216,6 +287,15 @@ fn the_session_checks_catch_a_broken_page() {
         ("bars 11", "bars 5"),
         ("details 0 27", "details 1 27"),
         ("links 0", "links 1"),
+        ("verdict-border rgb(214,39,40)", "verdict-border rgb(44,160,44)"),
+        (
+            "failure rgb(187,0,0) 1 of 4 files could not be analysed (bad<i>.csv: not a recording)",
+            "failure rgb(34,34,34) 1 of 4 files could not be analysed (bad<i>.csv: not a recording)",
+        ),
+        ("each 1 1 1 1 1 1 1 3 3 6", "each 1 1 1 0 1 1 1 3 3 6"),
+        ("each 1 1 1 1 1 1 1 3 3 6", "each 1 1 1 1 1 1 1 3 0 6"),
+        ("each 1 1 1 1 1 1 1 3 3 6", "each 1 1 1 1 1 1 1 3 3 0"),
+        ("each 2 1 1 1 1 1 1 3 3 6", "each 2 1 1 1 1 1 1 0 0 6"),
     ] {
         let lines = broken(from, to);
         assert!(

@@ -57,6 +57,13 @@ pub mod styles {
         width: 1,
         dots: false,
     };
+    /// Measured data under model lines: a wide, light band that a thinner model line drawn
+    /// over it leaves visible on both sides, so that where they agree both are still seen.
+    pub const RECORDING_UNDER: Style = Style {
+        colour: RGBColor(196, 196, 196),
+        width: 7,
+        dots: false,
+    };
     /// The calibrated baseline model.
     pub const BASELINE: Style = Style {
         colour: RGBColor(214, 39, 40),
@@ -334,7 +341,8 @@ fn draw_line<DB: DrawingBackend>(
     Ok(())
 }
 
-/// The title, then one swatch and label per band and line, left to right in the strip.
+/// The title, then one swatch and label per band and line, left to right in the strip. A band
+/// without a label, or with one an earlier band has, is shaded but not named again.
 fn legend<DB: DrawingBackend>(
     top: &DrawingArea<DB, Shift>,
     panel: &Panel,
@@ -363,7 +371,10 @@ fn legend<DB: DrawingBackend>(
         top.draw(&text(&panel.title, x)).map_err(draw_err)?;
         x += width(&panel.title) + 24;
     }
-    for b in bands {
+    for (i, b) in bands.iter().enumerate() {
+        if b.label.is_empty() || bands[..i].iter().any(|o| o.label == b.label) {
+            continue;
+        }
         let swatch = Rectangle::new(
             [(x, mid - 6), (x + 22, mid + 6)],
             b.colour.mix(0.3).filled(),
@@ -451,5 +462,32 @@ mod tests {
         );
         let exponent = |t: &&str| t.contains(|c: char| c.is_ascii_digit()) && t.contains('e');
         assert!(!texts.iter().any(exponent), "exponent form in {texts:?}");
+    }
+
+    #[test]
+    fn a_band_label_is_named_once_in_the_legend() {
+        let svg = svg_string((700, 260), |area| {
+            let mut p = Panel::new(Quantity::new("time", "s"), Quantity::new("residual", "V"));
+            let pts = (0..=100).map(|i| (f64::from(i), 0.0));
+            p.lines
+                .push(Line::new("residual", styles::IMPROVED, pts.collect()));
+            let band = |from: f64, label: &str| Band {
+                from,
+                to: from + 10.0,
+                colour: styles::WINDOW,
+                label: label.into(),
+            };
+            p.bands = vec![band(10.0, "misses"), band(50.0, "misses"), band(80.0, "")];
+            draw_panel(area, &p)
+        })
+        .unwrap();
+        assert_eq!(
+            svg.matches(">misses<").count() + svg.matches(">\nmisses\n<").count(),
+            1
+        );
+        // All three shaded, two swatches (the line's and the named band's) in the strip.
+        let shaded = svg.matches("opacity=\"0.18\"").count();
+        assert_eq!(shaded, 3, "{svg}");
+        assert_eq!(svg.matches("opacity=\"0.3\"").count(), 1);
     }
 }

@@ -101,7 +101,12 @@ pub fn significant(v: f64, digits: u32) -> String {
     if v == 0.0 {
         return "0".to_string();
     }
-    let mag = v.abs().log10().floor() as i32;
+    let mut mag = v.abs().log10().floor() as i32;
+    // Rounded up to the next power of ten (9.996 to three digits), it has one digit fewer
+    // after the point: "10.0", not "10.00".
+    if (v.abs() / 10f64.powi(mag + 1 - digits as i32)).round() >= 10f64.powi(digits as i32) {
+        mag += 1;
+    }
     let decimals = (digits as i32 - 1 - mag).clamp(0, 12) as usize;
     let unit = 10f64.powi(mag + 1 - digits as i32);
     fixed((v / unit).round() * unit, decimals)
@@ -152,6 +157,10 @@ mod tests {
         assert_eq!(significant(50.947, 3), "50.9");
         assert_eq!(significant(-0.015_93, 3), "\u{2212}0.0159");
         assert_eq!(significant(77_967.4, 3), "78\u{2009}000");
+        // Rounded up to a power of ten: the digits asked for, no more.
+        assert_eq!(significant(9.9996, 3), "10.0");
+        assert_eq!(significant(9.999_999_999_999_998, 2), "10");
+        assert_eq!(significant(-0.099_96, 2), "\u{2212}0.10");
         assert_eq!(fixed(-71_527_058.0, 0), "\u{2212}71\u{2009}527\u{2009}058");
         assert_eq!(fixed(2656.4, 0), "2656");
         assert_eq!(fixed(f64::NAN, 0), "n/a");

@@ -701,7 +701,7 @@ fn report_loss(r: &Report<'_>) -> bool {
 }
 
 /// Each finger's clock estimate in the logger's final status line
-/// (` | tipNN: … clock +x.x ppm ±u µs, …`) against its emulator's crystal.
+/// (` | tipNN: … clock +x.x ppm [(settling)] ±u µs, …`) against its emulator's crystal.
 fn report_clocks(r: &Report<'_>) {
     let Some(line) = r.lines.iter().rev().find(|l| l.contains(" S/s, ")) else {
         return;
@@ -713,8 +713,9 @@ fn report_clocks(r: &Report<'_>) {
         };
         let mut words = part[at + 6..].split_whitespace();
         let ppm: Option<f64> = words.next().and_then(|w| w.parse().ok());
+        // `ppm`, `(settling)` while the rate settles, then the alignment's `±u`.
         let u: Option<f64> = words
-            .nth(1)
+            .find(|w| w.starts_with('±'))
             .and_then(|w| w.trim_start_matches('±').parse().ok());
         if let (Some(ppm), Some(u)) = (ppm, u) {
             worst = worst.max((ppm - crystal_ppm(i, r.o.sensors)).abs());

@@ -122,3 +122,67 @@ fn rows_on_the_device_clock_span_the_device_time() {
     let base = r.meta.other.iter().find(|(k, _)| k == "time_base").unwrap();
     assert!(base.1.starts_with("device clock"), "{}", base.1);
 }
+
+/// The MCAP file's record `clock <label>` at the end of a run names the time base its times
+/// are on, as the CSV's header does, besides the clock's final values.
+#[test]
+fn the_mcap_clock_record_names_the_time_base() {
+    use std::cell::RefCell;
+    use std::rc::Rc;
+
+    use host::logger::clock_key;
+    use host::logger::mcap_io::McapSink;
+
+    let dir = scratch("logger-mcap-clock");
+    let cfg = EmuConfig::new(dir.join("unused"));
+    let info = info_for(&cfg);
+    let start = UNIX_EPOCH + Duration::from_secs(1_800_000_000);
+    for device_clock in [false, true] {
+        let mut setup = Setup::from_hardware("unit test".into()).unwrap();
+        setup.device_clock = device_clock;
+        let mcap_path = dir.join(format!("r-{device_clock}.mcap"));
+        let sink = Rc::new(RefCell::new(McapSink::create(&mcap_path).unwrap()));
+        let pairs = host::logger::metadata(&info, &setup, start).pairs();
+        let channels = sink.borrow_mut().add_sensor("thumb", &pairs).unwrap();
+        let csv = dir.join(format!("r-{device_clock}.csv"));
+        let mut rec = Recorder::create(&csv, &info, &setup, start)
+            .unwrap()
+            .with_mcap((sink.clone(), channels));
+        rec.finish("thumb").unwrap();
+        rec.detach_mcap();
+        Rc::try_unwrap(sink)
+            .ok()
+            .expect("the recorder let go of the writer")
+            .into_inner()
+            .finish()
+            .unwrap();
+
+        let bytes = std::fs::read(&mcap_path).unwrap();
+        let record = mcap::read::LinearReader::new(&bytes)
+            .unwrap()
+            .filter_map(|r| match r.unwrap() {
+                mcap::records::Record::Metadata(m) if m.name == "clock thumb" => Some(m),
+                _ => None,
+            })
+            .next()
+            .expect("a clock record");
+        assert_eq!(
+            record
+                .metadata
+                .get(clock_key::TIME_BASE)
+                .map(String::as_str),
+            Some(clock_key::time_base(device_clock)),
+            "{record:?}"
+        );
+        for key in [clock_key::PPM, clock_key::UNCERTAINTY, clock_key::RESTARTS] {
+            assert!(record.metadata.contains_key(key), "{key}: {record:?}");
+        }
+        // The CSV's header says the same.
+        let r = recording::read(&csv).unwrap();
+        assert_eq!(
+            r.meta.get(clock_key::TIME_BASE),
+            Some(clock_key::time_base(device_clock))
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

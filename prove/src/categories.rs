@@ -13,12 +13,16 @@
 //!   noise, a temperature column the outputs ignore ([`nuisances::Nuisance`]);
 //! - the **real Mach-1 tests**, with the physics each must show: [`super::real`];
 //! - **described physics**: physics the catalogue lacks, and catalogue entries at another
-//!   stage, scored on stage, channels and dependence or name ([`described`]).
+//!   stage, scored on stage, channels and dependence or name ([`described`]);
+//! - **unnamed physics**: kinds no catalogue, library, issue, contract or doc names, written
+//!   blind to the diagnosis and scored per kind on stage, channels and dependence
+//!   ([`unnamed`]).
 
 pub mod described;
 mod family;
 mod nuisances;
 mod protocols;
+pub mod unnamed;
 
 use std::fmt::Write as _;
 
@@ -40,6 +44,8 @@ pub enum Category {
     Nuisances,
     /// Scored on their own terms ([`described::table`]), not in [`table`].
     Described(described::Group),
+    /// Scored per kind ([`unnamed::table`]), not in [`table`].
+    Unnamed,
 }
 
 impl Category {
@@ -57,6 +63,7 @@ impl Category {
             Category::ThreeEffects => "three effects",
             Category::Nuisances => "nuisances",
             Category::Described(g) => g.name(),
+            Category::Unnamed => "unnamed physics",
         }
     }
 }
@@ -68,6 +75,8 @@ pub struct Labelled {
     pub label: String,
     /// What a described recording hides ([`Category::Described`]).
     pub truth: Option<described::Truth>,
+    /// What a recording of unnamed physics hides ([`Category::Unnamed`]).
+    pub unnamed: Option<unnamed::Truth>,
 }
 
 use EffectKind::*;
@@ -134,6 +143,15 @@ impl Plan {
         self.generate_from(specs, 2000)
     }
 
+    /// The recordings of physics nobody named, and the null recordings beside them.
+    pub fn generate_unnamed(&self) -> Result<(Vec<Labelled>, Vec<Case>), FeResponseError> {
+        let specs = unnamed::specs()
+            .into_iter()
+            .map(|(label, spec)| (Category::Unnamed, label, spec))
+            .collect();
+        self.generate_from(specs, 3000)
+    }
+
     fn generate_from(
         &self,
         specs: Vec<(Category, String, CaseSpec)>,
@@ -146,11 +164,13 @@ impl Plan {
             .map(|(id, (category, label, spec))| {
                 let case = self.build(id + first_id, &spec)?;
                 let truth = case.described.clone();
+                let unnamed = case.unnamed.clone();
                 Ok((
                     Labelled {
                         category,
                         label,
                         truth,
+                        unnamed,
                     },
                     case,
                 ))

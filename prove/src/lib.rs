@@ -4,6 +4,7 @@
 #![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 pub mod categories;
+pub mod lab;
 pub mod real;
 pub mod reported;
 pub mod sessions;
@@ -34,6 +35,8 @@ pub struct Case {
     /// The physics hidden besides the catalogue's, and what a right answer says of it
     /// ([`categories::described`]).
     pub described: Option<Truth>,
+    /// Physics nobody named, and what a right answer says of it ([`categories::unnamed`]).
+    pub unnamed: Option<categories::unnamed::Truth>,
 }
 
 impl Score {
@@ -156,6 +159,35 @@ impl Plan {
         self.build(id, &CaseSpec::new(kinds))
     }
 
+    /// The ambient's swing (amplitude °C, period s) where the case needs one, drawn after the
+    /// truth (in the standard proof's order).
+    fn ambient_swing(
+        &self,
+        id: usize,
+        cs: &CaseSpec,
+        u: &mut impl FnMut(f64, f64) -> f64,
+    ) -> Option<(f64, f64)> {
+        // Every other drift follows an ambient that also swings: the regression on temp_C.
+        let mut ambient_swing = (cs.kinds.contains(&EffectKind::ThermalDrift) && id % 2 == 0)
+            .then(|| (u(0.5, 1.0), u(30.0, 90.0)));
+        if cs.nuisance == Some(Nuisance::TemperatureIgnored) {
+            ambient_swing = Some((u(1.0, 2.0), u(40.0, 90.0)));
+        }
+        if let Some(swing) = cs
+            .injection
+            .and_then(|i| i.ambient_swing(self.seed ^ id as u64))
+        {
+            ambient_swing = Some(swing);
+        }
+        if let Some(swing) = cs
+            .unnamed
+            .and_then(|h| h.ambient_swing(self.seed ^ id as u64))
+        {
+            ambient_swing = Some(swing);
+        }
+        ambient_swing
+    }
+
     /// One case: the jig and the truth drawn from the case's seed (in the standard proof's
     /// order, so its recordings do not change), then what the category varies.
     fn build(&self, id: usize, cs: &CaseSpec) -> Result<Case, FeResponseError> {
@@ -178,18 +210,7 @@ impl Plan {
             .iter()
             .map(|&k| k.with_params(&random_params(k, &mut u, second_peak_output)))
             .collect();
-        // Every other drift follows an ambient that also swings: the regression on temp_C.
-        let mut ambient_swing = (cs.kinds.contains(&EffectKind::ThermalDrift) && id % 2 == 0)
-            .then(|| (u(0.5, 1.0), u(30.0, 90.0)));
-        if cs.nuisance == Some(Nuisance::TemperatureIgnored) {
-            ambient_swing = Some((u(1.0, 2.0), u(40.0, 90.0)));
-        }
-        if let Some(swing) = cs
-            .injection
-            .and_then(|i| i.ambient_swing(self.seed ^ id as u64))
-        {
-            ambient_swing = Some(swing);
-        }
+        let ambient_swing = self.ambient_swing(id, cs, &mut u);
         let other = cs.other_family.map(|linear_outputs| OtherFingertip {
             fe: &fe,
             exponent: u(1.5, 2.3),
@@ -212,7 +233,10 @@ impl Plan {
             azimuth_deg: jig.azimuth_deg,
             radius_mm: self.radius_mm,
             test: RodSchedule {
-                sample_rate_hz: cs.protocol.sample_rate_hz().unwrap_or(self.sample_rate_hz),
+                sample_rate_hz: cs
+                    .sample_rate_hz
+                    .or(cs.protocol.sample_rate_hz())
+                    .unwrap_or(self.sample_rate_hz),
                 recovery_s: 45.0,
                 ..Default::default()
             },
@@ -225,35 +249,52 @@ impl Plan {
             ambient_swing,
             source: "tactile prove".into(),
         };
-        let (recording, described) = record(&spec, cs, &jig);
+        let (recording, hidden) = record(&spec, cs, &jig);
+        let (described, unnamed) = match hidden {
+            Hidden::Nothing => (None, None),
+            Hidden::Described(t) => (Some(t), None),
+            Hidden::Unnamed(t) => (None, Some(t)),
+        };
         Ok(Case {
             id,
             truth,
             low_snr: jig.low_snr,
             recording,
             described,
+            unnamed,
         })
     }
 }
 
+/// The truth of what a case hides besides the catalogue's effects.
+enum Hidden {
+    Nothing,
+    Described(Truth),
+    Unnamed(categories::unnamed::Truth),
+}
+
 /// Simulate `spec` along the case's protocol, then add its nuisance; or simulate the physics it
 /// hides besides the catalogue's, with its truth.
-fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> (Recording, Option<Truth>) {
+fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> (Recording, Hidden) {
     let waypoints = cs.protocol.waypoints(spec, [jig.peak_n, jig.second_peak_n]);
+    let history = || match &waypoints {
+        Some(w) => sim::compression::RodHistory::from_waypoints(spec.test.sample_rate_hz, w),
+        None => {
+            let turns: Vec<f64> = spec
+                .peak_loads_n
+                .iter()
+                .map(|&l| baseline::synth::rod_at(spec, l))
+                .collect();
+            spec.test.rod_history(&turns)
+        }
+    };
     if let Some(injection) = &cs.injection {
-        let history = match waypoints {
-            Some(w) => sim::compression::RodHistory::from_waypoints(spec.test.sample_rate_hz, &w),
-            None => {
-                let turns: Vec<f64> = spec
-                    .peak_loads_n
-                    .iter()
-                    .map(|&l| baseline::synth::rod_at(spec, l))
-                    .collect();
-                spec.test.rod_history(&turns)
-            }
-        };
-        let (recording, truth) = injection.record(spec, history);
-        return (recording, Some(truth));
+        let (recording, truth) = injection.record(spec, history());
+        return (recording, Hidden::Described(truth));
+    }
+    if let Some(hidden) = &cs.unnamed {
+        let (recording, truth) = hidden.record(spec, history());
+        return (recording, Hidden::Unnamed(truth));
     }
     let mut recording = match waypoints {
         Some(w) => simulate_path(
@@ -269,7 +310,7 @@ fn record(spec: &SimSpec, cs: &CaseSpec, jig: &Jig) -> (Recording, Option<Truth>
         let mut u = |a: f64, b: f64| a + (b - a) * h.uniform();
         n.apply(&mut recording, &mut u, &mut || z.normal(), &jig.noise);
     }
-    (recording, None)
+    (recording, Hidden::Nothing)
 }
 
 /// What one case hides, and what its category varies beyond the standard proof.
@@ -282,6 +323,10 @@ pub struct CaseSpec {
     pub nuisance: Option<Nuisance>,
     /// Physics beyond the catalogue's effects, or a catalogue entry at another stage.
     pub injection: Option<Injection>,
+    /// Physics nobody named ([`categories::unnamed`]), or a null recording of that group.
+    pub unnamed: Option<categories::unnamed::Hidden>,
+    /// Its own sample rate, over the protocol's and the plan's.
+    pub sample_rate_hz: Option<f64>,
 }
 
 impl CaseSpec {
@@ -293,6 +338,8 @@ impl CaseSpec {
             other_family: None,
             nuisance: None,
             injection: None,
+            unnamed: None,
+            sample_rate_hz: None,
         }
     }
 }

@@ -47,7 +47,7 @@ fn write_recording(columns: Columns<'_>, attrs: Bound<'_, PyDict>, path: PathBuf
 #[pyo3(signature = (
     contact_angle, azimuth, peak_load, rate=None, recovery_s=None, modulus_pa=None, then_peak_load=None,
     noise_v=None, noise_load_n=None, seed=None, effect=None, gain=None, smoother_alpha=None,
-    ambient_swing=None, excitation_v=None
+    ambient_swing=None, excitation_v=None, rod_speed=None
 ))]
 #[allow(clippy::too_many_arguments)] // One keyword per flag of the command.
 fn simulate(
@@ -67,10 +67,12 @@ fn simulate(
     smoother_alpha: Option<f64>,
     ambient_swing: Option<(f64, f64)>,
     excitation_v: Option<f64>,
+    rod_speed: Option<f64>,
 ) -> PyResult<Table<'_>> {
     let defaults = SimulateOptions::new(contact_angle, azimuth, peak_load);
     let options = SimulateOptions {
         rate_hz: rate,
+        rod_speed_mm_per_min: rod_speed,
         recovery_s,
         modulus_pa,
         then_peak_loads_n: then_peak_load.unwrap_or(defaults.then_peak_loads_n.clone()),
@@ -157,9 +159,10 @@ fn diagnose_frame(
 }
 
 /// `tactile diagnose --joint`'s JSON (the same text, through `diagnosis::joint::json_text`) for
-/// the recordings at `paths`: files, and for a folder every `*.csv` in it, as the command
-/// expands them; against the user's `simulations` where they are given (one for all, one per
-/// recording in order, or a folder of them by the recordings' file names).
+/// the recordings at `paths`: files, and for a folder every `*.csv` in it, checked and
+/// expanded by the library as for the command; against the user's `simulations` where they are
+/// given (one for all, one per recording in order, or a folder of them by the recordings' file
+/// names).
 #[pyfunction]
 #[pyo3(signature = (paths, simulations=None))]
 fn diagnose_session_json(
@@ -167,11 +170,17 @@ fn diagnose_session_json(
     paths: Vec<PathBuf>,
     simulations: Option<Vec<PathBuf>>,
 ) -> PyResult<String> {
-    let inputs = diagnosis::session::expand_inputs(&paths).map_err(|e| error::raise(None, &e))?;
-    let options = options(baseline_of(&inputs, &simulations.unwrap_or_default())?)?;
+    let simulations = simulations.unwrap_or_default();
+    let baseline = if simulations.is_empty() {
+        BaselineSource::Fe
+    } else {
+        let inputs = diagnosis::inputs::expand(&paths).map_err(|e| error::raise(None, &e))?;
+        baseline_of(&inputs, &simulations)?
+    };
+    let options = options(baseline)?;
     let text = py
         .detach(|| {
-            diagnosis::joint::diagnose_session(&inputs, &options)
+            diagnosis::joint::diagnose_session(&paths, &options)
                 .map(|d| diagnosis::joint::json_text(&d))
         })
         .map_err(|e| error::raise(None, &e))?;

@@ -104,11 +104,13 @@ def simulate(
     smoother_alpha: Optional[float] = None,
     ambient_swing: Optional[Sequence[float]] = None,
     excitation_v: Optional[float] = None,
+    rod_speed: Optional[float] = None,
 ) -> pd.DataFrame:
     """The recording ``tactile simulate`` writes for the same options (one keyword per flag,
     same defaults; ``None`` takes the value of ``hardware/``). ``then_peak_load`` and
     ``effect`` take one value or a list, like the repeatable flags; ``gain`` is (Fz, Mx, My)
-    and ``ambient_swing`` (amplitude degC, period s)."""
+    and ``ambient_swing`` (amplitude degC, period s); ``rod_speed`` is ``--rod-speed``, mm/min.
+    ``peak_load`` is the recorded load's peak, whatever the effects on the load."""
     table = _tactile.simulate(
         float(contact_angle),
         float(azimuth),
@@ -125,6 +127,7 @@ def simulate(
         smoother_alpha=smoother_alpha,
         ambient_swing=None if ambient_swing is None else tuple(ambient_swing),
         excitation_v=excitation_v,
+        rod_speed=rod_speed,
     )
     return _frame(table)
 
@@ -158,9 +161,13 @@ def diagnose_session(
     every ``*.csv`` in them (sorted), in order; one path alone is a session of itself. A file
     that cannot be analysed is reported in its row of ``recordings`` with ``"error"``, as the
     command does (which then exits 65); when none can, :class:`TactileDataError` is raised
-    with the command's message. ``simulations``: the user's own simulations as the baselines,
-    as ``--simulation`` takes them: one file for every recording, one per recording in the
-    recordings' order, or a folder holding a simulation named as each recording."""
+    with the command's message. Before any work, as the command: a missing file raises
+    :class:`TactileFileError`; an empty list, a recording given twice (the same file, a link
+    to it, a byte-identical copy) or recordings of another sensor or fingertip (their
+    ``fingertip_radius_mm`` or ``chip_serial``) raise :class:`TactileDataError` naming them.
+    ``simulations``: the user's own simulations as the baselines, as ``--simulation`` takes
+    them: one file for every recording, one per recording in the recordings' order, or a folder
+    holding a simulation named as each recording."""
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     if isinstance(simulations, (str, os.PathLike)):

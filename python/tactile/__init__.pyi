@@ -28,6 +28,7 @@ def simulate(
     smoother_alpha: Optional[float] = None,
     ambient_swing: Optional[Sequence[float]] = None,
     excitation_v: Optional[float] = None,
+    rod_speed: Optional[float] = None,
 ) -> pd.DataFrame: ...
 def diagnose(
     recording: Union[PathLike, pd.DataFrame],

@@ -22,6 +22,7 @@ def simulate(
     smoother_alpha: Optional[float] = None,
     ambient_swing: Optional[Tuple[float, float]] = None,
     excitation_v: Optional[float] = None,
+    rod_speed: Optional[float] = None,
 ) -> _Table: ...
 def diagnose_file(path: str, simulation: Optional[str] = None) -> str: ...
 def diagnose_frame(

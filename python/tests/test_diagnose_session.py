@@ -62,3 +62,24 @@ def test_a_bad_file_is_its_rows_error_and_no_good_file_is_the_clis_error(
     with pytest.raises(tactile.TactileDataError) as e:
         tactile.diagnose_session([bad])
     assert str(e.value) == cli.error("diagnose", "--joint", bad, "--json", scratch / "x.json")
+
+
+def test_inputs_that_go_wrong_raise_before_any_work_with_the_clis_message(
+    cli, scratch: Path, session: Path
+) -> None:
+    out = scratch / "never.json"
+    missing = scratch / "missing.csv"
+    with pytest.raises(tactile.TactileFileError) as e:
+        tactile.diagnose_session([session / "az0.csv", missing])
+    assert isinstance(e.value, OSError)
+    assert str(missing) in str(e.value)
+    assert str(e.value) == cli.error("diagnose", "--joint", session / "az0.csv", missing, "--json", out)
+    assert cli.run("diagnose", "--joint", missing, "--json", out, ok=False).returncode == 66
+    with pytest.raises(tactile.TactileDataError, match="no recording given"):
+        tactile.diagnose_session([])
+    twice = [session / "az0.csv", session / "." / "az0.csv"]
+    with pytest.raises(tactile.TactileDataError) as e:
+        tactile.diagnose_session(twice)
+    assert "each recording is given once" in str(e.value)
+    assert str(e.value) == cli.error("diagnose", "--joint", *twice, "--json", out)
+    assert not out.exists()

@@ -66,6 +66,13 @@ pub enum MachineExportError {
         /// What is wrong.
         why: String,
     },
+    /// An importer's option that cannot be used as given (no file is at fault).
+    Usage {
+        /// The option, as the command line spells it.
+        option: String,
+        /// What is wrong.
+        why: String,
+    },
 }
 
 impl fmt::Display for MachineExportError {
@@ -87,6 +94,7 @@ impl fmt::Display for MachineExportError {
                 field,
                 why,
             } => write!(f, "{path}:{line}: field {field}: {why}"),
+            Self::Usage { option, why } => write!(f, "{option}: {why}"),
         }
     }
 }
@@ -112,10 +120,13 @@ impl MachineExportError {
 }
 
 /// An export that could not be read is a missing or forbidden input; one that was read and
-/// refused is bad data.
+/// refused is bad data; an option that cannot be used is a usage error.
 impl sysexit::ExitStatus for MachineExportError {
     fn exit_code(&self) -> u8 {
-        self.io_kind().map_or(sysexit::DATA, sysexit::of_input)
+        match self {
+            Self::Usage { .. } => sysexit::USAGE,
+            _ => self.io_kind().map_or(sysexit::DATA, sysexit::of_input),
+        }
     }
 }
 

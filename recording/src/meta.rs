@@ -34,6 +34,11 @@ pub struct Meta {
 /// firmware smoother's alpha.
 pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
 
+/// The metadata key (this project's own) that names the device: the chip's serial number as
+/// the logger reads it from the device's info frame (eight hex digits). Recordings of one
+/// session must agree on it where they name it (`docs/session-format.md`).
+pub const CHIP_SERIAL_KEY: &str = "chip_serial";
+
 /// The metadata keys [`Meta`] types as numbers, in the order the writer emits them; every one
 /// but the last (`rod_speed_mm_per_min`) is required. One list for every reader and writer of
 /// the format (the file's, the Python package's DataFrame attributes).

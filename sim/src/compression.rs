@@ -88,6 +88,16 @@ impl RodSchedule {
         RodHistory::from_waypoints(self.sample_rate_hz, &waypoints)
     }
 
+    /// For each cycle of [`Self::rod_history`]`(turn_rod_mm)`, the time its loading starts and
+    /// the time its hold ends, s: the stretch in which the cycle's peak load is recorded.
+    pub fn loading_and_hold_s(&self, turn_rod_mm: &[f64]) -> Vec<(f64, f64)> {
+        // Four segments a cycle after the first rest: loading, hold, return, recovery.
+        self.segments(turn_rod_mm)[1..]
+            .chunks(4)
+            .map(|c| (c[0].t0_s, c[1].t1_s))
+            .collect()
+    }
+
     fn segments(&self, turn_rod_mm: &[f64]) -> Vec<Segment> {
         let mut out = Vec::new();
         let mut t = 0.0;
@@ -150,6 +160,19 @@ mod tests {
         assert!((at(34.0) - 10.0).abs() < 1e-9);
         assert!((at(2.0 + 31.5 + 2.0 + 0.525) - 4.75).abs() < 1e-6);
         assert_eq!(at(40.0), -0.5);
+    }
+
+    #[test]
+    fn each_cycle_loads_and_holds_where_the_history_says() {
+        let test = RodSchedule::default();
+        let spans = test.loading_and_hold_s(&[10.0, 4.5]);
+        assert_eq!(spans.len(), 2);
+        assert!((spans[0].0 - 2.0).abs() < 1e-12);
+        assert!((spans[0].1 - (2.0 + 31.5 + 2.0)).abs() < 1e-9);
+        // The second starts after the first's return and recovery, and loads 5 mm.
+        let second = 2.0 + 31.5 + 2.0 + 1.05 + 60.0;
+        assert!((spans[1].0 - second).abs() < 1e-9);
+        assert!((spans[1].1 - (second + 15.0 + 2.0)).abs() < 1e-9);
     }
 
     #[test]

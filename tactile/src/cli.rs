@@ -7,9 +7,17 @@ use clap::{Parser, Subcommand};
 
 use crate::cmd;
 
-/// Firmware and host toolkit for the MEMS force/moment sensor in a soft fingertip.
+/// Record, simulate and diagnose a soft fingertip's force/moment sensor: a MEMS chip measuring
+/// Fz, Mx and My at the base of a 40 mm gel hemisphere. Talk to sensors over USB serial (list,
+/// info, tare, config); record one sensor or a whole hand to CSV and MCAP (log), re-decode a
+/// capture (replay), plot a recording (plot), convert a test machine's export (import); model
+/// the chip and the fingertip (chip, fe, observations) and simulate a compression test
+/// (simulate); and where a recording and the model disagree, find where and name the missing
+/// physics, for one recording, a batch or a session of one sensor diagnosed jointly (diagnose);
+/// prove scores that diagnosis on recordings with concealed effects. `tactile COMMAND --help`
+/// describes each; an error is one line naming the file, line or port, with a sysexits code.
 #[derive(Debug, Parser)]
-#[command(name = "tactile", version, about, long_about = None, propagate_version = true)]
+#[command(name = "tactile", version, long_about = None, propagate_version = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -37,13 +45,15 @@ pub enum Command {
     Fe(cmd::fe::Args),
     /// The paper's seven observations against the fingertip model: a scorecard.
     Observations(cmd::observations::Args),
-    /// Write the baseline model's recording of the standard compression test.
+    /// Write the baseline model's recording of the standard compression test, with effects.
     Simulate(cmd::simulate::Args),
-    /// Locate where a recording and the simulation disagree and name the missing physics.
+    /// Locate where recordings and the model disagree and name the missing physics: one
+    /// recording, a batch (--out-dir) or a session diagnosed jointly (--joint).
     Diagnose(cmd::diagnose::Args),
     /// Generate recordings with concealed effects, diagnose them blind and score the result.
     Prove(cmd::prove::Args),
-    /// Convert a test machine's export (Mach-1 text, generic CSV) to a recording.
+    /// Convert a test machine's export (Mach-1 text, generic CSV), or a sensor's log with a
+    /// reference's log, to a recording.
     Import(cmd::import::Args),
 }
 

@@ -40,8 +40,44 @@ pub struct SensorView {
     arrivals: VecDeque<(Instant, usize)>,
     last_point: Option<Instant>,
     pub last_gap: Option<String>,
-    /// The device clock against the host's: ppm, and the alignment's uncertainty in µs.
-    pub clock: (f64, f64),
+    /// The device clock against the host's.
+    pub clock: ClockView,
+}
+
+/// A device clock as shown: its rate against the host's, whether that rate is still settling
+/// (`host::clock::DeviceClock::settling`: its uncertainty above a ppm), and the alignment's
+/// uncertainty.
+#[derive(Debug, Clone, Copy)]
+pub struct ClockView {
+    pub ppm: f64,
+    pub settling: bool,
+    pub uncertainty_us: f64,
+}
+
+impl ClockView {
+    /// Before the first frame: nothing known.
+    pub const UNKNOWN: Self = Self {
+        ppm: f64::NAN,
+        settling: true,
+        uncertainty_us: f64::NAN,
+    };
+
+    pub fn of(c: &host::clock::DeviceClock) -> Self {
+        Self {
+            ppm: c.ppm(),
+            settling: c.settling(),
+            uncertainty_us: c.uncertainty_s() * 1e6,
+        }
+    }
+
+    /// `clock +35.2 ppm (settling) ±71 µs`: the status line's and the live view's words.
+    pub fn text(&self) -> String {
+        let settling = if self.settling { " (settling)" } else { "" };
+        format!(
+            "clock {:+.1} ppm{settling} ±{:.0} µs",
+            self.ppm, self.uncertainty_us
+        )
+    }
 }
 
 impl SensorView {
@@ -56,7 +92,7 @@ impl SensorView {
             arrivals: VecDeque::new(),
             last_point: None,
             last_gap: None,
-            clock: (f64::NAN, f64::NAN),
+            clock: ClockView::UNKNOWN,
         }
     }
 
@@ -356,7 +392,6 @@ fn colour(bad: bool) -> Style {
 
 /// The finger's status: rate, lost, clock; then the other counters and the last gap.
 fn status_lines(v: &SensorView, c: &Counters) -> [Line<'static>; 2] {
-    let (ppm, unc_us) = v.clock;
     let slow = v.rate_hz() < 0.9 * f64::from(v.nominal_rate_hz);
     let status = Line::from(vec![
         Span::styled(format!("{:.0} S/s ", v.rate_hz()), colour(slow)),
@@ -364,7 +399,7 @@ fn status_lines(v: &SensorView, c: &Counters) -> [Line<'static>; 2] {
             format!("lost {} ", c.lost_on_link),
             colour(c.lost_on_link > 0),
         ),
-        Span::raw(format!("clock {ppm:+.1} ppm ±{unc_us:.0} µs")),
+        Span::raw(v.clock.text()),
     ]);
     let damage = c.dropped_by_device + c.crc_errors + c.reconnects + c.host_queue_drops;
     let more = Line::from(vec![

@@ -1,6 +1,7 @@
 //! `tactile import` through the binary: a small Mach-1 export and a semicolon CSV become
 //! recordings the reader accepts, with the sensor columns not measured; broken exports are one
-//! line naming file, line and field, exit 65.
+//! line naming file, line and field, exit 65. A sensor's log with a reference's (the committed
+//! synthetic pair, and the real eFlesh pair where it is present) become one recording.
 
 use std::path::PathBuf;
 
@@ -150,6 +151,7 @@ fn broken_exports_exit_65_naming_line_and_field() {
     }
     let input = d.join("c.csv");
     std::fs::write(&input, "t,d,f\n0,0,0\n1,1,1\n").unwrap();
+    // A unit the command does not know is a usage error, named with the flag.
     fails(
         &tactile(&[
             "import",
@@ -161,8 +163,8 @@ fn broken_exports_exit_65_naming_line_and_field() {
             "-o",
             s(&out),
         ]),
-        exit::DATA,
-        &["c.csv:1: field f: unknown unit"],
+        exit::USAGE,
+        &["--force-unit", "unknown unit \"stone\""],
     );
     assert!(!out.exists());
 }

@@ -192,4 +192,6 @@ fn the_baselines_own_noise_free_recording_is_no_mismatch() {
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     assert_eq!(v["verdict"], "no_significant_mismatch", "{v}");
     assert!(v["effects"].as_array().unwrap().is_empty(), "{v}");
+    // Nothing undecided is an empty list, not an absent field (as in the session's output).
+    assert_eq!(v["undecided"], serde_json::json!([]), "{v}");
 }

@@ -1,7 +1,8 @@
 //! `tactile diagnose --joint` end to end through the binary (`docs/session-format.md`): a
 //! rotated chip that one recording at an axis-aligned azimuth cannot tell from its moment gains
 //! is found, shared, across three azimuths; a bad file is a row with its error and exit 65, the
-//! others still diagnosed; nothing analysable is a one-line error and no OUT.json.
+//! others still diagnosed; nothing analysable is a one-line error and no OUT.json (a missing
+//! input, refused before any work: `session_inputs.rs`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -132,20 +133,21 @@ fn a_bad_file_is_its_row_and_the_session_goes_on() {
 fn nothing_analysable_is_an_error_without_output() {
     let d = dir("none");
     std::fs::write(d.join("a.csv"), "nonsense\n").unwrap();
+    std::fs::write(d.join("b.csv"), "t_s,rod_mm\n").unwrap();
     let json = d.join("out.json");
     let o = tactile()
         .args(["diagnose", "--joint", "--quiet"])
         .arg(d.join("a.csv"))
-        .arg(d.join("missing.csv"))
+        .arg(d.join("b.csv"))
         .arg("--json")
         .arg(&json)
         .output()
         .unwrap();
-    assert!(!o.status.success());
+    assert_eq!(o.status.code(), Some(65));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(
-        stderr.contains("a.csv") && stderr.contains("missing.csv"),
+        stderr.contains("a.csv") && stderr.contains("b.csv"),
         "{stderr}"
     );
     assert!(!json.exists());

@@ -7,13 +7,20 @@ use sim::effects::{EffectKind, Stage};
 use super::model::Layout;
 use super::output::*;
 use super::search::OWN_ALWAYS;
-use super::{distinct, distinct_kinds, Members, Outcome};
+use super::seen::{self, Seen};
+use super::{distinct, distinct_kinds, verdict, Members, Outcome};
 use crate::data::CHANNELS;
 use crate::fit::{physical, Model, N_BASE, SCALE_AT};
 use crate::output::{EffectReport, Fit, Heldout, Numbers, Undecided, Verdict};
+use crate::pipeline::PlotData;
 
-/// The report of the session's `outcome` with its validation.
-pub(crate) fn report(m: &Members, outcome: &Outcome, validation: Validation) -> SessionReport {
+/// The report of the session's `outcome` with its validation, and each recording's series as
+/// the session's model sees it ([`Seen::plots`]).
+pub(crate) fn report(
+    m: &Members,
+    outcome: &Outcome,
+    validation: Validation,
+) -> (SessionReport, Vec<PlotData>) {
     let protocols = Protocols {
         contact_angles_deg: distinct(m.protocols.iter().map(|p| p.contact_angle_deg), 0.0),
         azimuths_deg: distinct(m.protocols.iter().map(|p| p.azimuth_deg), 0.0),
@@ -24,13 +31,35 @@ pub(crate) fn report(m: &Members, outcome: &Outcome, validation: Validation) -> 
     shared.extend(rotation);
     let (angle, contradicted) = scales(m, outcome, &protocols);
     shared.extend(angle);
-    let recordings: Vec<RecordingRow> = (0..m.setups.len())
-        .map(|r| row(m, outcome, r, !shared.is_empty(), turned.contains(&r)))
-        .collect();
-    let verdict = session_verdict(&recordings, &shared);
-    SessionReport {
+    let (recordings, plots): (Vec<RecordingRow>, Vec<PlotData>) = (0..m.setups.len())
+        .map(|r| {
+            // The terms beyond the catalogue that the recording keeps are not in the session's
+            // fit: on their channels its model is its own diagnosis's.
+            let terms_hold = described_still_needed(m, outcome, r);
+            let own_terms = if terms_hold {
+                seen::term_channels(&m.diags[r].report.effects)
+            } else {
+                Vec::new()
+            };
+            let seen = seen::seen(m, &outcome.fitted, r, &own_terms);
+            let on = |s: &SharedEffect| {
+                s.recordings
+                    .as_ref()
+                    .is_none_or(|f| f.contains(&m.files[r]))
+            };
+            let flags = RowFlags {
+                shared_on_it: shared.iter().any(on),
+                turned: turned.contains(&r),
+                terms_hold,
+            };
+            (row(m, outcome, r, flags, &seen), seen.plots)
+        })
+        .unzip();
+    let verdict = verdict::session(&recordings);
+    let report = SessionReport {
         format: FORMAT,
         verdict,
+        summary: String::new(),
         recordings,
         shared,
         validation,
@@ -39,7 +68,8 @@ pub(crate) fn report(m: &Members, outcome: &Outcome, validation: Validation) -> 
         contradicted,
         candidates: outcome.tried.clone(),
         seconds: 0.0,
-    }
+    };
+    (report, plots)
 }
 
 /// Recording `r`'s model at the session's fit.
@@ -113,6 +143,7 @@ fn effect_report(
         catalogue: true,
         depends_on: None,
         form: None,
+        inclusion: None,
         parameters: Vec::new(),
     }
 }
@@ -129,7 +160,10 @@ fn shared_effects(m: &Members, outcome: &Outcome) -> Vec<SharedEffect> {
         .map(|&(k, g)| {
             let words = format!(
                 "one parameter set for all {n} recordings: {}",
-                g.words(&format!("the session without {}", k.name()))
+                g.words(&format!(
+                    "the session without {}",
+                    crate::report::words::effect_name(k.name())
+                ))
             );
             SharedEffect {
                 effect: effect_report(m, outcome, 0, k, words),
@@ -251,6 +285,7 @@ fn angle_dependence(
             catalogue: true,
             depends_on: None,
             form: None,
+            inclusion: None,
             parameters: Vec::new(),
         },
         channel_param: Some(channel.to_string()),
@@ -258,12 +293,29 @@ fn angle_dependence(
     }
 }
 
+/// What decides a recording's row besides its fit.
+#[derive(Clone, Copy)]
+struct RowFlags {
+    /// A shared effect (or an angle law) acts on it.
+    shared_on_it: bool,
+    /// Its moment vector is turned beyond the jig's tolerance, unlike the session's others.
+    turned: bool,
+    /// It keeps the terms beyond the catalogue its own diagnosis described.
+    terms_hold: bool,
+}
+
 /// Recording `r`'s row: its own effects (those found alone that belong to one test, and shared
-/// effects the session fits per recording), its fit with the session's model, its verdict.
-fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool, turned: bool) -> RecordingRow {
+/// effects the session fits per recording), its fit with the session's model, its verdict from
+/// what that model leaves in it ([`verdict::recording`]) and, where it is not explained, what
+/// remains.
+fn row(m: &Members, outcome: &Outcome, r: usize, flags: RowFlags, seen: &Seen) -> RecordingRow {
     let single = &m.diags[r].report;
     let f = &outcome.fitted;
-    let terms_hold = described_still_needed(m, outcome, r);
+    let RowFlags {
+        shared_on_it,
+        turned,
+        terms_hold,
+    } = flags;
     // A sign the session turned back is this test's finding, whatever the model fits after.
     let flipped = m.flipped.get(r).is_some_and(|f| !f.is_empty());
     let mut effects: Vec<EffectReport> = single
@@ -309,37 +361,19 @@ fn row(m: &Members, outcome: &Outcome, r: usize, any_shared: bool, turned: bool)
             rmse_after: held,
         },
     };
-    let found = !effects.is_empty() || any_shared;
-    let verdict = match single.verdict {
-        _ if !found => single.verdict,
-        Verdict::NoSignificantMismatch | Verdict::Explained => Verdict::Explained,
-        _ if held < single.fit.heldout.rmse_before => Verdict::PartiallyExplained,
-        _ => Verdict::Unexplained,
-    };
+    let named = !effects.is_empty() || shared_on_it;
+    let lowered = held < single.fit.heldout.rmse_before;
+    let verdict = verdict::recording(named, seen.white, lowered);
+    let remains = matches!(verdict, Verdict::PartiallyExplained | Verdict::Unexplained)
+        .then(|| seen::remaining(&seen.plots));
     RecordingRow {
         file: m.files[r].clone(),
         verdict: Some(verdict),
         effects: Some(effects),
         fit: Some(fit),
         protocol: Some(m.protocols[r]),
+        remains,
         error: None,
-    }
-}
-
-/// The session's verdict from its recordings': quiet when every recording is and nothing is
-/// shared; explained when every recording is explained or quiet; unexplained when none is
-/// explained at all.
-fn session_verdict(rows: &[RecordingRow], shared: &[SharedEffect]) -> Verdict {
-    let verdicts: Vec<Verdict> = rows.iter().filter_map(|r| r.verdict).collect();
-    let all = |f: &dyn Fn(Verdict) -> bool| verdicts.iter().all(|&v| f(v));
-    if shared.is_empty() && all(&|v| v == Verdict::NoSignificantMismatch) {
-        Verdict::NoSignificantMismatch
-    } else if all(&|v| matches!(v, Verdict::Explained | Verdict::NoSignificantMismatch)) {
-        Verdict::Explained
-    } else if all(&|v| matches!(v, Verdict::Unexplained | Verdict::NoSignificantMismatch)) {
-        Verdict::Unexplained
-    } else {
-        Verdict::PartiallyExplained
     }
 }
 

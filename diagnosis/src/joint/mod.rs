@@ -9,6 +9,8 @@
 //! `tables`, `validation`).
 
 mod assemble;
+mod each;
+mod headline;
 mod html;
 #[cfg(test)]
 mod html_tests;
@@ -16,8 +18,10 @@ mod loo;
 mod model;
 pub mod output;
 mod search;
+mod seen;
 mod tables;
 mod validation;
+mod verdict;
 
 pub use html::{report_html, write_report};
 
@@ -29,7 +33,8 @@ use recording::Recording;
 use sim::effects::EffectKind;
 
 use crate::fit::{Model, Setup};
-use crate::pipeline::{diagnose, prepare, Diagnosis, Options, Prepared};
+use crate::inputs::InputError;
+use crate::pipeline::{diagnose, prepare, Diagnosis, Options, PlotData, Prepared};
 use model::{JointFit, Layout};
 use output::{Protocol, SessionReport};
 use search::{Fitted, Search, OWN_ALWAYS};
@@ -41,6 +46,9 @@ const BASE_ITERATIONS: usize = 80;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum JointError {
+    /// The inputs are not one sensor's recordings, each once ([`crate::inputs`]).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// No input could be read and diagnosed; each file's reason follows.
     #[error("no recording of the session could be analysed: {0}")]
     NothingUsable(String),
@@ -48,7 +56,10 @@ pub enum JointError {
 
 impl sysexit::ExitStatus for JointError {
     fn exit_code(&self) -> u8 {
-        sysexit::DATA
+        match self {
+            Self::Input(e) => sysexit::ExitStatus::exit_code(e),
+            Self::NothingUsable(_) => sysexit::DATA,
+        }
     }
 }
 
@@ -57,6 +68,10 @@ impl sysexit::ExitStatus for JointError {
 pub struct SessionDiagnosis {
     pub report: SessionReport,
     pub singles: Vec<(String, Result<Diagnosis, String>)>,
+    /// Per input file, in `singles`' order, its series as the session's model sees them: the
+    /// recording, the baseline calibrated to it alone, and as `improved` the session's model
+    /// (`None`: not analysed).
+    pub plots: Vec<Option<PlotData>>,
 }
 
 /// OUT.json's text for `d`, as `tactile diagnose --joint` writes it (pretty, one final newline).
@@ -64,7 +79,7 @@ pub fn json_text(d: &SessionDiagnosis) -> serde_json::Result<String> {
     Ok(serde_json::to_string_pretty(&d.report)? + "\n")
 }
 
-/// The name a recording has in the session's output: its file name.
+/// A recording's file name.
 pub fn file_name(path: &Path) -> String {
     path.file_name().map_or_else(
         || path.display().to_string(),
@@ -72,24 +87,60 @@ pub fn file_name(path: &Path) -> String {
     )
 }
 
-/// Diagnose the recordings at `inputs` (files) jointly.
-pub fn diagnose_session(inputs: &[PathBuf], opt: &Options) -> Result<SessionDiagnosis, JointError> {
-    let read = inputs
+/// The names the recordings at `files` have in the session's output: each its file name, but
+/// the path as given where another recording has the same file name (`day1/rec.csv`,
+/// `day2/rec.csv`).
+pub fn row_names(files: &[PathBuf]) -> Vec<String> {
+    let names: Vec<String> = files.iter().map(|f| file_name(f)).collect();
+    names
         .iter()
-        .map(|path| {
-            let rec = recording::read(path).map_err(|e| e.to_string());
-            (file_name(path), rec)
+        .zip(files)
+        .map(|(name, path)| {
+            if names.iter().filter(|n| *n == name).count() > 1 {
+                path.display().to_string()
+            } else {
+                name.clone()
+            }
         })
+        .collect()
+}
+
+/// Diagnose the recordings `inputs` name (files, and for a folder every `*.csv` in it) jointly.
+/// Before any work the inputs are checked ([`crate::inputs`]): each there, each recording once
+/// by content, and, once read, of one sensor in one fingertip.
+pub fn diagnose_session(inputs: &[PathBuf], opt: &Options) -> Result<SessionDiagnosis, JointError> {
+    let files = crate::inputs::recordings(inputs)?;
+    let read: Vec<(String, Result<Recording, String>)> = files
+        .iter()
+        .zip(row_names(&files))
+        .map(|(path, name)| (name, recording::read(path).map_err(|e| e.to_string())))
         .collect();
+    // Named by their paths as given here, as every other refusal of an input is.
+    let paths: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    crate::inputs::one_sensor(
+        paths
+            .iter()
+            .zip(&read)
+            .filter_map(|(path, (_, rec))| Some((path.as_str(), &rec.as_ref().ok()?.meta))),
+    )?;
     diagnose_recordings(read, opt)
 }
 
 /// Diagnose recordings already read (each named, or the one-line reason it could not be read)
-/// jointly.
+/// jointly. The readable ones must be of one sensor in one fingertip
+/// ([`crate::inputs::one_sensor`]), judged against the first.
 pub fn diagnose_recordings(
     inputs: Vec<(String, Result<Recording, String>)>,
     opt: &Options,
 ) -> Result<SessionDiagnosis, JointError> {
+    if inputs.is_empty() {
+        return Err(InputError::Nothing.into());
+    }
+    crate::inputs::one_sensor(
+        inputs
+            .iter()
+            .filter_map(|(name, rec)| Some((name.as_str(), &rec.as_ref().ok()?.meta))),
+    )?;
     let started = Instant::now();
     let files: Vec<String> = inputs.iter().map(|(f, _)| f.clone()).collect();
     let loaded: Vec<Result<(Recording, Diagnosis), String>> = inputs
@@ -118,7 +169,8 @@ pub fn diagnose_recordings(
         .collect();
     let names: Vec<String> = ok.iter().map(|&i| files[i].clone()).collect();
     let as_found = prepare_all(&recs, &diags, &names, opt, &[])?;
-    let (mut report, as_is) = session_report(&as_found, &diags, &recs, &names, opt, Vec::new());
+    let (mut report, as_is, mut plots) =
+        session_report(&as_found, &diags, &recs, &names, opt, Vec::new());
     // A sign that a recording's own diagnosis found flipped (a wire) is that test's where the
     // session as read agrees: it needs that output's scale per recording, and this
     // recording's of the other sign than the rest (one sensor's sensitivity does not turn
@@ -129,16 +181,26 @@ pub fn diagnose_recordings(
     let flips = confirmed_flips(&diags, &as_is);
     if flips.iter().any(|f| !f.is_empty()) {
         let turned = prepare_all(&recs, &diags, &names, opt, &flips)?;
-        report = session_report(&turned, &diags, &recs, &names, opt, flips).0;
+        (report, _, plots) = session_report(&turned, &diags, &recs, &names, opt, flips);
     }
     report.recordings = merge_rows(&files, &loaded, report.recordings);
+    report.summary = headline::sentence(&report);
     report.seconds = started.elapsed().as_secs_f64();
+    let mut plots = plots.into_iter();
+    let plots = loaded
+        .iter()
+        .map(|l| l.as_ref().ok().and_then(|_| plots.next()))
+        .collect();
     let singles = files
         .into_iter()
         .zip(loaded)
         .map(|(f, l)| (f, l.map(|(_, d)| d)))
         .collect();
-    Ok(SessionDiagnosis { report, singles })
+    Ok(SessionDiagnosis {
+        report,
+        singles,
+        plots,
+    })
 }
 
 /// Each analysed recording ready for the session: without what its own diagnosis found at a
@@ -166,7 +228,8 @@ fn prepare_all(
         .collect()
 }
 
-/// The session of `prepared` searched, validated and reported, and its fitted model.
+/// The session of `prepared` searched, validated and reported, its fitted model, and each
+/// recording's series under it.
 fn session_report(
     prepared: &[Prepared],
     diags: &[&Diagnosis],
@@ -174,7 +237,7 @@ fn session_report(
     names: &[String],
     opt: &Options,
     flipped: Vec<Vec<usize>>,
-) -> (SessionReport, Fitted) {
+) -> (SessionReport, Fitted, Vec<PlotData>) {
     let setups: Vec<Setup> = prepared.iter().map(|p| p.setup(opt)).collect();
     let members = Members {
         files: names.to_vec(),
@@ -190,7 +253,8 @@ fn session_report(
     };
     let outcome = members.search();
     let loo = loo::leave_one_out(&members, &outcome.fitted);
-    (assemble::report(&members, &outcome, loo), outcome.fitted)
+    let (report, plots) = assemble::report(&members, &outcome, loo);
+    (report, outcome.fitted, plots)
 }
 
 /// Per recording, the outputs (indices of `data::CHANNELS`) its own diagnosis found read with
@@ -250,6 +314,7 @@ fn merge_rows(
                 effects: None,
                 fit: None,
                 protocol: None,
+                remains: None,
                 error: Some(e.replace(['\r', '\n'], " ")),
             },
         })

@@ -4,6 +4,7 @@
 
 use serde::Serialize;
 
+use crate::localise::Mismatch;
 use crate::output::{EffectReport, Fit, Undecided, Verdict};
 
 /// The contract's format tag.
@@ -13,14 +14,17 @@ pub const FORMAT: &str = "tactile-session-diagnosis/1";
 pub struct SessionReport {
     pub format: &'static str,
     pub verdict: Verdict,
+    /// Extra: the verdict in words, as the page's headline says it: what is explained, what is
+    /// not and where, and which file failed.
+    pub summary: String,
     pub recordings: Vec<RecordingRow>,
     pub shared: Vec<SharedEffect>,
     pub validation: Validation,
     pub undecided: Vec<Undecided>,
     /// Extra: what the session's protocols vary, which decides what it can separate.
     pub protocols: Protocols,
-    /// Extra: shared parameters the recordings contradict, in words.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    /// Extra: shared parameters the recordings contradict, in words; always present, `[]` when
+    /// there is nothing (the contract's amendment of 2026-11-27).
     pub contradicted: Vec<Contradiction>,
     /// Extra: every session model tried, for the record.
     pub candidates: Vec<SessionCandidate>,
@@ -40,8 +44,26 @@ pub struct RecordingRow {
     /// Extra: its contact angle, azimuth and rod speed, as its metadata gives them.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocol: Option<Protocol>,
+    /// Extra: where and how the session's model still misses this recording, when its verdict
+    /// is `partially_explained` or `unexplained`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub remains: Option<Remaining>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+}
+
+/// What the session's model leaves in a recording it does not explain.
+#[derive(Debug, Clone, Serialize)]
+pub struct Remaining {
+    /// The regime windows holding the largest shares of the model's residual, worst first, in
+    /// the form of `tactile-diagnosis/1`'s `mismatches`.
+    pub windows: Vec<Mismatch>,
+    /// The residual's character in a phrase ("a slow drift on Fz"; "structured misfit, largest
+    /// on Fz" where no single trend, period or dependence stands out).
+    pub character: String,
+    /// Each channel's residual in a sentence where it shows a trend, a period, or a part that
+    /// follows the load or its rate.
+    pub channels: Vec<String>,
 }
 
 /// An effect with one parameter set for several recordings.
@@ -102,6 +124,19 @@ pub struct LeaveOneOut {
     pub file: String,
     pub rmse_before: f64,
     pub rmse_after: f64,
+    /// Extra: whether the prediction beats the recording's own baseline on that stretch by the
+    /// held-out test's own margin (its noise, and half a percent of the misfit).
+    pub change: Change,
+}
+
+/// A held-out misfit against the baseline's, by the held-out test's margin.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Change {
+    Better,
+    /// Within the margin: no change.
+    NoChange,
+    Worse,
 }
 
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]

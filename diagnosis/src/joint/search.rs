@@ -43,6 +43,8 @@ pub struct Gain {
     /// Held-out chi-square of the smaller minus the larger's, and the least that counts.
     pub heldout: f64,
     pub needed: f64,
+    /// The smaller model's held-out chi-square, which `heldout` and `needed` are parts of.
+    pub before: f64,
     /// The held-out gain the larger would make were it the truth (the squared norm of the
     /// two models' difference on the held-out stretches).
     pub reach: f64,
@@ -67,6 +69,7 @@ impl Gain {
             bic: bic.0 - bic.1,
             heldout: chi2.0 - chi2.1,
             needed: heldout_needed(reach.sqrt(), chi2.0),
+            before: chi2.0,
             reach,
             across: false,
         }
@@ -83,17 +86,51 @@ impl Gain {
         self.bic > MIN_BIC_GAIN && self.heldout <= self.needed && self.reach <= self.needed
     }
 
+    /// The two tests in words a reader weighs: the BIC's drop, and the held-out misfit's
+    /// change as a share of the smaller model's with the share the test asks for (a chi-square
+    /// sum means nothing outside its fit).
     pub fn words(&self, what: &str) -> String {
         let stretch = if self.across {
-            "the held-out stretches cannot test it; each recording predicted from the others', misfit"
+            "the held-out stretches cannot test it; each recording predicted from the others': RMS misfit"
         } else {
-            "held-out misfit"
+            "held-out RMS misfit"
         };
         format!(
-            "BIC {:+.0} vs {what}, {stretch} {:+.1} (noise {:.1})",
-            -self.bic, -self.heldout, self.needed
+            "BIC {} vs {what}, {stretch} {}",
+            signed_whole(-self.bic),
+            misfit_change(self.heldout, self.needed, self.before)
         )
     }
+}
+
+/// `+12` or `−60 795`: a BIC difference with its sign.
+fn signed_whole(v: f64) -> String {
+    let s = figures::number::fixed(v, 0);
+    if v >= 0.5 {
+        format!("+{s}")
+    } else {
+        s
+    }
+}
+
+/// A held-out misfit's drop `gain` (chi-square) against the least that counts, `needed`, in
+/// terms of the smaller model's `before`, as RMS misfits (the square roots, as a reader
+/// compares RMSEs): "12 % lower (0.25 % counts)", or where it halves or more the factor, "57
+/// times lower (0.25 % counts)".
+fn misfit_change(gain: f64, needed: f64, before: f64) -> String {
+    let before = before.max(1e-300);
+    // The RMS's change for a chi-square change `v`, percent.
+    let rms = |v: f64| 100.0 * (1.0 - (1.0 - v / before).max(0.0).sqrt());
+    let pct = |v: f64| figures::number::significant(rms(v).abs(), 2);
+    let change = if rms(gain) >= 50.0 {
+        let ratio = (before / (before - gain).max(1e-300)).sqrt();
+        format!("{} times lower", figures::number::significant(ratio, 2))
+    } else if gain >= 0.0 {
+        format!("{} % lower", pct(gain))
+    } else {
+        format!("{} % higher", pct(gain))
+    };
+    format!("{change} ({} % counts)", pct(needed))
 }
 
 /// The session's search over its recordings' setups.

@@ -1,7 +1,8 @@
 //! The session page's tables: the recordings with their protocol, verdict, own effects and
 //! held-out misfit (or their error), and the shared effects with their parameters.
 
-use super::output::{RecordingRow, SessionReport};
+use super::headline::{pct, plain};
+use super::output::{RecordingRow, SessionReport, SharedEffect};
 use crate::output::EffectReport;
 use crate::report::page::{esc, verdict_label};
 use crate::report::{capital, params, words};
@@ -45,7 +46,22 @@ fn recording_row(row: &RecordingRow) -> String {
             format!("{} mm/min", plain(p.rod_speed_mm_per_min)),
         )
     });
-    let verdict = row.verdict.map_or("", |v| verdict_label(v).1);
+    let mut verdict = esc(row.verdict.map_or("", |v| verdict_label(v).1));
+    // A recording the session's model does not explain: where it still misses most (the
+    // rest under "Each recording").
+    if let Some(rem) = &row.remains {
+        let at = match rem.windows.first() {
+            Some(m) => format!(
+                "still misses {} during the {} at {}–{} s",
+                words::channel_name(m.channel),
+                m.regime,
+                plain(m.t_start_s),
+                plain(m.t_end_s)
+            ),
+            None => rem.character.clone(),
+        };
+        verdict.push_str(&format!("<br><small class=remains>{}</small>", esc(&at)));
+    }
     let effects = match row.effects.as_deref() {
         None | Some([]) => "none".to_string(),
         Some(list) => list
@@ -80,12 +96,14 @@ fn recording_row(row: &RecordingRow) -> String {
     )
 }
 
-/// The effects with one parameter set for several recordings.
+/// The effects with one parameter set for several recordings, the angle laws among them (as
+/// OUT.json's `shared` lists them).
 pub(super) fn shared(r: &SessionReport) -> String {
     let mut h = String::from("<h2 id=shared>Shared effects</h2>");
     let n = r.recordings.iter().filter(|x| x.error.is_none()).count();
     let rows: Vec<String> = r
-        .effects_shared()
+        .shared
+        .iter()
         .map(|s| {
             let e = &s.effect;
             let on = s
@@ -98,13 +116,13 @@ pub(super) fn shared(r: &SessionReport) -> String {
                 esc(&capital(&words::effect_name(&e.name))),
                 e.stage.name(),
                 esc(&e.channels.join(", ")),
-                param_lines(e),
+                shared_params(s),
                 esc(&e.evidence)
             )
         })
         .collect();
     if rows.is_empty() {
-        h.push_str("<p>None: no catalogue effect with one parameter set improved the session's fit and its held-out misfit enough to be kept.</p>");
+        h.push_str("<p>None: no catalogue effect with one parameter set improved the session's fit and its held-out misfit enough to be kept, and no output's sensitivity follows the contact angle otherwise than the model's.</p>");
         return h;
     }
     h.push_str(
@@ -117,25 +135,18 @@ pub(super) fn shared(r: &SessionReport) -> String {
     h
 }
 
-/// A protocol's value as a lab writes it: `20`, `22.5`, `0.25` (three significant digits at
-/// most, no trailing zeros).
-pub(super) fn plain(v: f64) -> String {
-    let s = figures::number::significant(v, 3);
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
+/// A shared effect's parameters, an output it names (`angle_dependence`'s `channel`) first.
+fn shared_params(s: &SharedEffect) -> String {
+    let lines = param_lines(&s.effect);
+    match &s.channel_param {
+        Some(ch) => format!("<code>channel</code> = {}<br>{lines}", esc(ch)),
+        None => lines,
     }
-}
-
-/// A relative RMSE as a percentage of the range.
-pub(super) fn pct(v: f64) -> String {
-    format!("{} %", figures::number::significant(100.0 * v, 2))
 }
 
 #[cfg(test)]
 mod tests {
-    use super::plain;
+    use super::super::headline::plain;
 
     #[test]
     fn protocol_values_read_as_written() {

@@ -7,8 +7,8 @@ use figures::{styles, svg_string, Error};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::output::{LeaveOneOut, SessionCandidate, Validation};
-use super::tables::pct;
+use super::headline::pct;
+use super::output::{Change, LeaveOneOut, SessionCandidate, Validation};
 use crate::report::page::{esc, figure};
 use crate::report::words::effect_name;
 
@@ -18,25 +18,6 @@ const SIZE: (u32, u32) = (960, 320);
 const FONT: (&str, u32) = ("sans-serif", 16);
 const TITLE_FONT: (&str, u32) = ("sans-serif", 17);
 
-/// How many recordings the shared physics predicts better than their own baseline, in words:
-/// the second half of the verdict sentence.
-pub(super) fn sentence(v: &Validation) -> String {
-    let rows = &v.leave_one_out;
-    if rows.is_empty() {
-        return "no recording could be left out to validate it".to_string();
-    }
-    let better = rows.iter().filter(|r| r.rmse_after < r.rmse_before).count();
-    let n = rows.len() as f64;
-    let mean = |f: fn(&LeaveOneOut) -> f64| rows.iter().map(f).sum::<f64>() / n;
-    format!(
-        "predicted from the other recordings alone, {better} of {} held-out stretches fit better \
-         than with their own baseline (mean {} → {} of the range)",
-        rows.len(),
-        pct(mean(|r| r.rmse_before)),
-        pct(mean(|r| r.rmse_after))
-    )
-}
-
 /// The leave-one-out section: what it does, its table and its bar chart.
 pub(super) fn section(v: &Validation) -> String {
     let mut h = String::from(
@@ -45,7 +26,8 @@ pub(super) fn section(v: &Validation) -> String {
          fixed, only the recording's own calibration fitted to its fitting stretch, and its \
          held-out stretch predicted. Before: the baseline calibrated to that recording alone, \
          on the same stretch. This is the evidence that the physics found transfers to a test \
-         it never saw.</p>",
+         it never saw. A change counts only beyond the held-out test's own margin (twice the \
+         noise of the two misfits' difference, and half a percent of the misfit).</p>",
     );
     let rows = &v.leave_one_out;
     if rows.is_empty() {
@@ -58,13 +40,18 @@ pub(super) fn section(v: &Validation) -> String {
     }
     h.push_str(
         "<table class=validation><tr><th>recording left out</th><th>own baseline</th>\
-         <th>shared physics of the others</th><th>change</th></tr>",
+         <th>shared physics of the others</th><th>change</th><th>beyond the noise</th></tr>",
     );
     for r in rows {
         let change = 100.0 * (r.rmse_after / r.rmse_before - 1.0);
+        let (class, word) = match r.change {
+            Change::Better => ("better", "better"),
+            Change::NoChange => ("same", "no change"),
+            Change::Worse => ("worse", "worse"),
+        };
         h.push_str(&format!(
             "<tr><td><code>{}</code></td><td class=num>{}</td><td class=num>{}</td>\
-             <td class=num>{} %</td></tr>",
+             <td class=num>{} %</td><td class={class}>{word}</td></tr>",
             esc(&r.file),
             pct(r.rmse_before),
             pct(r.rmse_after),

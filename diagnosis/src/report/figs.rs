@@ -1,6 +1,6 @@
 //! The report's figures, drawn with the `figures` crate (the axes `tactile plot` uses too):
-//! per channel the recording with both models and the residuals, and a zoom on the window
-//! where an effect shows.
+//! per channel the recording with both models and the residuals, a zoom on the window where an
+//! effect shows, and (the session's page) every channel of a recording stacked.
 
 use figures::{draw_panel, styles, svg_string, Band, Error, Line, Panel, Quantity};
 
@@ -39,30 +39,41 @@ fn heldout(p: &PlotData) -> Band {
     }
 }
 
-/// The two panels of channel `c`: signals with both models, then the residuals before and
-/// after; `x_range` zooms, `extra` adds bands (the evidence window).
+/// What a figure calls its model: the single report's `improved` (baseline plus the effects
+/// found), or a session's model of the recording.
+pub const IMPROVED: &str = "improved";
+
+/// The two panels of channel `c`: the recording (wide and light, under the models), the model
+/// called `model` and, thin and on top, the baseline, so that each stays visible where they
+/// agree; then the residuals of both. `x_range` zooms, `extra` adds bands (the evidence
+/// window).
 fn channel_panels(
     p: &PlotData,
     c: usize,
     x_range: Option<(f64, f64)>,
     extra: &[Band],
+    model: &str,
 ) -> [Panel; 2] {
     let unit = channel_unit(CHANNELS[c]);
     let mut bands = extra.to_vec();
     bands.push(heldout(p));
+    let thin = |s: figures::Style| figures::Style { width: 1, ..s };
     let mut top = Panel::new(time(), Quantity::new(quantity_name(c), unit));
     top.x_range = x_range;
     top.bands = bands.clone();
     top.lines = vec![
         Line::new(
             "recording",
-            styles::RECORDING,
+            styles::RECORDING_UNDER,
             series(&p.t_s, &p.recorded[c]),
         ),
-        Line::new("baseline", styles::BASELINE, series(&p.t_s, &p.baseline[c])),
-        Line::new("improved", styles::IMPROVED, series(&p.t_s, &p.improved[c])),
+        Line::new(model, styles::IMPROVED, series(&p.t_s, &p.improved[c])),
+        Line::new(
+            "baseline",
+            thin(styles::BASELINE),
+            series(&p.t_s, &p.baseline[c]),
+        ),
     ];
-    let thin = |s: figures::Style| figures::Style { width: 1, ..s };
     let name = format!("{} residual", quantity_name(c));
     let mut bottom = Panel::new(time(), Quantity::new(&name, unit));
     bottom.x_range = x_range;
@@ -77,7 +88,7 @@ fn channel_panels(
             series(&p.t_s, &before),
         ),
         Line::new(
-            "residual, improved",
+            &format!("residual, {model}"),
             thin(styles::IMPROVED),
             series(&p.t_s, &after),
         ),
@@ -95,7 +106,7 @@ fn two_panels(panels: &[Panel; 2]) -> Result<String, Error> {
 
 /// Channel `c` over the whole recording.
 pub fn channel(p: &PlotData, c: usize) -> Result<String, Error> {
-    two_panels(&channel_panels(p, c, None, &[]))
+    two_panels(&channel_panels(p, c, None, &[], IMPROVED))
 }
 
 /// Channel `c` around `window` (s), the window shaded and named `what`.
@@ -114,11 +125,18 @@ pub fn zoom(p: &PlotData, c: usize, window: (f64, f64), what: &str) -> Result<St
         colour: styles::WINDOW,
         label: what.to_string(),
     };
-    two_panels(&channel_panels(p, c, Some(range), &[band]))
+    two_panels(&channel_panels(p, c, Some(range), &[band], IMPROVED))
 }
 
-/// The final residual of channel `c` with its straight-line trend.
-pub fn remainder(p: &PlotData, c: usize, slope: f64) -> Result<String, Error> {
+/// The final residual of channel `c` (of the model `p.improved`, called `model`) with its
+/// straight-line trend, `bands` shaded besides the held-out stretch.
+pub fn remainder(
+    p: &PlotData,
+    c: usize,
+    slope: f64,
+    model: &str,
+    bands: &[Band],
+) -> Result<String, Error> {
     let unit = channel_unit(CHANNELS[c]);
     let after = minus(&p.recorded[c], &p.improved[c]);
     let n = after.len().max(1) as f64;
@@ -127,10 +145,11 @@ pub fn remainder(p: &PlotData, c: usize, slope: f64) -> Result<String, Error> {
     let name = format!("{} residual", quantity_name(c));
     let mut panel = Panel::new(time(), Quantity::new(&name, unit));
     panel.zero_line = true;
-    panel.bands = vec![heldout(p)];
+    panel.bands = bands.to_vec();
+    panel.bands.push(heldout(p));
     panel.lines = vec![
         Line::new(
-            "residual, improved",
+            &format!("residual, {model}"),
             figures::Style {
                 width: 1,
                 ..styles::IMPROVED
@@ -142,34 +161,39 @@ pub fn remainder(p: &PlotData, c: usize, slope: f64) -> Result<String, Error> {
     svg_string((WIDTH, PANEL_H), |root| draw_panel(root, &panel))
 }
 
-/// Height of one panel of [`overview`], legend strip included: a small figure.
-const SMALL_PANEL_H: u32 = 170;
+/// Heights of a channel's signal and residual panels in [`stacked`], legend strips included.
+const STACKED_H: (u32, u32) = (250, 170);
 
-/// Every compared channel of `p`, one small panel each: the recording and the improved model
-/// over the whole recording, the held-out stretch shaded (the session's page, per recording).
-pub fn overview(p: &PlotData) -> Result<String, Error> {
+/// Every compared channel of `p` in one figure, each as [`channel`] draws it with `model` for
+/// the improved series' name (the session's page, per recording): the held-out stretch shaded
+/// on the signals, `bands[c]` (where the models miss) on channel `c`'s residuals, so that each
+/// panel's shading and legend stay few.
+pub fn stacked(p: &PlotData, model: &str, bands: &[Vec<Band>; 4]) -> Result<String, Error> {
     let panels: Vec<Panel> = (0..4)
         .filter(|&c| p.used[c])
-        .map(|c| {
-            let mut panel = Panel::new(
-                time(),
-                Quantity::new(quantity_name(c), channel_unit(CHANNELS[c])),
-            );
-            panel.bands = vec![heldout(p)];
-            panel.lines = vec![
-                Line::new(
-                    "recording",
-                    styles::RECORDING,
-                    series(&p.t_s, &p.recorded[c]),
-                ),
-                Line::new("improved", styles::IMPROVED, series(&p.t_s, &p.improved[c])),
-            ];
-            panel
+        .flat_map(|c| {
+            let [mut top, mut bottom] = channel_panels(p, c, None, &[], model);
+            top.bands = vec![heldout(p)];
+            bottom.bands.clone_from(&bands[c]);
+            // Right under its channel's panel: the short name fits the short panel.
+            bottom.y.name = "residual".into();
+            // The baseline's residual wider, under the model's: where they agree both show.
+            bottom.lines[0].style.width = 3;
+            [top, bottom]
         })
         .collect();
-    let rows = panels.len().max(1);
-    svg_string((WIDTH, rows as u32 * SMALL_PANEL_H), |root| {
-        for (area, panel) in root.split_evenly((rows, 1)).iter().zip(&panels) {
+    let pairs = (panels.len() / 2).max(1) as u32;
+    let (signal, residual) = STACKED_H;
+    // Where each panel ends: signal, residual, signal, ...
+    let breaks: Vec<i32> = (0..2 * pairs - 1)
+        .scan(0, |y, i| {
+            *y += if i % 2 == 0 { signal } else { residual };
+            Some(*y as i32)
+        })
+        .collect();
+    svg_string((WIDTH, pairs * (signal + residual)), |root| {
+        let areas = root.split_by_breakpoints::<i32, i32, _, _>([], &breaks);
+        for (area, panel) in areas.iter().zip(&panels) {
             draw_panel(area, panel)?;
         }
         Ok(())

@@ -47,12 +47,10 @@ pub fn html(d: &Diagnosis) -> String {
     h
 }
 
-/// Write [`html`] of `d` to `path` (a file, e.g. `report.html`), creating its folder.
+/// Write [`html`] of `d` to `path` (a file, e.g. `report.html`) whole, creating its folder
+/// ([`crate::outputs::write_whole`]).
 pub fn write(path: &Path, d: &Diagnosis) -> std::io::Result<()> {
-    if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
-    }
-    std::fs::write(path, html(d))
+    crate::outputs::write_whole(path, html(d).as_bytes())
 }
 
 /// One paragraph, parameter table and zoomed figure per effect.
@@ -156,7 +154,7 @@ fn what_remains(d: &Diagnosis, remains: &[Remains]) -> String {
             figs::quantity_name(r.channel)
         );
         h.push_str(&figure(
-            figs::remainder(p, r.channel, r.trend.slope),
+            figs::remainder(p, r.channel, r.trend.slope, figs::IMPROVED, &[]),
             &caption,
         ));
     }

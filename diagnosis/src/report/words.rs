@@ -103,7 +103,7 @@ pub fn verdict_sentence(r: &Report, remains: &[Remains]) -> String {
 }
 
 /// "a slow drift on Fz", or a generic phrase when nothing single stands out.
-fn remainder_phrase(remains: &[Remains]) -> String {
+pub(crate) fn remainder_phrase(remains: &[Remains]) -> String {
     let first = remains.iter().find_map(|r| r.findings().first().cloned());
     let Some(f) = first else {
         return match remains.first() {
@@ -355,6 +355,7 @@ mod tests {
             catalogue: true,
             depends_on: None,
             form: None,
+            inclusion: None,
             parameters: Vec::new(),
         }
     }

@@ -17,6 +17,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use crate::inputs::InputError;
+use crate::outputs::{write_whole, OutputError};
 use crate::pipeline::{diagnose, Diagnosis, Options};
 
 /// Why a session could not run or its summary could not be written (the errors of single
@@ -24,22 +26,19 @@ use crate::pipeline::{diagnose, Diagnosis, Options};
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum SessionError {
-    /// A folder given as input could not be listed.
-    #[error("{}: {source}", .path.display())]
-    ListDir {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-    /// A folder given as input holds no `*.csv`.
-    #[error("{}: no *.csv recording in this folder", .0.display())]
-    NoRecordings(PathBuf),
-    /// Two inputs would write the same `DIR/<stem>.json`.
-    #[error("{} and {} have the same name `{stem}`: their outputs would overwrite each other", .first.display(), .second.display())]
+    /// The inputs are not a list of recordings, each once ([`crate::inputs`]).
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// Two inputs with one file stem: both would write `DIR/<stem>.json` and its report.
+    #[error("{} and {} would both be written to {stem}.json and {stem}.html in the output folder: give them different file names, or diagnose them in two runs", .first.display(), .second.display())]
     SameStem {
         stem: String,
         first: PathBuf,
         second: PathBuf,
     },
+    /// An output path that cannot be used, found before any work ([`crate::outputs`]).
+    #[error(transparent)]
+    Output(#[from] OutputError),
     /// An output file or the output folder could not be written.
     #[error("{}: {source}", .path.display())]
     Write {
@@ -88,21 +87,11 @@ pub struct Row {
     pub outcome: Result<Outcome, String>,
 }
 
-/// The recordings `inputs` name: files as given, and for a folder every `*.csv` in it, sorted.
-/// Refuses two inputs with the same stem, whose outputs would collide.
+/// The recordings `inputs` name, each once ([`crate::inputs::recordings`]: files as given, for
+/// a folder every `*.csv` in it, sorted; a missing input or a recording given twice is
+/// refused). Refuses two inputs with the same stem, whose outputs would collide.
 pub fn expand_inputs(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, SessionError> {
-    let mut out = Vec::new();
-    for input in inputs {
-        if input.is_dir() {
-            let before = out.len();
-            out.extend(csv_files_in(input)?);
-            if out.len() == before {
-                return Err(SessionError::NoRecordings(input.clone()));
-            }
-        } else {
-            out.push(input.clone());
-        }
-    }
+    let out = crate::inputs::recordings(inputs)?;
     for (i, a) in out.iter().enumerate() {
         if let Some(b) = out[..i].iter().find(|b| stem_of(b) == stem_of(a)) {
             return Err(SessionError::SameStem {
@@ -115,22 +104,6 @@ pub fn expand_inputs(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, SessionError> {
     Ok(out)
 }
 
-fn csv_files_in(dir: &Path) -> Result<Vec<PathBuf>, SessionError> {
-    let list = |source| SessionError::ListDir {
-        path: dir.to_path_buf(),
-        source,
-    };
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(list)? {
-        let path = entry.map_err(list)?.path();
-        if path.extension().is_some_and(|e| e == "csv") && !path.is_dir() {
-            files.push(path);
-        }
-    }
-    files.sort();
-    Ok(files)
-}
-
 /// The name the outputs of `path` take.
 pub fn stem_of(path: &Path) -> String {
     path.file_stem().map_or_else(
@@ -141,7 +114,8 @@ pub fn stem_of(path: &Path) -> String {
 
 /// Diagnose every recording of `inputs` in parallel into `out_dir`, then write `summary.csv`
 /// and `summary.html` there; `done(finished, total)` is told as recordings finish. Rows are in
-/// input order.
+/// input order. Every output path is checked first ([`crate::outputs::check`]), and each file
+/// is written whole.
 ///
 /// The recordings share rayon's global pool with the diagnosis's own parallel candidate fits, so
 /// the session saturates the cores without running pools inside pools.
@@ -151,6 +125,9 @@ pub fn run(
     opt: &Options,
     done: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Vec<Row>, SessionError> {
+    let outputs = output_files(inputs, out_dir);
+    let files: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    crate::outputs::check(&files, &[out_dir], inputs)?;
     std::fs::create_dir_all(out_dir).map_err(|source| SessionError::Write {
         path: out_dir.to_path_buf(),
         source,
@@ -166,11 +143,30 @@ pub fn run(
         .collect();
     let write = |name: &str, text: String| {
         let path = out_dir.join(name);
-        std::fs::write(&path, text).map_err(|source| SessionError::Write { path, source })
+        write_whole(&path, text.as_bytes()).map_err(|source| SessionError::Write { path, source })
     };
     write("summary.csv", csv::summary(&rows))?;
     write("summary.html", html::summary(&rows))?;
     Ok(rows)
+}
+
+/// Every file a batch of `inputs` writes into `out_dir`: each recording's JSON and report, and
+/// the summary's two files.
+fn output_files(inputs: &[PathBuf], out_dir: &Path) -> Vec<PathBuf> {
+    let each = inputs.iter().flat_map(|p| {
+        let stem = stem_of(p);
+        [json_path(out_dir, &stem), report_path(out_dir, &stem)]
+    });
+    let summary = ["summary.csv", "summary.html"].map(|n| out_dir.join(n));
+    each.chain(summary).collect()
+}
+
+fn json_path(out_dir: &Path, stem: &str) -> PathBuf {
+    out_dir.join(format!("{stem}.json"))
+}
+
+fn report_path(out_dir: &Path, stem: &str) -> PathBuf {
+    out_dir.join(format!("{stem}.html"))
 }
 
 /// Read, diagnose and write one recording; its row either way.
@@ -198,13 +194,13 @@ fn diagnose_file(path: &Path, file: &str, opt: &Options) -> Result<Diagnosis, St
     diagnose(&rec, file, opt).map_err(|e| format!("{file}: {e}"))
 }
 
-/// `DIR/<stem>.json` and the report of one recording.
+/// `DIR/<stem>.json` and the report of one recording, written whole together.
 fn write_outputs(out_dir: &Path, stem: &str, d: &Diagnosis) -> Result<(), String> {
-    let json = out_dir.join(format!("{stem}.json"));
     let text = json_text(d).map_err(|e| format!("encoding the diagnosis: {e}"))?;
-    std::fs::write(&json, text).map_err(|e| format!("writing {}: {e}", json.display()))?;
-    write_report(out_dir, stem, d)
-        .map_err(|e| format!("writing the report into {}: {e}", out_dir.display()))
+    let html = crate::report::html(d);
+    let (json, report) = (json_path(out_dir, stem), report_path(out_dir, stem));
+    crate::outputs::write_all_whole(&[(&json, text.as_bytes()), (&report, html.as_bytes())])
+        .map_err(|e| format!("writing {} and {}: {e}", json.display(), report.display()))
 }
 
 /// OUT.json's text, exactly as `tactile diagnose REC --json OUT` writes it.
@@ -214,7 +210,7 @@ pub fn json_text(d: &Diagnosis) -> serde_json::Result<String> {
 
 /// The report of one recording of the session: the only place that says where it goes.
 pub fn write_report(out_dir: &Path, stem: &str, d: &Diagnosis) -> std::io::Result<()> {
-    crate::report::write(&out_dir.join(format!("{stem}.html")), d)
+    crate::report::write(&report_path(out_dir, stem), d)
 }
 
 impl Outcome {
@@ -250,13 +246,13 @@ impl Outcome {
     }
 }
 
-/// A folder that cannot be listed or holds nothing is a missing input; clashing names are a
-/// usage error; an output that cannot be written, a failure to create.
+/// The inputs' and outputs' own codes; clashing names are a usage error; an output that cannot
+/// be written, a failure to create.
 impl sysexit::ExitStatus for SessionError {
     fn exit_code(&self) -> u8 {
         match self {
-            SessionError::ListDir { source, .. } => sysexit::of_input(source.kind()),
-            SessionError::NoRecordings(_) => sysexit::NO_INPUT,
+            SessionError::Input(e) => sysexit::ExitStatus::exit_code(e),
+            SessionError::Output(e) => sysexit::ExitStatus::exit_code(e),
             SessionError::SameStem { .. } => sysexit::USAGE,
             SessionError::Write { .. } => sysexit::CANT_CREATE,
         }

@@ -96,21 +96,29 @@ fn folders_expand_to_their_csv_files_sorted_and_stems_must_differ() {
     let sub = dir.join("sub");
     std::fs::create_dir_all(&sub).unwrap();
     for name in ["b.csv", "a.csv", "notes.txt"] {
-        std::fs::write(dir.join(name), "").unwrap();
+        std::fs::write(dir.join(name), name).unwrap();
     }
     let got = expand_inputs(std::slice::from_ref(&dir)).unwrap();
     assert_eq!(got, [dir.join("a.csv"), dir.join("b.csv")]);
-    std::fs::write(sub.join("a.csv"), "").unwrap();
+    std::fs::write(sub.join("a.csv"), "another a").unwrap();
     let err = expand_inputs(&[dir.clone(), sub.join("a.csv")]).unwrap_err();
     assert!(
         matches!(err, SessionError::SameStem { ref stem, .. } if stem == "a"),
+        "{err}"
+    );
+    // The message says what would happen: both outputs in one place, not two inputs clashing.
+    assert!(
+        err.to_string()
+            .contains("would both be written to a.json and a.html in the output folder"),
         "{err}"
     );
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     assert!(matches!(
         expand_inputs(&[empty]),
-        Err(SessionError::NoRecordings(_))
+        Err(SessionError::Input(
+            crate::inputs::InputError::NoRecordings(_)
+        ))
     ));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -45,6 +45,10 @@ pub(crate) struct Context<'d> {
     /// the library's terms that meet them at another stage are not offered either (a lag on
     /// a single ramp is a shift of the contact point wherever it acts).
     pub forbidden: Vec<sim::effects::EffectKind>,
+    /// Per channel, the chosen model's calibration directions as [`Self::catalogue`] has them,
+    /// for the discovery step (`super::discover`), which fits its terms with the calibration
+    /// refitted beside them to first order wherever it runs. Empty: not worked out.
+    pub directions: [Vec<Vec<f64>>; 4],
 }
 
 impl<'d> Context<'d> {
@@ -89,6 +93,7 @@ impl<'d> Context<'d> {
             beside_catalogue: false,
             catalogue: Default::default(),
             forbidden: Vec::new(),
+            directions: Default::default(),
         }
     }
 
@@ -102,6 +107,16 @@ impl<'d> Context<'d> {
             let mut all = vec![vec![1.0; self.len()], self.signal(c)];
             all.extend(cols);
             self.catalogue[c] = self.orthonormal(c, &all);
+        }
+    }
+
+    /// Set [`Self::directions`] from the model's derivatives, as [`Self::set_catalogue`] sets
+    /// its own.
+    pub fn set_directions(&mut self, jacobian: [Vec<Vec<f64>>; 4]) {
+        for (c, cols) in jacobian.into_iter().enumerate() {
+            let mut all = vec![vec![1.0; self.len()], self.signal(c)];
+            all.extend(cols);
+            self.directions[c] = self.orthonormal(c, &all);
         }
     }
 
@@ -318,6 +333,7 @@ pub fn admitted_term(
         columns,
         beta,
         n_params: 2,
+        info: None,
     })
 }
 

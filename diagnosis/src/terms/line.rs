@@ -67,6 +67,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         columns,
         beta,
         n_params: 3,
+        info: None,
     })
 }
 
@@ -103,7 +104,7 @@ pub(crate) fn describe(t: &Term, unit: &str) -> Description {
         "periodic_line"
     };
     Description {
-        name,
+        name: name.into(),
         params: vec![
             ("freq_hz", f, "Hz".into()),
             ("amplitude", amplitude, unit.into()),

@@ -32,12 +32,13 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         columns,
         beta: beta[..1].to_vec(),
         n_params: 1,
+        info: None,
     })
 }
 
 pub(crate) fn describe(t: &Term) -> Description {
     Description {
-        name: "time_offset",
+        name: "time_offset".into(),
         params: vec![("lag_s", t.beta[0], "s".into())],
         depends_on: vec!["load_rate"],
         form: format!("load cell lags the rod by {:.1} ms", 1e3 * t.beta[0]),

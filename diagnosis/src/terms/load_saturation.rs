@@ -44,6 +44,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         columns,
         beta,
         n_params: 2,
+        info: None,
     })
 }
 
@@ -97,7 +98,7 @@ fn best_limit(
 
 pub(crate) fn describe(t: &Term) -> Description {
     Description {
-        name: "amplifier_saturation",
+        name: "amplifier_saturation".into(),
         params: vec![("limit_N", t.shape[0], "N".into())],
         depends_on: vec!["load_N"],
         form: format!("the load cell reads no more than {:.2} N", t.shape[0]),

@@ -49,7 +49,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
 
 pub(crate) fn describe(t: &Term) -> Description {
     Description {
-        name: "stiffening",
+        name: "stiffening".into(),
         params: vec![
             ("exponent", t.shape[0], String::new()),
             ("share", t.beta[0], String::new()),

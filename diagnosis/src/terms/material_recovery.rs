@@ -44,7 +44,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
 
 pub(crate) fn describe(t: &Term) -> Description {
     Description {
-        name: "material_recovers_load",
+        name: "material_recovers_load".into(),
         params: vec![
             ("share", t.beta[0], "1".into()),
             ("tau_s", t.shape[0], "s".into()),

@@ -26,6 +26,7 @@
 //! and [`load_saturation`] are catalogue entries met at a stage of their own. The
 //! calibration's own checks, an inverted sign and a dead channel, are in [`sanity`].
 
+pub(crate) mod discover;
 mod fitting;
 pub(crate) mod line;
 pub(crate) mod load_lag;
@@ -38,6 +39,7 @@ pub(crate) mod output_set;
 pub(crate) mod permanent_set;
 pub(crate) mod report;
 pub(crate) mod sanity;
+mod score;
 mod search;
 pub(crate) mod speed_power;
 pub(crate) mod stuck_channel;
@@ -46,7 +48,8 @@ pub(crate) mod temperature_span;
 mod tests;
 
 pub(crate) use fitting::Context;
-pub(crate) use search::{search, Found, Nested};
+pub(crate) use score::Nested;
+pub(crate) use search::{search, Found};
 
 use crate::output::{EffectReport, ParamDetail};
 use baseline::Outputs;
@@ -71,6 +74,8 @@ pub(crate) struct Described {
     /// The terms that are catalogue effects at a stage other than the catalogue's
     /// ([`TermKind::catalogue_kind`]), if any.
     pub at_stage: Option<AtStage>,
+    /// The discovered terms ([`discover`]), if any.
+    pub discovered: Option<AtStage>,
 }
 
 /// The contributions of the terms that are catalogue effects at a stage other than the
@@ -82,6 +87,23 @@ pub(crate) struct Described {
 pub struct AtStage {
     pub decimated: [Vec<f64>; 4],
     pub full: [Vec<f64>; 4],
+}
+
+impl AtStage {
+    /// `data` less these parts (per channel, on the decimated series and at the full rate):
+    /// what the recording shows without a term found in it, for a calibration that must not
+    /// bend towards that term. Its noise, weights and regimes stay the recording's.
+    pub(crate) fn taken_from(&self, data: &crate::data::Data) -> crate::data::Data {
+        let mut d = data.clone();
+        for c in 0..4 {
+            let less = |y: &mut Vec<f64>, p: &[f64]| {
+                y.iter_mut().zip(p).for_each(|(y, p)| *y -= p);
+            };
+            less(&mut d.fit.y[c], &self.decimated[c]);
+            less(&mut d.full.y[c], &self.full[c]);
+        }
+        d
+    }
 }
 
 impl Described {
@@ -111,7 +133,7 @@ impl Described {
         effects.extend(report::effects(&found));
         let full_t = &ctx.data.full.t_s;
         let decimated: [Vec<f64>; 4] =
-            std::array::from_fn(|c| search::contribution(ctx, &found.terms, c));
+            std::array::from_fn(|c| score::contribution(ctx, &found.terms, c));
         let full: [Vec<f64>; 4] = std::array::from_fn(|c| at_full(ctx, &found.terms, c, full_t));
         let staged: Vec<Term> = found
             .terms
@@ -119,16 +141,27 @@ impl Described {
             .filter(|t| t.kind.catalogue_kind().is_some())
             .cloned()
             .collect();
-        let at_stage = (!staged.is_empty()).then(|| AtStage {
-            decimated: std::array::from_fn(|c| search::contribution(ctx, &staged, c)),
-            full: std::array::from_fn(|c| at_full(ctx, &staged, c, full_t)),
-        });
+        let parts = |terms: &[Term]| {
+            (!terms.is_empty()).then(|| AtStage {
+                decimated: std::array::from_fn(|c| score::contribution(ctx, terms, c)),
+                full: std::array::from_fn(|c| at_full(ctx, terms, c, full_t)),
+            })
+        };
+        let at_stage = parts(&staged);
+        let discovered: Vec<Term> = found
+            .terms
+            .iter()
+            .filter(|t| t.kind == TermKind::Discovered)
+            .cloned()
+            .collect();
+        let discovered = parts(&discovered).map(|p| discover::beyond_calibration(ctx, p));
         Self {
             found,
             effects,
             decimated,
             full,
             at_stage,
+            discovered,
         }
     }
 
@@ -154,7 +187,7 @@ impl Described {
 
 /// Channel `c`'s terms at the full rate's times `t_s`, each where the channel is live.
 fn at_full(ctx: &Context, terms: &[Term], c: usize, t_s: &[f64]) -> Vec<f64> {
-    let live = search::live(terms, c, None).map(|l| {
+    let live = score::live(terms, c, None).map(|l| {
         t_s.iter()
             .map(|&t| sim::effects::interpolate(ctx.t_s(), &l, t))
             .collect::<Vec<f64>>()
@@ -197,6 +230,9 @@ pub(crate) enum TermKind {
     LoadStiffening,
     LoadSaturation,
     MaterialRecovery,
+    /// A term found in the residual by the discovery step ([`discover`]): features of the
+    /// dictionary, not a library entry.
+    Discovered,
     /// Not a finding: the channel's offset and scale refitted with the terms on it, as the
     /// calibration would refit them jointly (no parameter the nested model does not have).
     Recalibration,
@@ -304,6 +340,7 @@ impl TermKind {
             beta: vec![0.0; x.len()],
             columns: fitting::Columns { x, fixed: None },
             n_params: 0,
+            info: None,
         }
     }
 
@@ -323,7 +360,7 @@ impl TermKind {
             TermKind::LoadStiffening => load_stiffening::fit(ctx, c, others),
             TermKind::LoadSaturation => load_saturation::fit(ctx, c, others),
             TermKind::MaterialRecovery => material_recovery::fit(ctx, c, others),
-            TermKind::Recalibration => None,
+            TermKind::Discovered | TermKind::Recalibration => None,
         }
     }
 }
@@ -331,7 +368,7 @@ impl TermKind {
 /// A fitted term in the contract's words: its name, parameters (primary first, with units),
 /// the recorded quantities it is a function of, and its expression.
 pub(crate) struct Description {
-    pub name: &'static str,
+    pub name: std::borrow::Cow<'static, str>,
     pub params: Vec<(&'static str, f64, String)>,
     pub depends_on: Vec<&'static str>,
     pub form: String,
@@ -350,6 +387,8 @@ pub(crate) struct Term {
     pub beta: Vec<f64>,
     /// Parameters the criterion counts: the amplitudes plus the shape's grid dimensions.
     pub n_params: usize,
+    /// What a discovered term is ([`discover::Info`]); `None` for the library's terms.
+    pub info: Option<std::sync::Arc<discover::Info>>,
 }
 
 impl Term {
@@ -369,7 +408,12 @@ impl Term {
         if self.kind == TermKind::Line {
             return line::at_times(self, t_s);
         }
-        if self.kind == TermKind::Recalibration && ctx.catalogue[self.channel].is_empty() {
+        // The plain offset and scale (no shape) at the full rate; a refit along the calibration's
+        // directions is interpolated as every other slow term is.
+        if self.kind == TermKind::Recalibration
+            && ctx.catalogue[self.channel].is_empty()
+            && self.shape.is_empty()
+        {
             let c = self.channel;
             let full = &ctx.data.full.y[c];
             return full
@@ -400,8 +444,9 @@ impl Term {
             TermKind::LoadStiffening => load_stiffening::describe(self),
             TermKind::LoadSaturation => load_saturation::describe(self),
             TermKind::MaterialRecovery => material_recovery::describe(self),
+            TermKind::Discovered => discover::describe(self),
             TermKind::Recalibration => Description {
-                name: "recalibration",
+                name: "recalibration".into(),
                 params: Vec::new(),
                 depends_on: Vec::new(),
                 form: String::new(),
@@ -421,6 +466,7 @@ impl Term {
             TermKind::Line => line::stage(self),
             TermKind::TemperatureSpan => temperature_span::stage(self),
             TermKind::OutputRelaxation | TermKind::OutputSet => Stage::Transducer,
+            TermKind::Discovered => self.info.as_ref().map_or(Stage::Electronics, |i| i.stage),
             TermKind::SpeedPower | TermKind::PermanentSet => {
                 if self.channel == 0 {
                     Stage::Material

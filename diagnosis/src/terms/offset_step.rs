@@ -30,13 +30,14 @@ pub(crate) fn fit_step(ctx: &Context, c: usize, others: &Columns, kind: TermKind
         columns,
         beta,
         n_params: 2,
+        info: None,
     })
 }
 
 pub(crate) fn describe(t: &Term, unit: &str) -> Description {
     let (t0, a) = (t.shape[0], t.beta[0]);
     Description {
-        name: "offset_step",
+        name: "offset_step".into(),
         params: vec![("step", a, unit.into()), ("t0_s", t0, "s".into())],
         depends_on: vec!["time"],
         form: format!("offset step of {} at t = {t0:.2} s", with_unit(a, unit)),

@@ -39,7 +39,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
 
 pub(crate) fn describe(t: &Term) -> Description {
     Description {
-        name: "viscoelastic_relaxation",
+        name: "viscoelastic_relaxation".into(),
         params: vec![
             ("tau_s", t.shape[0], "s".into()),
             ("fraction", t.beta[0], "1".into()),

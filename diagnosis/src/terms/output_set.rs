@@ -83,6 +83,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         columns,
         beta,
         n_params: 3,
+        info: None,
     })
 }
 
@@ -90,7 +91,7 @@ pub(crate) fn describe(t: &Term, unit: &str) -> Description {
     // In the channel's volts: the set's direction is the response's.
     let (up, down, a) = (t.shape[0], t.shape[1], t.shape[2] * t.beta[0]);
     Description {
-        name: "sensing_element_set",
+        name: "sensing_element_set".into(),
         params: vec![
             ("size", a, unit.into()),
             ("tau_up_s", up, "s".into()),

@@ -61,12 +61,13 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         columns,
         beta: beta[..1].to_vec(),
         n_params: 1,
+        info: None,
     })
 }
 
 pub(crate) fn describe(t: &Term) -> Description {
     Description {
-        name: "permanent_set",
+        name: "permanent_set".into(),
         params: vec![
             ("set_mm", t.beta[0], "mm".into()),
             ("t_s", t.shape[0], "s".into()),

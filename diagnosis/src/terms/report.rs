@@ -30,6 +30,12 @@ pub(crate) fn effects(found: &Found) -> Vec<EffectReport> {
         .iter()
         .map(|g| {
             let lead = &found.terms[g[0]];
+            if lead.kind == TermKind::Discovered {
+                let mut members: Vec<&Term> = g.iter().map(|&i| &found.terms[i]).collect();
+                members.sort_by_key(|t| t.channel);
+                let (bic_gain, ratio) = found.evidence[g[0]];
+                return super::discover::effect(&members, bic_gain, ratio);
+            }
             let mut channels: Vec<usize> = g.iter().map(|&i| found.terms[i].channel).collect();
             channels.sort_unstable();
             let stage = stage_of(lead, &channels);
@@ -42,6 +48,9 @@ pub(crate) fn effects(found: &Found) -> Vec<EffectReport> {
 /// Two terms are one piece of physics: the same description and, for a line, one frequency
 /// (within the periodogram's resolution over a hundred seconds).
 fn same_physics(a: &Term, b: &Term) -> bool {
+    if let (Some(x), Some(y)) = (&a.info, &b.info) {
+        return x.group == y.group;
+    }
     a.kind == b.kind
         && a.describe().name == b.describe().name
         && (a.kind != TermKind::Line || (a.shape[0] - b.shape[0]).abs() < 0.01)
@@ -96,6 +105,7 @@ fn effect(t: &Term, stage: Stage, channels: &[usize], bic_gain: f64, ratio: f64)
         catalogue,
         depends_on: (!catalogue).then(|| d.depends_on.iter().map(|s| s.to_string()).collect()),
         form: (!catalogue).then_some(d.form),
+        inclusion: None,
         parameters,
     }
 }
@@ -164,6 +174,7 @@ pub(crate) fn sanity_effect(f: &SanityFinding) -> EffectReport {
         catalogue: false,
         depends_on: Some(f.depends_on.iter().map(|s| s.to_string()).collect()),
         form: Some(f.form.clone()),
+        inclusion: None,
         parameters: Vec::new(),
     }
 }

@@ -4,25 +4,14 @@
 //! held-out stretch by more than twice its own noise and 0.5 % of the misfit left
 //! ([`heldout_needed`]). A term that only fits the stretch it was fitted on is not reported.
 
-use super::fitting::{solve, Columns, Context};
+use super::fitting::Context;
+use super::score::{bic, columns_on, contribution, heldout, refit, Nested};
 use super::{Term, TermKind};
 use crate::candidate::{heldout_needed, MIN_BIC_GAIN};
 
 /// At most this many terms: what remains after the catalogue is described by a few terms, or
 /// it is not described (a long list of small terms would be a fit, not a finding).
 const MAX_TERMS: usize = 4;
-
-/// The chosen model's scores the terms are weighed against.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Nested {
-    /// Weighted residuals on the fitting stretch (all compared channels).
-    pub n: usize,
-    /// Free parameters of the chosen model.
-    pub k: usize,
-    /// Its chi-square on the fitting stretch and on the held-out stretch.
-    pub fit_chi2: f64,
-    pub heldout_chi2: f64,
-}
 
 /// The terms kept, each with the comparison that kept it.
 #[derive(Default)]
@@ -54,8 +43,16 @@ pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
         }
         banned.extend(dropped);
     }
+    // Beside the whole catalogue model only what no catalogue effect's misfit can mimic is
+    // offered (`TermKind::beside_catalogue`); a dictionary can write any smooth misfit.
+    if !ctx.beside_catalogue {
+        terms = super::discover::discover(ctx, nested, terms);
+    }
     let evidence = (0..terms.len())
         .map(|i| {
+            if let Some(info) = &terms[i].info {
+                return super::discover::group_evidence(ctx, nested, &terms, info.group);
+            }
             let cmp = compare_without(ctx, nested, &terms, i);
             let bic_gain = if terms[i].kind == TermKind::Recalibration {
                 f64::INFINITY
@@ -185,99 +182,13 @@ fn candidates(ctx: &Context, terms: &[Term]) -> Vec<Term> {
         .collect()
 }
 
-/// The columns of the terms on channel `c`, leaving out term number `skip`, each reaching only
-/// the samples where the channel is [`live`].
-fn columns_on(terms: &[Term], c: usize, skip: Option<usize>) -> Columns {
-    let live = live(terms, c, skip);
-    terms
-        .iter()
-        .enumerate()
-        .filter(|(i, t)| t.channel == c && Some(*i) != skip)
-        .fold(Columns::default(), |acc, (_, t)| {
-            acc.joined(&masked(&t.columns, t, live.as_deref()))
-        })
-}
-
-/// The share of each sample of channel `c` that its model and terms still reach: none from a
-/// stuck channel's time on (it reads its constant whatever they give), leaving out term `skip`.
-pub(crate) fn live(terms: &[Term], c: usize, skip: Option<usize>) -> Option<Vec<f64>> {
-    terms
-        .iter()
-        .enumerate()
-        .find(|(i, t)| t.channel == c && t.kind == TermKind::StuckChannel && Some(*i) != skip)
-        .map(|(_, t)| t.columns.x[0].iter().map(|h| 1.0 - h).collect())
-}
-
-/// `cols` of term `t` where the channel is live (the stuck term itself is what replaces it).
-fn masked(cols: &Columns, t: &Term, live: Option<&[f64]>) -> Columns {
-    match live.filter(|_| t.kind != TermKind::StuckChannel) {
-        Some(live) => cols.scaled(live),
-        None => cols.clone(),
-    }
-}
-
-/// Refit the amplitudes of each channel's terms jointly.
-fn refit(ctx: &Context, terms: &mut [Term]) {
-    for c in 0..4 {
-        let cols = columns_on(terms, c, None);
-        if cols.x.is_empty() {
-            continue;
-        }
-        let Some((beta, _)) = solve(ctx, c, &cols) else {
-            continue;
-        };
-        let mut at = 0;
-        for t in terms.iter_mut().filter(|t| t.channel == c) {
-            let k = t.columns.x.len();
-            t.beta = beta[at..at + k].to_vec();
-            at += k;
-        }
-    }
-}
-
-/// Channel `c`'s contribution of `terms` on the decimated series.
-pub(crate) fn contribution(ctx: &Context, terms: &[Term], c: usize) -> Vec<f64> {
-    let cols = columns_on(terms, c, None);
-    if cols.x.is_empty() && cols.fixed.is_none() {
-        return vec![0.0; ctx.len()];
-    }
-    let beta: Vec<f64> = terms
-        .iter()
-        .filter(|t| t.channel == c)
-        .flat_map(|t| t.beta.iter().copied())
-        .collect();
-    cols.contribution(&beta)
-}
-
-/// The chi-square of the chosen model plus `terms` on `mask` (the untouched channels as the
-/// nested model has them).
-fn chi2(ctx: &Context, base: f64, terms: &[Term], mask: &[bool]) -> f64 {
-    let mut total = base;
-    for c in (0..4).filter(|&c| terms.iter().any(|t| t.channel == c)) {
-        let part = contribution(ctx, terms, c);
-        total += ctx.chi2(c, Some(&part), mask) - ctx.chi2(c, None, mask);
-    }
-    total
-}
-
-fn heldout(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
-    chi2(ctx, nested.heldout_chi2, terms, ctx.heldout_mask)
-}
-
-fn bic(ctx: &Context, nested: Nested, terms: &[Term]) -> f64 {
-    let n = nested.n as f64;
-    let sse = chi2(ctx, nested.fit_chi2, terms, ctx.fit_mask).max(1e-300);
-    let k = nested.k + terms.iter().map(|t| t.n_params).sum::<usize>();
-    n * (sse / n).ln() + k as f64 * n.ln()
-}
-
 /// `terms` with channel `c`'s refit ([`TermKind::recalibration`]) if it has none yet, refitted.
 ///
 /// A term is weighed against the model with the refit that comes with it, not against the
 /// model without: the refit of the catalogue's shared parameters channel by channel
 /// ([`Context::catalogue`]) gains on its own where the joint fit balanced the channels, and
 /// that gain is not the term's.
-fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
+pub(super) fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
     if !terms.iter().any(|t| t.channel == c) {
         terms.push(TermKind::recalibration(ctx, c));
         refit(ctx, &mut terms);
@@ -288,7 +199,7 @@ fn refitted(ctx: &Context, mut terms: Vec<Term>, c: usize) -> Vec<Term> {
 /// `terms` without number `i`, the rest refitted; the channel's refit goes with its last term.
 /// A term whose sign the refit turns goes too ([`Term::admitted`]): without its partner it is no
 /// longer the physics it named (a relaxation that only made up a set's shape).
-fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
+pub(super) fn without(ctx: &Context, terms: &[Term], i: usize) -> Vec<Term> {
     without_turned(ctx, terms, i).0
 }
 

@@ -63,6 +63,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         columns,
         beta,
         n_params: 3,
+        info: None,
     })
 }
 
@@ -71,7 +72,7 @@ pub(crate) fn describe(t: &Term) -> Description {
     let a = t.beta[0];
     let v_ref = 60.0 * v_max;
     Description {
-        name: "speed_power",
+        name: "speed_power".into(),
         params: vec![
             ("coefficient", a, "1".into()),
             ("exponent", p, "1".into()),

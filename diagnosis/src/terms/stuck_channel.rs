@@ -72,7 +72,7 @@ fn model_moves_after(ctx: &Context, c: usize, t0_s: f64) -> f64 {
 pub(crate) fn describe(t: &Term, unit: &str) -> Description {
     let (t0, a) = (t.shape[0], t.beta[0]);
     Description {
-        name: "stuck_channel",
+        name: "stuck_channel".into(),
         params: vec![("t0_s", t0, "s".into()), ("value", a, unit.into())],
         depends_on: vec!["time"],
         form: format!(

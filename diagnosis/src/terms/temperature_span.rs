@@ -55,6 +55,7 @@ pub(crate) fn fit(ctx: &Context, c: usize, others: &Columns) -> Option<Term> {
         columns: form(whole),
         beta: beta[..1].to_vec(),
         n_params: 1,
+        info: None,
     })
 }
 
@@ -81,7 +82,7 @@ fn columns_of(temp: &[f64], t0: f64, signal: &[f64], offset: f64) -> Columns {
 pub(crate) fn describe(t: &Term) -> Description {
     let (t0, k) = (t.shape[0], t.beta[0]);
     Description {
-        name: "span_follows_temperature",
+        name: "span_follows_temperature".into(),
         params: vec![("span_per_K", k, "1/K".into()), ("t0_C", t0, "°C".into())],
         depends_on: vec!["temp_C", "load_N"],
         form: format!(

@@ -55,6 +55,14 @@ pub enum FileError {
         field: String,
         why: String,
     },
+    /// The file's syntax breaks at this line, where no field is defined (a TOML line without
+    /// a key).
+    #[error("{}:{line}: {why}", .path.display())]
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        why: String,
+    },
     /// Writing an output failed.
     #[error("{}: {source}", .path.display())]
     Write {
@@ -106,7 +114,10 @@ impl sysexit::ExitStatus for FileError {
                 Some(_) => exit::NO_INPUT,
                 None => exit::DATA,
             },
-            Self::Malformed { .. } | Self::Capture { .. } | Self::TooLarge { .. } => exit::DATA,
+            Self::Malformed { .. }
+            | Self::Syntax { .. }
+            | Self::Capture { .. }
+            | Self::TooLarge { .. } => exit::DATA,
             Self::Write { .. } => exit::CANT_CREATE,
         }
     }
@@ -184,7 +195,10 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
     let fw = info.fw_version;
     let f = info.filter;
     let other = [
-        ("chip_serial", format!("{:08x}", info.chip_serial)),
+        (
+            recording::CHIP_SERIAL_KEY,
+            format!("{:08x}", info.chip_serial),
+        ),
         ("firmware", format!("{}.{}.{}", fw[0], fw[1], fw[2])),
         ("start_unix_s", unix_s(start).to_string()),
         (
@@ -198,12 +212,7 @@ pub fn metadata(info: &Info, setup: &Setup, start: SystemTime) -> Meta {
         ("firmware_cutoff_hz", decimal(f.cutoff_hz).to_string()),
         (
             clock_key::TIME_BASE,
-            if setup.device_clock {
-                clock_key::DEVICE_TIME_BASE_VALUE
-            } else {
-                clock_key::TIME_BASE_VALUE
-            }
-            .to_string(),
+            clock_key::time_base(setup.device_clock).to_string(),
         ),
         (clock_key::PPM, PENDING.to_string()),
         (clock_key::UNCERTAINTY, PENDING.to_string()),
@@ -243,6 +252,23 @@ pub mod clock_key {
     pub const UNCERTAINTY: &str = "clock_uncertainty_us";
     /// Sessions whose device clock restarted (placed on the time base by the fitted rate).
     pub const RESTARTS: &str = "clock_restarts";
+
+    /// [`TIME_BASE`]'s value: the device's clock (`tactile log --device-clock`) or the host's.
+    pub fn time_base(device_clock: bool) -> &'static str {
+        if device_clock {
+            DEVICE_TIME_BASE_VALUE
+        } else {
+            TIME_BASE_VALUE
+        }
+    }
+
+    /// The MCAP record `clock <label>` at the end of the run: the time base the rows are on,
+    /// then the clock's final values ([`pairs`]).
+    pub fn record(c: &DeviceClock, device_clock: bool) -> Vec<(String, String)> {
+        let mut r = vec![(TIME_BASE.to_string(), time_base(device_clock).to_string())];
+        r.extend(pairs(c));
+        r
+    }
 
     /// The clock's final values under these keys.
     pub fn pairs(c: &DeviceClock) -> Vec<(String, String)> {

@@ -384,7 +384,8 @@ impl Recorder {
 
 impl Recorder {
     /// The end of the run: flush, and fill in the clock's metadata (the estimate as it stands
-    /// now) in the CSV header and as an MCAP metadata record `clock <label>`.
+    /// now) in the CSV header and as an MCAP metadata record `clock <label>` (with the time
+    /// base the rows are on, which the CSV's header already gives).
     pub fn finish(&mut self, label: &str) -> Result<(), FileError> {
         self.flush()?;
         let pairs = clock_key::pairs(&self.clock);
@@ -392,7 +393,9 @@ impl Recorder {
             patch_header(&self.path, &pairs).map_err(|e| FileError::write(&self.path, e))?;
         }
         if let Some((m, _)) = &self.mcap {
-            m.borrow_mut().metadata(&format!("clock {label}"), &pairs)?;
+            let record = clock_key::record(&self.clock, self.device_clock);
+            m.borrow_mut()
+                .metadata(&format!("clock {label}"), &record)?;
         }
         Ok(())
     }

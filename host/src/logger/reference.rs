@@ -10,19 +10,9 @@ use recording::Recording;
 
 use super::FileError;
 
-/// Linear interpolation of `y(x)` at `at`; `None` outside the sampled range.
-pub fn interpolate(x: &[f64], y: &[f64], at: f64) -> Option<f64> {
-    if x.is_empty() || at < x[0] || at > x[x.len() - 1] || at.is_nan() {
-        return None;
-    }
-    let i = x.partition_point(|v| *v <= at).clamp(1, x.len() - 1);
-    let (x0, x1, y0, y1) = (x[i - 1], x[i], y[i - 1], y[i]);
-    Some(if x1 > x0 {
-        y0 + (y1 - y0) * (at - x0) / (x1 - x0)
-    } else {
-        y0
-    })
-}
+/// Linear interpolation of `y(x)` at `at`; `None` outside the sampled range (the importers'
+/// one implementation).
+pub use recording::import::resample::interpolate;
 
 /// How to align the machine's clock with the recording's.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -218,13 +208,5 @@ mod tests {
                 "load at row {i}"
             );
         }
-    }
-
-    #[test]
-    fn interpolation_is_linear_and_bounded() {
-        let x = [0.0, 1.0, 3.0];
-        let y = [0.0, 10.0, 30.0];
-        assert_eq!(interpolate(&x, &y, 2.0), Some(20.0));
-        assert_eq!(interpolate(&x, &y, 3.5), None);
     }
 }

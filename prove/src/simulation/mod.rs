@@ -156,6 +156,7 @@ impl Plan {
                 low_snr: jig.low_snr,
                 recording,
                 described: None,
+                unnamed: None,
             },
             simulation: file,
             form,

@@ -11,8 +11,7 @@
 use super::{bad, number};
 use crate::machine::{MachineExport, MachineExportError};
 
-/// Standard gravity, N per kgf.
-pub const N_PER_KGF: f64 = 9.80665;
+pub use super::units::N_PER_KGF;
 
 /// One test block of a Mach-1 export.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,99 +1,14 @@
 //! A generic test machine's CSV: a time, a displacement and a force column chosen by name or
-//! by 1-based index, each with its unit; comma, semicolon or tab separated (detected from the
-//! header); header rows to skip ahead of the column header; `#` lines ignored.
+//! by 1-based index, each with its unit; the delimiter given or detected, a header or none,
+//! lines to skip ahead of it, `#` lines ignored ([`super::table`]). The same reader reads the
+//! reference log of a pair ([`super::pair`]).
 
-use std::str::FromStr;
-
-use super::{bad, number};
+use super::table::{Table, TableOptions};
+use super::units::Unit;
 use crate::machine::{MachineExport, MachineExportError};
 
-/// A column chosen by its header name (without case) or by its 1-based index.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum ColumnRef {
-    /// The header's name for it.
-    Name(String),
-    /// 1-based position in the row.
-    Index(usize),
-}
-
-impl FromStr for ColumnRef {
-    type Err = std::convert::Infallible;
-    /// Digits are an index, anything else a name.
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Ok(match s.trim().parse::<usize>() {
-            Ok(i) => ColumnRef::Index(i),
-            Err(_) => ColumnRef::Name(s.trim().to_string()),
-        })
-    }
-}
-
-/// A unit: its name and the factor to the recording's unit (s, mm or N).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Unit {
-    /// The unit's name, e.g. `gf`.
-    pub name: &'static str,
-    /// Recording units per one of this unit.
-    pub factor: f64,
-}
-
-/// Time units, to s.
-pub const TIME_UNITS: [Unit; 3] = [
-    Unit {
-        name: "s",
-        factor: 1.0,
-    },
-    Unit {
-        name: "ms",
-        factor: 1e-3,
-    },
-    Unit {
-        name: "min",
-        factor: 60.0,
-    },
-];
-/// Length units, to mm.
-pub const LENGTH_UNITS: [Unit; 3] = [
-    Unit {
-        name: "mm",
-        factor: 1.0,
-    },
-    Unit {
-        name: "um",
-        factor: 1e-3,
-    },
-    Unit {
-        name: "m",
-        factor: 1e3,
-    },
-];
-/// Force units, to N.
-pub const FORCE_UNITS: [Unit; 5] = [
-    Unit {
-        name: "N",
-        factor: 1.0,
-    },
-    Unit {
-        name: "gf",
-        factor: 9.80665e-3,
-    },
-    Unit {
-        name: "kgf",
-        factor: 9.80665,
-    },
-    Unit {
-        name: "lbf",
-        factor: 4.448_221_615_260_5,
-    },
-    Unit {
-        name: "kN",
-        factor: 1e3,
-    },
-];
-
-/// The unit called `name` among `units`, if any.
-pub fn unit(units: &[Unit], name: &str) -> Option<Unit> {
-    units.iter().copied().find(|u| u.name == name.trim())
-}
+pub use super::table::{detect_delimiter, ColumnRef};
+pub use super::units::{unit, FORCE_UNITS, LENGTH_UNITS, TIME_UNITS};
 
 /// How to read the CSV.
 #[derive(Debug, Clone, PartialEq)]
@@ -104,101 +19,89 @@ pub struct CsvOptions {
     pub displacement: ColumnRef,
     /// The force column.
     pub force: ColumnRef,
-    /// Unit of the time column (a name of [`TIME_UNITS`]).
-    pub time_unit: String,
-    /// Unit of the displacement column (a name of [`LENGTH_UNITS`]).
-    pub length_unit: String,
-    /// Unit of the force column (a name of [`FORCE_UNITS`]).
-    pub force_unit: String,
-    /// Multiply displacement and force by -1 (a machine that reads compression as negative).
-    pub invert: bool,
-    /// Lines to skip before the column header.
-    pub skip_rows: usize,
+    /// Unit of the time column (one of [`TIME_UNITS`]).
+    pub time_unit: Unit,
+    /// Unit of the displacement column (one of [`LENGTH_UNITS`]).
+    pub length_unit: Unit,
+    /// Unit of the force column (one of [`FORCE_UNITS`]).
+    pub force_unit: Unit,
+    /// The displacement decreases as the indenter presses in (a robot's z above the sample).
+    pub press_down: bool,
+    /// The force reads negative in compression.
+    pub compression_negative: bool,
+    /// The displacement reading, in its own unit, at first contact: `rod_mm` is 0 there;
+    /// `None`: the first reading.
+    pub contact_at: Option<f64>,
+    /// The force column's marker for "no reading" (e.g. `-1` from a scale with nothing new).
+    pub missing: Option<f64>,
+    /// Lines, header and delimiter.
+    pub table: TableOptions,
 }
 
-/// The delimiter of a header line: the most frequent of tab, semicolon and comma.
-pub fn detect_delimiter(header: &str) -> char {
-    ['\t', ';', ',']
-        .into_iter()
-        .max_by_key(|d| header.matches(*d).count())
-        .unwrap_or(',')
+/// A machine's log on its own clock: time in s (not shifted), rod travel in mm from the
+/// contact reading, pressing in positive, and force in N (`NaN` where there was no reading).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MachineLog {
+    /// Time, s, on the log's own clock, non-decreasing.
+    pub t_s: Vec<f64>,
+    /// Rod travel, mm, pressing in positive, 0 at the contact reading.
+    pub rod_mm: Vec<f64>,
+    /// Compressive force, N.
+    pub load_n: Vec<f64>,
 }
 
-/// Parse a CSV already in memory; `path` names it in errors. Time starts at zero, displacement
-/// at its first value.
+/// Read the columns of a CSV already in memory; `path` names it in errors.
+pub fn read_log(
+    text: &str,
+    path: &str,
+    opt: &CsvOptions,
+) -> Result<MachineLog, MachineExportError> {
+    let table = Table::parse(text, path, &opt.table)?;
+    let t_s = table.times(table.column(&opt.time)?, opt.time_unit.factor)?;
+    let raw = table.values(table.column(&opt.displacement)?, 1.0, None)?;
+    let force = table.values(
+        table.column(&opt.force)?,
+        opt.force_unit.factor,
+        opt.missing,
+    )?;
+    let contact = match opt.contact_at {
+        Some(c) => c,
+        None => raw.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0),
+    };
+    let sign = |negative: bool| if negative { -1.0 } else { 1.0 };
+    let into = sign(opt.press_down) * opt.length_unit.factor;
+    Ok(MachineLog {
+        t_s,
+        rod_mm: raw.iter().map(|d| into * (d - contact)).collect(),
+        load_n: force
+            .iter()
+            .map(|f| sign(opt.compression_negative) * f)
+            .collect(),
+    })
+}
+
+/// Parse a CSV already in memory; `path` names it in errors. Time starts at zero, and the
+/// displacement at the contact reading (by default its first value).
 pub fn parse(
     text: &str,
     path: &str,
     opt: &CsvOptions,
 ) -> Result<MachineExport, MachineExportError> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .skip(opt.skip_rows)
-        .map(|(i, l)| (i + 1, l.trim_end_matches('\r')))
-        .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
-    let (hline, header) = lines
-        .next()
-        .ok_or_else(|| bad(path, opt.skip_rows + 1, "(header)", "no header line"))?;
-    let delimiter = detect_delimiter(header);
-    let names: Vec<String> = header
-        .split(delimiter)
-        .map(|s| s.trim().to_string())
-        .collect();
-    let pick =
-        |c: &ColumnRef, units: &[Unit], u: &str| -> Result<(usize, f64), MachineExportError> {
-            let k = column(&names, c)
-                .ok_or_else(|| bad(path, hline, &format!("{c:?}"), "no such column"))?;
-            let unit = unit(units, u).ok_or_else(|| {
-                let known: Vec<&str> = units.iter().map(|u| u.name).collect();
-                bad(
-                    path,
-                    hline,
-                    &names[k],
-                    format!("unknown unit {u:?} (known: {known:?})"),
-                )
-            })?;
-            Ok((k, unit.factor))
-        };
-    let sign = if opt.invert { -1.0 } else { 1.0 };
-    let cols = [
-        pick(&opt.time, &TIME_UNITS, &opt.time_unit)?,
-        pick(&opt.displacement, &LENGTH_UNITS, &opt.length_unit)?,
-        pick(&opt.force, &FORCE_UNITS, &opt.force_unit)?,
-    ];
-    let mut raw = [Vec::new(), Vec::new(), Vec::new()];
-    for (no, line) in lines {
-        let fields: Vec<&str> = line.split(delimiter).collect();
-        for ((k, factor), out) in cols.iter().zip(raw.iter_mut()) {
-            let text = fields.get(*k).copied().unwrap_or("");
-            out.push(number(path, no, &names[*k], text)? * factor);
-        }
-        let t = &raw[0];
-        if t.len() > 1 && t[t.len() - 1] < t[t.len() - 2] {
-            return Err(bad(path, no, &names[cols[0].0], "time decreases"));
-        }
+    let log = read_log(text, path, opt)?;
+    if log.t_s.len() < 2 {
+        return Err(super::bad(path, 1, "(rows)", "fewer than two rows"));
     }
-    if raw[0].len() < 2 {
-        return Err(bad(path, hline, "(rows)", "fewer than two rows"));
-    }
-    let [t, d, f] = raw;
+    let t0 = log.t_s[0];
     Ok(MachineExport {
-        t_s: t.iter().map(|v| v - t[0]).collect(),
-        rod_mm: d.iter().map(|v| sign * (v - d[0])).collect(),
-        load_n: f.iter().map(|v| sign * v).collect(),
+        t_s: log.t_s.iter().map(|t| t - t0).collect(),
+        rod_mm: log.rod_mm,
+        load_n: log.load_n,
     })
-}
-
-/// The 0-based position of column `c` in `names`.
-fn column(names: &[String], c: &ColumnRef) -> Option<usize> {
-    match c {
-        ColumnRef::Index(i) => (*i >= 1 && *i <= names.len()).then(|| i - 1),
-        ColumnRef::Name(n) => names.iter().position(|h| h.eq_ignore_ascii_case(n)),
-    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::units::parse as unit_of;
     use super::*;
 
     fn opts(time: &str, disp: &str, force: &str) -> CsvOptions {
@@ -206,11 +109,17 @@ mod tests {
             time: time.parse().unwrap(),
             displacement: disp.parse().unwrap(),
             force: force.parse().unwrap(),
-            time_unit: "ms".into(),
-            length_unit: "um".into(),
-            force_unit: "gf".into(),
-            invert: false,
-            skip_rows: 2,
+            time_unit: unit_of(&TIME_UNITS, "ms").unwrap(),
+            length_unit: unit_of(&LENGTH_UNITS, "um").unwrap(),
+            force_unit: unit_of(&FORCE_UNITS, "gf").unwrap(),
+            press_down: false,
+            compression_negative: false,
+            contact_at: None,
+            missing: None,
+            table: TableOptions {
+                skip_rows: 2,
+                ..Default::default()
+            },
         }
     }
 
@@ -227,14 +136,34 @@ mod tests {
         let tab = SEMI.replace(';', "\t");
         assert_eq!(parse(&tab, "m.csv", &opts("1", "2", "3")).unwrap().len(), 3);
         let mut o = opts("1", "2", "3");
-        o.invert = true;
-        assert!(parse(SEMI, "m.csv", &o).unwrap().load_n[1] < 0.0);
+        o.press_down = true;
+        o.compression_negative = true;
+        let e = parse(SEMI, "m.csv", &o).unwrap();
+        assert!(e.load_n[1] < 0.0 && e.rod_mm[1] < 0.0);
+    }
+
+    /// A robot's z over the sample with a scale that marks "nothing new" with -1, no header.
+    #[test]
+    fn headerless_press_down_contact_and_missing_marker() {
+        let mut o = opts("1", "4", "5");
+        o.table.skip_rows = 0;
+        o.time_unit = unit_of(&TIME_UNITS, "s").unwrap();
+        o.length_unit = unit_of(&LENGTH_UNITS, "mm").unwrap();
+        o.force_unit = unit_of(&FORCE_UNITS, "g").unwrap();
+        o.press_down = true;
+        o.contact_at = Some(287.5);
+        o.missing = Some(-1.0);
+        let text =
+            "100.0,315,-100,288.0,0.0\n100.1,315,-100,287.0,-1\n100.2,315,-100,286.5,102.0\n";
+        let log = read_log(text, "states.csv", &o).unwrap();
+        assert_eq!(log.t_s, vec![100.0, 100.1, 100.2]);
+        assert_eq!(log.rod_mm, vec![-0.5, 0.5, 1.0]);
+        assert!(log.load_n[1].is_nan());
+        assert!((log.load_n[2] - 1.000_278_3).abs() < 1e-6);
     }
 
     #[test]
     fn bad_input_names_the_line_and_field() {
-        let mut unknown = opts("1", "2", "3");
-        unknown.force_unit = "stone".into();
         let cases = [
             (
                 SEMI.replace("10;110", "10;x"),
@@ -249,12 +178,12 @@ mod tests {
             (
                 SEMI.to_string(),
                 opts("1", "2", "9"),
-                ":3: field Index(9): no such column",
+                ":3: field column 9: no such column",
             ),
             (
                 SEMI.to_string(),
-                unknown,
-                ":3: field Load: unknown unit \"stone\"",
+                opts("1", "2", "Force"),
+                ":3: field Force: no such column (columns: Time, Ext, Load)",
             ),
             (
                 "a\nb\n".to_string(),

@@ -1,12 +1,23 @@
-//! Importers: other instruments' exports turned into `tactile-recording/1` recordings of the
-//! material alone (time, rod, load; the sensor columns not measured, empty on every row).
+//! Importers: other instruments' exports turned into `tactile-recording/1` recordings.
 //!
-//! Each format's parser yields a [`MachineExport`] (time in s, rod travel in mm, load in N);
-//! [`to_recording`] adds the metadata. Errors are [`MachineExportError`]s naming the file, the
-//! line and the field.
+//! A test machine's export alone (Mach-1 text, [`mach1`]; a generic CSV, [`machine_csv`]) is a
+//! recording of the material alone (time, rod, load; the sensor columns not measured, empty on
+//! every row): each parser yields a [`MachineExport`] (time in s, rod travel in mm, load in N)
+//! and [`to_recording`] adds the metadata. A pair of logs, a sensor's and a reference's on their
+//! own clocks ([`pair`]), is merged on time into one recording with the sensor's columns too.
+//! The pieces: the one delimited-text reader ([`table`]), units ([`units`]), a sensor's columns
+//! combined into an output ([`combine`]), one log put on another's times ([`resample`]).
+//! Errors are [`MachineExportError`]s naming the file, the line and the field.
 
+pub mod combine;
 pub mod mach1;
 pub mod machine_csv;
+pub mod pair;
+pub mod resample;
+pub mod table;
+pub mod units;
+
+pub use resample::median_step_s;
 
 use std::path::Path;
 
@@ -64,20 +75,6 @@ pub fn to_recording(
         my_v: vec![f64::NAN; n],
     };
     Ok(rec)
-}
-
-/// The median of the positive time steps, s; `None` if there is none.
-pub fn median_step_s(t_s: &[f64]) -> Option<f64> {
-    let mut steps: Vec<f64> = t_s
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .filter(|d| *d > 0.0)
-        .collect();
-    if steps.is_empty() {
-        return None;
-    }
-    steps.sort_by(f64::total_cmp);
-    Some(steps[steps.len() / 2])
 }
 
 /// The text of the file at `path`, read whole (at most

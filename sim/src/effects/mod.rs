@@ -106,6 +106,14 @@ impl EffectKind {
         }
     }
 
+    /// Every catalogue entry with its parameters, `name:param,...` in catalogue order, for
+    /// help texts and for the error that meets an unknown name.
+    pub fn catalogue() -> String {
+        Self::ALL
+            .map(|k| format!("{}:{}", k.name(), k.param_names().join(",")))
+            .join(" ")
+    }
+
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
@@ -246,8 +254,12 @@ impl Effect {
     /// Parse `name:key=value,key=value` (every parameter given), as on the command line.
     pub fn from_spec(spec: &str) -> Result<Effect, String> {
         let (name, rest) = spec.split_once(':').unwrap_or((spec, ""));
-        let kind =
-            EffectKind::from_name(name.trim()).ok_or_else(|| format!("unknown effect `{name}`"))?;
+        let kind = EffectKind::from_name(name.trim()).ok_or_else(|| {
+            format!(
+                "unknown effect `{name}` (the catalogue's: {})",
+                EffectKind::catalogue()
+            )
+        })?;
         let mut values = vec![f64::NAN; kind.param_names().len()];
         for pair in rest.split(',').filter(|s| !s.trim().is_empty()) {
             let (k, v) = pair
@@ -437,7 +449,12 @@ mod tests {
             assert_eq!(e.params(), p);
         }
         assert!(Effect::from_spec("hysteresis").is_err());
-        assert!(Effect::from_spec("warp_drive:x=1").is_err());
+        let unknown = Effect::from_spec("warp_drive:x=1").unwrap_err();
+        // An unknown name is answered with every valid one.
+        for k in EffectKind::ALL {
+            assert!(unknown.contains(k.name()), "{unknown}");
+        }
+        assert!(unknown.starts_with("unknown effect `warp_drive` (the catalogue's: viscoelastic_relaxation:tau_s,fraction hysteresis:width"), "{unknown}");
     }
 
     #[test]

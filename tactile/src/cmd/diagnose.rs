@@ -1,9 +1,12 @@
-//! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`), and a
-//! whole session at once: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
+//! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`), a
+//! batch, each recording alone: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
 //! recordings) through `diagnosis::session`; or jointly, one model for the session:
 //! `tactile diagnose --joint A.csv B.csv ... --json OUT.json [--report OUT.html]`
-//! (`docs/session-format.md`) through `diagnosis::joint`. Each may take the user's own
-//! simulation as the baseline (`--simulation`, `docs/simulation-format.md`).
+//! (`docs/session-format.md`) through `diagnosis::joint`. In every mode the inputs are there
+//! and the outputs can be written before any work (`diagnosis::inputs`, `diagnosis::outputs`),
+//! and each output is written whole.
+//! Each may take the user's own simulation as the baseline (`--simulation`,
+//! `docs/simulation-format.md`).
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -17,25 +20,30 @@ use diagnosis::{diagnose, report, session, BaselineSource, Options};
 
 use sysexit::{self as exit, ExitStatus};
 
+/// Diagnose one recording (`--json`), several each alone in parallel (batch, `--out-dir`), or
+/// several together as one session of one sensor (`--joint`).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Recordings in the recording format (`docs/recording-format.md`), or folders of them (every
-    /// `*.csv` in it, sorted). More than one needs --out-dir.
+    /// `*.csv` in it, sorted). One recording: --json OUT.json. Several: --out-dir DIR diagnoses
+    /// each alone (batch), --joint --json OUT.json diagnoses them together as one session.
     #[arg(required = true, value_name = "RECORDING")]
     pub recordings: Vec<PathBuf>,
-    /// Where to write the diagnosis of one recording (tactile-diagnosis/1 JSON).
+    /// The diagnosis's JSON: of one recording (tactile-diagnosis/1), or with --joint of the
+    /// session (tactile-session-diagnosis/1). Missing folders are created.
     #[arg(long)]
     pub json: Option<PathBuf>,
-    /// Also write the HTML report of one recording, one self-contained file: PATH itself when it
-    /// ends in `.html`, else PATH/report.html.
+    /// Also write the HTML page, one self-contained file: PATH itself when it ends in `.html`,
+    /// else PATH/report.html. Of one recording, or with --joint of the session.
     #[arg(long)]
     pub report: Option<PathBuf>,
-    /// Diagnose every recording in parallel into DIR: `<stem>.json`, its report, `summary.csv`
-    /// and `summary.html`.
+    /// Batch: diagnose every recording alone, in parallel, into DIR: `<stem>.json`, its report
+    /// `<stem>.html`, `summary.csv` and `summary.html` (inputs need distinct file stems).
     #[arg(long, value_name = "DIR")]
     pub out_dir: Option<PathBuf>,
-    /// Diagnose the recordings jointly, one sensor and gel for all (tactile-session-diagnosis/1
-    /// JSON into --json, the session's page into --report).
+    /// Diagnose the recordings jointly, as one session of one sensor in one fingertip: one
+    /// model for all (tactile-session-diagnosis/1 JSON into --json, the session's page into
+    /// --report; docs/session-format.md).
     #[arg(long)]
     pub joint: bool,
     /// The user's own simulation of the test as the baseline instead of ours: a recording of
@@ -111,10 +119,17 @@ impl Config {
                 out_dir,
             });
         }
-        let [recording] = <[PathBuf; 1]>::try_from(args.recordings)
-            .map_err(|_| UsageError("several recordings need --out-dir DIR"))?;
+        let [recording] = <[PathBuf; 1]>::try_from(args.recordings).map_err(|_| {
+            UsageError(
+                "several recordings need --out-dir DIR (each diagnosed alone) or --joint \
+                     --json OUT.json (diagnosed together as one session)",
+            )
+        })?;
         if recording.is_dir() {
-            return Err(UsageError("a folder of recordings needs --out-dir DIR"));
+            return Err(UsageError(
+                "a folder of recordings needs --out-dir DIR (each diagnosed alone) or --joint \
+                 --json OUT.json (diagnosed together as one session)",
+            ));
         }
         let json = args.json.ok_or(UsageError(
             "one recording needs --json OUT.json (or --out-dir DIR)",
@@ -156,28 +171,27 @@ fn baseline(recordings: &[PathBuf], sims: &[PathBuf]) -> anyhow::Result<Baseline
 }
 
 /// The session diagnosed jointly; [`exit::DATA`] after writing when a file could not be
-/// analysed (its row says why).
+/// analysed (its row says why). The inputs are there and the outputs can be written before
+/// any work; the library refuses a recording given twice or of another sensor.
 fn joint(
     inputs: &[PathBuf],
     json: &Path,
     report_path: Option<&Path>,
     (show, sims): (bool, &[PathBuf]),
 ) -> anyhow::Result<()> {
-    let inputs = session::expand_inputs(inputs).coded()?;
-    let opt = options(baseline(&inputs, sims)?)?;
+    let files = diagnosis::inputs::expand(inputs).coded()?;
+    let report = report_path.map(report_file);
+    check_outputs(json, report.as_deref(), &files)?;
+    let opt = options(baseline(&files, sims)?)?;
     let bar = progress_bar(show, "diagnosing the session");
     bar.set_length(1);
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    let diagnosed = diagnosis::joint::diagnose_session(&inputs, &opt);
+    let diagnosed = diagnosis::joint::diagnose_session(inputs, &opt);
     bar.finish_and_clear();
     let d = diagnosed.coded()?;
     let text = diagnosis::joint::json_text(&d).context("encoding the diagnosis")?;
-    std::fs::write(json, text).with_context(|| format!("writing {}", json.display()))?;
-    if let Some(path) = report_path {
-        let file = report_file(path);
-        diagnosis::joint::write_report(&file, &d)
-            .with_context(|| format!("writing {}", file.display()))?;
-    }
+    let html = report.as_ref().map(|_| diagnosis::joint::report_html(&d));
+    write_outputs(json, &text, report.as_deref().zip(html.as_deref()))?;
     let bad: Vec<&str> = d
         .report
         .recordings
@@ -185,6 +199,22 @@ fn joint(
         .filter_map(|r| r.error.as_deref())
         .collect();
     unanalysed(&bad, d.report.recordings.len())
+}
+
+/// Refuse, before any work, a `--json` or report path that cannot be written, is one of the
+/// recordings `inputs`, or is the other output ([`diagnosis::outputs::check`]).
+fn check_outputs(json: &Path, report: Option<&Path>, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    let files: Vec<&Path> = std::iter::once(json).chain(report).collect();
+    Ok(diagnosis::outputs::check(&files, &[], inputs).coded()?)
+}
+
+/// The JSON and, where asked for, the page, written whole together.
+fn write_outputs(json: &Path, text: &str, page: Option<(&Path, &str)>) -> anyhow::Result<()> {
+    let mut files = vec![(json, text.as_bytes())];
+    files.extend(page.map(|(path, html)| (path, html.as_bytes())));
+    let names: Vec<String> = files.iter().map(|(p, _)| p.display().to_string()).collect();
+    diagnosis::outputs::write_all_whole(&files)
+        .with_context(|| format!("writing {}", names.join(" and ")))
 }
 
 fn options(baseline: BaselineSource) -> anyhow::Result<Options> {
@@ -197,12 +227,17 @@ fn options(baseline: BaselineSource) -> anyhow::Result<Options> {
     })
 }
 
+/// One recording into `json` (and its page).
 fn single(
-    recording: &std::path::Path,
-    json: &std::path::Path,
-    report_path: Option<&std::path::Path>,
+    recording: &Path,
+    json: &Path,
+    report_path: Option<&Path>,
     (show, sims): (bool, &[PathBuf]),
 ) -> anyhow::Result<()> {
+    let files =
+        diagnosis::inputs::expand(std::slice::from_ref(&recording.to_path_buf())).coded()?;
+    let report = report_path.map(report_file);
+    check_outputs(json, report.as_deref(), &files)?;
     let baseline = baseline(&[recording.to_path_buf()], sims)?;
     let rec = recording::read(recording).coded()?;
     let mut opt = options(baseline)?;
@@ -217,12 +252,8 @@ fn single(
     bar.finish_and_clear();
     let d = diagnosed.coded().with_context(|| name.clone())?;
     let text = session::json_text(&d).context("encoding the diagnosis")?;
-    std::fs::write(json, text).with_context(|| format!("writing {}", json.display()))?;
-    if let Some(path) = report_path {
-        let file = report_file(path);
-        report::write(&file, &d).with_context(|| format!("writing {}", file.display()))?;
-    }
-    Ok(())
+    let html = report.as_ref().map(|_| report::html(&d));
+    write_outputs(json, &text, report.as_deref().zip(html.as_deref()))
 }
 
 /// The report's file: `PATH` when it names an `.html` file, else `PATH/report.html` (a folder,

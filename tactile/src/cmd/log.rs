@@ -11,7 +11,7 @@ use sysexit::ResultExt as _;
 use anyhow::Context;
 
 use super::common::{finite, positive_seconds};
-use crate::live::{Dashboard, SensorView};
+use crate::live::{ClockView, Dashboard, SensorView};
 use host::device::{Device, Event, OpenOptions, PortSpec, Scale};
 use host::logger::mcap_io::McapSink;
 use host::logger::reference::{merge_file, Align};
@@ -323,8 +323,7 @@ fn pump(
                 }
             }
             s.rec.maybe_flush().coded()?;
-            let c = s.rec.clock();
-            s.view.clock = (c.ppm(), c.uncertainty_s() * 1e6);
+            s.view.clock = ClockView::of(s.rec.clock());
         }
         let all_ended = sensors.iter().all(|s| s.ended);
         if stop.load(Ordering::Relaxed)
@@ -358,15 +357,12 @@ fn status_line(sensors: &[Sensor], elapsed: Duration) -> String {
         } else {
             " DISCONNECTED"
         };
-        let clock = s.rec.clock();
         line.push_str(&format!(
-            " | {}{state}: {:.0} S/s, {} rows, clock {:+.1} ppm ±{:.0} µs, lost {} dropped {} crc {} \
-             reconnects {} queue {}",
+            " | {}{state}: {:.0} S/s, {} rows, {}, lost {} dropped {} crc {} reconnects {} queue {}",
             s.view.label,
             s.view.rate_hz(),
             s.rec.rows,
-            clock.ppm(),
-            clock.uncertainty_s() * 1e6,
+            ClockView::of(s.rec.clock()).text(),
             c.lost_on_link,
             c.dropped_by_device,
             c.crc_errors,

@@ -9,6 +9,7 @@ use anyhow::Context;
 
 use baseline::Readout;
 use diagnosis::Options;
+use prove::lab::LabKind;
 use prove::sessions::SessionKind;
 use prove::{categories, csv, markdown, real, run as score, summary_svg, Plan, Summary};
 
@@ -33,7 +34,8 @@ pub struct Args {
     #[arg(long)]
     pub write_recordings: bool,
     /// Score the categories instead (protocols, another model's baseline, three effects,
-    /// nuisances, then physics out of the catalogue and the catalogue at new stages):
+    /// nuisances, then physics out of the catalogue, the catalogue at new stages and physics
+    /// nobody named):
     /// categories.md in the output folder, one table row per category.
     #[arg(long)]
     pub categories: bool,
@@ -45,6 +47,10 @@ pub struct Args {
     /// catalogue at new stages): the quick run while the method is worked on.
     #[arg(long, requires = "categories")]
     pub described_only: bool,
+    /// With --categories, only the group of physics nobody named (a row per kind, and null
+    /// recordings): the quick run while the discovery step is worked on.
+    #[arg(long, requires = "categories", conflicts_with = "described_only")]
+    pub unnamed_only: bool,
     /// Score the session category instead: sessions of three recordings across azimuths, rod
     /// speeds and contact angles, diagnosed jointly (`tactile diagnose --joint`): sessions.md
     /// and each session's JSON in the output folder.
@@ -57,25 +63,91 @@ pub struct Args {
     /// simulation.md and the simulations (`simulations/`) in the output folder.
     #[arg(long, conflicts_with_all = ["categories", "sessions"])]
     pub simulation_category: bool,
-    /// With --sessions, sessions of each kind.
-    #[arg(long, default_value_t = 2, requires = "sessions")]
-    pub per_kind: usize,
+    /// With --sessions, the category: `lab` (mixed sessions, null sessions on another model's
+    /// fingertip, friction and hysteresis or relaxation across speeds, tests at their own rates
+    /// and gains; sessions-lab.md and lab-NN.json in the output folder). Without it, the
+    /// session category of issue 28.
+    #[arg(long, requires = "sessions", value_name = "CATEGORY")]
+    pub category: Option<SessionCategory>,
+    /// With --sessions, sessions of each kind (default 2; with --category lab, rounds of its
+    /// kinds, default 3: two mixed and two hysteresis-or-relaxation sessions a round).
+    #[arg(long, requires = "sessions")]
+    pub per_kind: Option<usize>,
     /// With --sessions, only the sessions of this kind (the same sessions as in the whole run);
-    /// `one-press` is a study beyond the category, run only so.
-    #[arg(long, requires = "sessions", value_name = "KIND", value_parser = session_kind)]
-    pub kind: Option<SessionKind>,
+    /// `one-press` is a study beyond the category, run only so. With --category lab, one of
+    /// its kinds (mixed, null-other, friction-speeds, hysteresis-or-relaxation, rates-gains).
+    #[arg(long, requires = "sessions", value_name = "KIND", value_parser = any_kind)]
+    pub kind: Option<AnyKind>,
+}
+
+/// A session category other than the default one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SessionCategory {
+    /// What a lab meets: prove::lab.
+    Lab,
+}
+
+/// A kind of either session category, by its key (the keys are distinct).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AnyKind {
+    Session(SessionKind),
+    Lab(LabKind),
 }
 
 /// A session kind by its key, for `--kind`.
-fn session_kind(key: &str) -> Result<SessionKind, String> {
-    SessionKind::from_key(key).ok_or_else(|| {
-        let keys: Vec<&str> = SessionKind::ALL
-            .iter()
-            .chain(&SessionKind::EXTRA)
-            .map(|k| k.key())
-            .collect();
-        format!("no session kind `{key}` (the kinds: {})", keys.join(", "))
-    })
+fn any_kind(key: &str) -> Result<AnyKind, String> {
+    if let Some(k) = SessionKind::from_key(key) {
+        return Ok(AnyKind::Session(k));
+    }
+    if let Some(k) = LabKind::from_key(key) {
+        return Ok(AnyKind::Lab(k));
+    }
+    let keys: Vec<&str> = SessionKind::ALL
+        .iter()
+        .chain(&SessionKind::EXTRA)
+        .map(|k| k.key())
+        .chain(LabKind::ALL.iter().map(|k| k.key()))
+        .collect();
+    Err(format!(
+        "no session kind `{key}` (the kinds: {})",
+        keys.join(", ")
+    ))
+}
+
+/// Arguments that do not go together.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct UsageError(String);
+
+impl sysexit::ExitStatus for UsageError {
+    fn exit_code(&self) -> u8 {
+        sysexit::USAGE
+    }
+}
+
+/// `--kind` of the default session category, or the error naming the category it belongs to.
+fn standard_kind(kind: Option<AnyKind>) -> Result<Option<SessionKind>, UsageError> {
+    match kind {
+        None => Ok(None),
+        Some(AnyKind::Session(k)) => Ok(Some(k)),
+        Some(AnyKind::Lab(k)) => Err(UsageError(format!(
+            "--kind {} is a kind of --category lab",
+            k.key()
+        ))),
+    }
+}
+
+/// `--kind` of the lab category, or the error naming the category it belongs to.
+fn lab_kind(kind: Option<AnyKind>) -> Result<Option<LabKind>, UsageError> {
+    match kind {
+        None => Ok(None),
+        Some(AnyKind::Lab(k)) => Ok(Some(k)),
+        Some(AnyKind::Session(k)) => Err(UsageError(format!(
+            "--kind {} is not a kind of --category lab (its kinds: {})",
+            k.key(),
+            LabKind::ALL.map(|k| k.key()).join(", ")
+        ))),
+    }
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -92,6 +164,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         readout: Readout::from_hardware(&hw)?,
     };
     if args.sessions {
+        if args.category == Some(SessionCategory::Lab) {
+            return run_lab(&plan, &args);
+        }
         return run_sessions(&plan, &args);
     }
     if args.categories {
@@ -145,7 +220,8 @@ fn write_recordings(cases: &[prove::Case], out: &std::path::Path) -> anyhow::Res
 fn run_sessions(plan: &Plan, args: &Args) -> anyhow::Result<()> {
     use prove::sessions;
     let started = Instant::now();
-    let cases = plan.sessions(args.per_kind, args.kind)?;
+    let kind = standard_kind(args.kind).coded()?;
+    let cases = plan.sessions(args.per_kind.unwrap_or(2), kind)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     if args.write_recordings {
@@ -221,18 +297,69 @@ fn run_simulation_category(plan: &Plan, args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The lab category: sessions-lab.md (the table per kind and the bar, then one row per
+/// session) and `lab-NN.json`, each session's joint diagnosis, in the output folder; printed
+/// too. Fails (exit 1) when the bar is not met.
+fn run_lab(plan: &Plan, args: &Args) -> anyhow::Result<()> {
+    use prove::lab;
+    let kind = lab_kind(args.kind).coded()?;
+    let started = Instant::now();
+    let cases = plan.lab_sessions(args.per_kind.unwrap_or(3), kind)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    if args.write_recordings {
+        for (name, rec) in cases.iter().flat_map(|c| &c.recordings) {
+            let path = args.out.join(name);
+            let file = std::fs::File::create(&path)
+                .with_context(|| format!("creating {}", path.display()))?;
+            rec.write_to(file)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+    }
+    let scores = lab::run(&cases, &plan.options);
+    for s in &scores {
+        if let Some(r) = &s.report {
+            let path = args.out.join(format!("lab-{:02}.json", s.id));
+            let text = serde_json::to_string_pretty(r)?;
+            std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        }
+    }
+    let text = format!(
+        "{}\n{}\n{} lab sessions at {} Hz, seed {}, in {:.0} s\n",
+        lab::table(&scores),
+        lab::details(&scores, &cases),
+        cases.len(),
+        plan.sample_rate_hz,
+        plan.seed,
+        started.elapsed().as_secs_f64()
+    );
+    println!("{text}");
+    let path = args.out.join("sessions-lab.md");
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+    anyhow::ensure!(
+        lab::Totals::of(&scores).passes(),
+        "the lab sessions miss the bar (see {})",
+        path.display()
+    );
+    Ok(())
+}
+
 /// `--categories`: every category's recordings diagnosed blind, a row per category.
 fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
-    if args.described_only {
+    if args.described_only || args.unnamed_only {
         std::fs::create_dir_all(&args.out)
             .with_context(|| format!("creating {}", args.out.display()))?;
         let mut text = String::new();
-        let pass = run_described(plan, args, &mut text)?;
+        let (pass, group) = if args.unnamed_only {
+            (run_unnamed(plan, args, &mut text)?, "physics nobody named")
+        } else {
+            (run_described(plan, args, &mut text)?, "described physics")
+        };
         let path = args.out.join("categories.md");
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
         anyhow::ensure!(
             pass,
-            "the described physics misses the acceptance bar (see the table)"
+            "the {group} misses the acceptance bar (see the table)"
         );
         return Ok(());
     }
@@ -264,10 +391,11 @@ fn run_categories(plan: &Plan, args: &Args) -> anyhow::Result<()> {
         text.push_str(&format!("\n{real_table}"));
     }
     let described_pass = run_described(plan, args, &mut text)?;
+    let unnamed_pass = run_unnamed(plan, args, &mut text)?;
     let path = args.out.join("categories.md");
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     anyhow::ensure!(
-        categories::all_pass(&labelled, &scores) && real_pass && described_pass,
+        categories::all_pass(&labelled, &scores) && real_pass && described_pass && unnamed_pass,
         "some categories miss the acceptance bar (see the table)"
     );
     Ok(())
@@ -293,6 +421,29 @@ fn run_described(plan: &Plan, args: &Args, text: &mut String) -> anyhow::Result<
         "\n## Physics the catalogue lacks, and the catalogue at new stages\n\n{table}"
     ));
     Ok(categories::described::all_pass(&labelled, &scores))
+}
+
+/// Physics nobody named and the null recordings beside it, diagnosed blind: its table (a row per
+/// kind, then every recording) appended to `text`; whether the group passes its bar.
+fn run_unnamed(plan: &Plan, args: &Args, text: &mut String) -> anyhow::Result<bool> {
+    let started = Instant::now();
+    let (labelled, cases) = plan.generate_unnamed()?;
+    if args.write_recordings {
+        write_recordings(&cases, &args.out)?;
+    }
+    let scores = score(&cases, &plan.options);
+    let table = categories::unnamed::table(&labelled, &scores);
+    println!("{table}");
+    println!(
+        "{} recordings of physics nobody named in {:.1} s",
+        labelled.len(),
+        started.elapsed().as_secs_f64()
+    );
+    text.push_str(&format!(
+        "\n## Physics nobody named (seed {}, blind)\n\n{table}",
+        plan.seed
+    ));
+    Ok(categories::unnamed::totals(&labelled, &scores).passes())
 }
 
 /// The text of `name` from the Mach-1 examples at `source` (their zip, or a folder), each byte

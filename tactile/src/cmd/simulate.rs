@@ -19,7 +19,9 @@ pub struct Args {
     /// Azimuth phi of the tilt plane from the chip's x axis, deg.
     #[arg(long, allow_hyphen_values = true)]
     pub azimuth: f64,
-    /// Load at which the rod stops and holds, N.
+    /// Load at which the rod stops and holds, N: the recorded load's peak, as a test machine
+    /// that stops at a load (with an effect on the load, a relaxation, the rod travels further
+    /// than the elastic gel would need).
     #[arg(long)]
     pub peak_load: f64,
     /// Output recording (CSV, `docs/recording-format.md`).
@@ -28,6 +30,10 @@ pub struct Args {
     /// Sample rate, Hz [default: hardware/fingertip.toml test.sample_rate_hz].
     #[arg(long)]
     pub rate: Option<f64>,
+    /// The rod's speed while it loads, mm/min [default: hardware/fingertip.toml
+    /// test.rod_speed_mm_per_min]; written to the metadata as `rod_speed_mm_per_min`.
+    #[arg(long, value_name = "MM_PER_MIN")]
+    pub rod_speed: Option<f64>,
     /// Rest after each return, s [default: hardware/fingertip.toml test.recovery_s]. With
     /// --then-peak-load it sets the length of a long recording (the benchmark's 300 s).
     #[arg(long)]
@@ -47,12 +53,12 @@ pub struct Args {
     /// Noise seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Switch on a catalogue effect: `name:param=value,...`, e.g.
-    /// `viscoelastic_relaxation:tau_s=4,fraction=0.3`. Repeatable.
-    #[arg(long = "effect")]
+    /// Switch on a catalogue effect (docs/diagnosis-format.md)
+    #[arg(long = "effect", value_name = "NAME:PARAM=VALUE,...", long_help = effect_help())]
     pub effects: Vec<String>,
-    /// Amplifier gains Fz,Mx,My [default: the amplifier chain of hardware/frontend.toml].
-    #[arg(long, value_delimiter = ',', num_args = 3)]
+    /// Amplifier gains Fz,Mx,My, e.g. `2000,200,200` [default: the amplifier chain of
+    /// hardware/frontend.toml].
+    #[arg(long, value_name = "FZ,MX,MY", value_delimiter = ',', num_args = 1..=3)]
     pub gain: Option<Vec<f64>>,
     /// The firmware's first-order smoother y += alpha (x - y) on the outputs (written to the
     /// recording's metadata as `firmware_smoother_alpha`) [default: off].
@@ -60,7 +66,8 @@ pub struct Args {
     pub smoother_alpha: Option<f64>,
     /// A sinusoidal swing of the ambient temperature: amplitude (degC) and period (s). A
     /// `thermal_drift` follows the temperature, so it then departs from a pure warm-up.
-    #[arg(long, value_delimiter = ',', num_args = 2, value_names = ["DEG_C", "PERIOD_S"])]
+    /// E.g. `1.5,60`.
+    #[arg(long, value_name = "DEG_C,PERIOD_S", value_delimiter = ',', num_args = 1..=2)]
     pub ambient_swing: Option<Vec<f64>>,
     /// Bridge excitation, V [default: hardware/chip.toml].
     #[arg(long)]
@@ -80,7 +87,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let params = hardware::Params::load_default()
         .coded()
         .context("loading hardware/")?;
-    let options = options(&args);
+    let options = options(&args).coded()?;
     if args.adc_stimulus.is_some() {
         let rate_hz = options.compression_test(&params.fingertip).sample_rate_hz;
         anyhow::ensure!(
@@ -97,10 +104,61 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     write_outputs(&args, &params, &rec)
 }
 
+/// `--effect`'s help: the form, and every catalogue entry with its parameters.
+fn effect_help() -> String {
+    format!(
+        "Switch on a catalogue effect (docs/diagnosis-format.md): `name:param=value,...`, e.g. \
+         `viscoelastic_relaxation:tau_s=4,fraction=0.3`. Repeatable. The effects and their \
+         parameters: {}",
+        sim::effects::EffectKind::catalogue()
+    )
+}
+
+/// A flag given the wrong number of values.
+#[derive(Debug, thiserror::Error)]
+#[error("{flag} takes {want} numbers, {form} (got {got})")]
+pub struct CountError {
+    flag: &'static str,
+    want: usize,
+    form: &'static str,
+    got: usize,
+}
+
+impl sysexit::ExitStatus for CountError {
+    fn exit_code(&self) -> u8 {
+        sysexit::USAGE
+    }
+}
+
+/// `values` as `N` numbers, given as one comma-separated value or as `N` values.
+fn exactly<const N: usize>(
+    values: Option<&[f64]>,
+    flag: &'static str,
+    form: &'static str,
+) -> Result<Option<[f64; N]>, CountError> {
+    values
+        .map(|v| {
+            <[f64; N]>::try_from(v).map_err(|_| CountError {
+                flag,
+                want: N,
+                form,
+                got: v.len(),
+            })
+        })
+        .transpose()
+}
+
 /// The command line's options of the recording.
-fn options(args: &Args) -> SimulateOptions {
-    SimulateOptions {
+fn options(args: &Args) -> Result<SimulateOptions, CountError> {
+    let gain = exactly::<3>(args.gain.as_deref(), "--gain", "FZ,MX,MY")?;
+    let swing = exactly::<2>(
+        args.ambient_swing.as_deref(),
+        "--ambient-swing",
+        "DEG_C,PERIOD_S",
+    )?;
+    Ok(SimulateOptions {
         rate_hz: args.rate,
+        rod_speed_mm_per_min: args.rod_speed,
         recovery_s: args.recovery_s,
         modulus_pa: args.modulus_pa,
         then_peak_loads_n: args.then_peak_load.clone(),
@@ -108,18 +166,12 @@ fn options(args: &Args) -> SimulateOptions {
         noise_load_n: args.noise_load_n,
         seed: args.seed,
         effects: args.effects.clone(),
-        gain: match args.gain.as_deref() {
-            Some([a, b, c]) => Some([*a, *b, *c]),
-            _ => None,
-        },
+        gain,
         smoother_alpha: args.smoother_alpha,
-        ambient_swing: match args.ambient_swing.as_deref() {
-            Some([amplitude_c, period_s]) => Some((*amplitude_c, *period_s)),
-            _ => None,
-        },
+        ambient_swing: swing.map(|[amplitude_c, period_s]| (amplitude_c, period_s)),
         excitation_v: args.excitation_v,
         ..SimulateOptions::new(args.contact_angle, args.azimuth, args.peak_load)
-    }
+    })
 }
 
 /// The recording, and the ADC stimulus and the machine's export where asked for.
