@@ -68,6 +68,12 @@ impl MapByLoad {
         Self::even(&ln_force, &ln_ratio)
     }
 
+    /// No map at all (every lookup 0): the drive of a response given per sample
+    /// ([`crate::Drive::of_samples`]) has no law of the travel to read its maps at another load.
+    pub fn none() -> Self {
+        Self::even(&[], &[])
+    }
+
     /// The table (`ln_force` increasing) resampled linearly onto [`EVEN_POINTS`] even in ln F.
     fn even(ln_force: &[f64], ln_ratio: &[[f64; 3]]) -> Self {
         let (Some(&first), Some(&last)) = (ln_force.first(), ln_force.last()) else {

@@ -239,6 +239,44 @@ impl Drive {
         Self::with_units(t_s, rod_mm, rod_max, unit, power, map)
     }
 
+    /// The drive of a response given sample by sample (`unit[i]` at `t_s[i]`, `rod_mm[i]`): a
+    /// simulation of the test in time, or a table already driven along the rod. It has no law
+    /// of the travel behind it, so the contact law's shape and the outputs' maps read at another
+    /// load have nothing to act on: a calibration of such a drive holds them at 0 (the force-law
+    /// blend's target is the response itself, the maps read at another load are its own).
+    pub fn of_samples(t_s: Vec<f64>, rod_mm: &[f64], unit: Vec<UnitResponse>) -> Self {
+        assert_eq!(unit.len(), rod_mm.len(), "one response per sample");
+        let rod_max = rod_mm.iter().cloned().fold(0.0, f64::max);
+        let power = unit.iter().map(|u| u.force_n).collect();
+        Self::with_units(t_s, rod_mm, rod_max, unit, power, MapByLoad::none())
+    }
+
+    /// [`Drive::of_samples`] on block means: the full-rate responses `full_unit` averaged over
+    /// each block `bounds` (as the recorded block means are, [`Drive::over_blocks`]).
+    pub fn over_blocks_of_samples(
+        t_s: Vec<f64>,
+        rod_mm: &[f64],
+        full_unit: &[UnitResponse],
+        bounds: &[(usize, usize)],
+    ) -> Self {
+        let unit = bounds
+            .iter()
+            .map(|&(a, b)| {
+                let n = (b - a).max(1) as f64;
+                let sum = full_unit[a..b].iter().fold([0.0; 4], |mut acc, u| {
+                    acc[0] += u.force_n;
+                    (0..3).for_each(|k| acc[k + 1] += u.chip[k]);
+                    acc
+                });
+                UnitResponse {
+                    force_n: sum[0] / n,
+                    chip: [sum[1] / n, sum[2] / n, sum[3] / n],
+                }
+            })
+            .collect();
+        Self::of_samples(t_s, rod_mm, unit)
+    }
+
     /// `power`: the matching power law's force per Pa at each sample (block means for a drive
     /// of blocks), the force-law blend's target.
     fn with_units(
@@ -568,5 +606,44 @@ mod tests {
         assert_eq!(a.volts[0], vec![0.0, 3.0, 6.0]);
         assert_eq!(b.volts[1], vec![0.0, -9.0, -18.0]);
         assert_eq!(b.load_n[2], 4.0);
+    }
+
+    /// A drive of per-sample responses evaluates as the model's own at the nominal shape, and
+    /// its block drive averages the samples of each block.
+    #[test]
+    fn a_drive_of_samples_reads_each_sample_and_averages_blocks() {
+        let readout = Readout {
+            signal: SignalPath {
+                sensitivity_per_v: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                gain: [2.0, 3.0, 3.0],
+                excitation_v: 1.5,
+            },
+            smoother_tau_s: None,
+        };
+        let (t, rod) = (vec![0.0, 1.0, 2.0, 3.0], [0.0, 1.0, 2.0, 3.0]);
+        let units: Vec<UnitResponse> = rod.iter().map(|&d| Linear.unit_response(d)).collect();
+        let p = BaselineParams::nominal(2.0);
+        let chain = EffectSet::default();
+        let of = evaluate(
+            &Drive::of_samples(t.clone(), &rod, units.clone()),
+            &readout,
+            &p,
+            &chain,
+            20.0,
+            None,
+        );
+        let ours = evaluate(
+            &Drive::new(&Linear, t, &rod),
+            &readout,
+            &p,
+            &chain,
+            20.0,
+            None,
+        );
+        assert_eq!(of, ours);
+        let blocks =
+            Drive::over_blocks_of_samples(vec![0.5, 2.5], &[0.5, 2.5], &units, &[(0, 2), (2, 4)]);
+        assert_eq!(blocks.unit[1].force_n, 2.5);
+        assert_eq!(blocks.unit[0].chip[1], -0.5);
     }
 }

@@ -73,6 +73,9 @@ pub struct Data {
     /// runs on `fit` (its blocks never straddle a segment's edge). Finer than detecting them on
     /// `fit` itself, where block means blur the encoder's quanta.
     pub segments: Vec<Segment>,
+    /// Channels the baseline does not model (a user's simulation that leaves them empty): never
+    /// compared, whatever they hold.
+    unmodelled: [bool; 4],
     /// [`Data::weight`] of every decimated sample, computed once: every residual of every fit
     /// asks for it, and its `powf` was a sixth of a diagnosis's time.
     weights: [Vec<f64>; 4],
@@ -95,6 +98,9 @@ pub enum DataError {
     /// The FE-backed fingertip response for the recording's angles and radius failed.
     #[error(transparent)]
     Fingertip(#[from] baseline::fe_response::FeResponseError),
+    /// The user's simulation cannot be the recording's baseline.
+    #[error(transparent)]
+    Simulation(#[from] crate::simulation::SimulationError),
 }
 
 impl Data {
@@ -155,15 +161,30 @@ impl Data {
             real,
             bounds,
             segments,
+            unmodelled: [false; 4],
             weights,
             drive_bin: Default::default(),
         })
     }
 
-    /// Whether channel `c` is worth comparing: its peak-to-peak range stands ten noise
-    /// deviations above its noise.
+    /// Whether channel `c` is worth comparing: the baseline models it, and its peak-to-peak
+    /// range stands ten noise deviations above its noise.
     pub fn compared(&self, c: usize) -> bool {
-        self.range[c] > 10.0 * self.noise[c].sd()
+        !self.unmodelled[c] && self.range[c] > 10.0 * self.noise[c].sd()
+    }
+
+    /// Whether the baseline models channel `c` (a user's simulation may leave it out).
+    pub fn modelled(&self, c: usize) -> bool {
+        !self.unmodelled[c]
+    }
+
+    /// The same data with the channels `lacks` marks left uncompared: the baseline (a user's
+    /// simulation) does not model them.
+    pub(crate) fn unmodelled(self, lacks: [bool; 4]) -> Self {
+        Self {
+            unmodelled: lacks,
+            ..self
+        }
     }
 
     /// Weight of decimated sample `k` of channel `c`: one over its noise level.
@@ -489,7 +510,11 @@ impl Data {
 /// A recording the diagnosis cannot use is bad data.
 impl sysexit::ExitStatus for DataError {
     fn exit_code(&self) -> u8 {
-        sysexit::DATA
+        match self {
+            // A simulation that is not there is a missing input, not bad data.
+            Self::Simulation(e) => e.exit_code(),
+            _ => sysexit::DATA,
+        }
     }
 }
 

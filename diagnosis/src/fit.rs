@@ -42,6 +42,9 @@ pub const MIN_BIC_STEP: f64 = 0.01;
 pub struct Setup<'a> {
     pub data: &'a Data,
     pub drive: Drive,
+    /// The baseline is the user's simulation (`crate::simulation`): its modulus is a load
+    /// scale, and its contact law and maps are the simulation's, held.
+    pub user_simulation: bool,
     pub readout: Readout,
     pub contact_angle_deg: f64,
     /// Samples of the decimated series in the fitting stretch / in the held-out stretch.

@@ -37,6 +37,7 @@ mod regimes;
 pub mod report;
 mod select;
 pub mod session;
+pub mod simulation;
 mod specs;
 mod static_shape;
 mod stats;
@@ -45,5 +46,5 @@ mod terms;
 mod undecided;
 
 pub use data::DataError;
-pub use pipeline::{diagnose, heldout_rmse_of, Diagnosis, Options, Progress};
+pub use pipeline::{diagnose, heldout_rmse_of, BaselineSource, Diagnosis, Options, Progress};
 pub use preconditions::mains_visible;

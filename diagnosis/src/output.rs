@@ -5,6 +5,7 @@ use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde::Serialize as DeriveSerialize;
 
 use super::localise::{ChannelLocalisation, Mismatch};
+pub use crate::simulation::SimulationReport;
 pub use sim::effects::Stage;
 
 /// A stage as the contract spells it.
@@ -60,6 +61,10 @@ pub struct Baseline {
     /// Extra: every calibrated parameter with its unit, bounds and bound flag.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub parameters: Vec<ParamDetail>,
+    /// The user's simulation the baseline was (the 2026-11-27 amendment); absent for our own
+    /// fingertip FE and chip.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub simulation: Option<SimulationReport>,
 }
 
 /// Extra: one fitted parameter in full. The contract's `params` and `param_stderr` carry the

@@ -125,24 +125,42 @@ fn channel_of(i: usize) -> Option<usize> {
     }
 }
 
-/// Every baseline parameter by its reported name, at its physical value (the JSON's
-/// `baseline.params`).
-pub fn baseline_values(base: &Candidate) -> Vec<(&'static str, f64)> {
+/// The name of the modulus's place when the baseline is a user's simulation: the factor its
+/// load (and with it its outputs) is scaled by.
+const LOAD_SCALE: (&str, &str) = ("load_scale", "1");
+
+/// The baseline parameters `c` reports, each with its index, name and unit: every one of our
+/// FE's; of a user's simulation the load scale, the output scales and the offsets (its
+/// contact law and maps are its own, held).
+fn reported(c: &Candidate) -> Vec<(usize, &'static str, &'static str)> {
+    let simulated = c.model.setup.user_simulation;
     BASELINE
         .iter()
         .enumerate()
-        .map(|(i, (name, _))| (*name, physical(&base.model, &base.fitted.full, i)))
+        .filter(|(i, _)| !simulated || *i == 0 || (SCALE_AT..OFFSET_AT + 4).contains(i))
+        .map(|(i, &(name, unit))| match i {
+            0 if simulated => (i, LOAD_SCALE.0, LOAD_SCALE.1),
+            _ => (i, name, unit),
+        })
+        .collect()
+}
+
+/// Every baseline parameter by its reported name, at its physical value (the JSON's
+/// `baseline.params`).
+pub fn baseline_values(base: &Candidate) -> Vec<(&'static str, f64)> {
+    reported(base)
+        .into_iter()
+        .map(|(i, name, _)| (name, physical(&base.model, &base.fitted.full, i)))
         .collect()
 }
 
 /// Every calibration parameter of the baseline in full (the compared channels' offsets only).
 pub fn baseline(base: &Candidate, data: &Data) -> Vec<ParamDetail> {
     let rho = residual_rho(base);
-    BASELINE
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| channel_of(*i).is_none_or(|c| base.model.setup.used[c]))
-        .map(|(i, (name, u))| detail(base, i, name, u, rho, data))
+    reported(base)
+        .into_iter()
+        .filter(|(i, _, _)| channel_of(*i).is_none_or(|c| base.model.setup.used[c]))
+        .map(|(i, name, u)| detail(base, i, name, u, rho, data))
         .collect()
 }
 
@@ -210,7 +228,7 @@ pub fn absorbed_static_shape(c: &Candidate) -> Option<(usize, String)> {
         return None;
     }
     let rho = residual_rho(c);
-    let span = Span::of(&c.model.setup.drive);
+    let span = Span::of(&c.model.setup.drive, &c.model.setup.fit_bounds);
     let mut at = N_BASE;
     let mut worst: Option<(usize, f64, String)> = None;
     for (e, &kind) in c.kinds.iter().enumerate() {

@@ -22,15 +22,29 @@ use crate::output::*;
 use crate::preconditions::Features;
 use crate::regimes::{self, Segment};
 use crate::select::select;
+use crate::simulation::{self, Samples, SimulationError, SimulationReport, Simulations};
 use crate::{evidence, noise, params, stats, terms, undecided};
 use baseline::fe_response::{AngleBlend, FeSource};
-use baseline::{Drive, Outputs, Readout};
+use baseline::{Drive, Outputs, Readout, UnitResponse};
 
 pub use crate::select::Progress;
+
+/// Where the baseline model comes from: the one place it is chosen.
+#[derive(Debug, Clone, Default)]
+pub enum BaselineSource {
+    /// Our fingertip's FE tables and our chip ([`Options::fe`]).
+    #[default]
+    Fe,
+    /// The user's own simulation of each recording (`docs/simulation-format.md`), calibrated
+    /// with a load scale, the three output scales and four offsets.
+    Simulation(Simulations),
+}
 
 /// Knobs of a run and the project's model parameters the recording does not carry.
 #[derive(Clone)]
 pub struct Options {
+    /// Our FE model or the user's simulation.
+    pub baseline: BaselineSource,
     /// The fingertip FE and the chip behind the baseline's response tables.
     pub fe: FeSource,
     /// The chip's bridge output per volt of excitation per unit load (the `chip` crate).
@@ -44,6 +58,7 @@ pub struct Options {
 impl std::fmt::Debug for Options {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Options")
+            .field("baseline", &self.baseline)
             .field("fe", &self.fe)
             .field("sensitivity_per_v", &self.sensitivity_per_v)
             .field("progress", &self.progress.is_some())
@@ -58,6 +73,7 @@ impl Options {
     ) -> Result<Self, chip::from_hardware::FromHardwareError> {
         let fe = Readout::from_chip(hw, [1.0; 3], hw.chip.excitation_v)?;
         Ok(Self {
+            baseline: BaselineSource::Fe,
             fe: FeSource::from_hardware(hw)?,
             sensitivity_per_v: fe.signal.sensitivity_per_v,
             fit_bounds: hw.fit_bounds.clone(),
@@ -117,7 +133,7 @@ pub struct Diagnosis {
 /// speed and a relaxation at the transducer to follow it).
 pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis, DataError> {
     let started = Instant::now();
-    let mut prepared = prepare(rec, opt)?;
+    let mut prepared = prepare(rec, name, opt)?;
     let (mut d, mut frozen) = diagnose_prepared(&prepared, name, opt);
     if d.report.verdict == Verdict::Unexplained {
         prepared.stretches.swap(&prepared.data.fit.t_s);
@@ -289,6 +305,7 @@ fn diagnose_prepared(
             params: baseline_params(base),
             rmse: full.baseline_rmse,
             parameters: params::baseline(base, data),
+            simulation: prepared.simulation.clone(),
         },
         mismatches: local.mismatches,
         effects,
@@ -561,7 +578,9 @@ fn undecided_findings(
         .filter(|_| setup.used[2] && setup.used[3] && !named(effects, EffectKind::Crosstalk))
         .filter(|_| !inverted)
         .and_then(|phi| undecided::crosstalk_or_gains(details, phi, &setup.fit_bounds));
-    let gains = terms::sanity::gains_off(details);
+    // Against a user's simulation an output's scale calibrates the simulation's outputs, which
+    // may be off by any factor (its own gains, a sensitivity it assumed): no finding of gains.
+    let gains = terms::sanity::gains_off(details).filter(|_| !setup.user_simulation);
     ambiguous.into_iter().chain(gains).collect()
 }
 
@@ -633,12 +652,23 @@ fn moment_direction(drive: &Drive) -> Option<f64> {
     (m.chip[1] != 0.0 || m.chip[2] != 0.0).then(|| m.chip[2].atan2(m.chip[1]))
 }
 
+/// The baseline's response to the recorded rod path.
+enum Fingertip {
+    /// Our FE tables at the recording's contact angle and azimuth.
+    Fe(Box<AngleBlend>),
+    /// The user's simulation at each full-rate sample of the recording (load scale 1).
+    Simulated(Arc<Vec<UnitResponse>>),
+}
+
 /// One recording read and ready to fit: its data, stretches and fingertip. A single diagnosis
 /// and each member of a joint one (`crate::joint`) set up their fits from it alike.
 pub(crate) struct Prepared {
     pub data: Data,
     stretches: Stretches,
-    fingertip: AngleBlend,
+    fingertip: Fingertip,
+    /// The user's simulation behind the baseline, where it is one (OUT.json's
+    /// `baseline.simulation`).
+    simulation: Option<SimulationReport>,
     pub meta: Meta,
     /// The data without its readings held (`Data::without_held`), if it has any: worked out
     /// once, for every diagnosis of the recording.
@@ -659,7 +689,7 @@ pub fn heldout_rmse_of(
     prediction: &Recording,
     opt: &Options,
 ) -> Result<Option<f64>, DataError> {
-    let p = prepare(rec, opt)?;
+    let p = prepare(rec, "", opt)?;
     let c = &prediction.channels;
     if c.len() != p.data.full.t_s.len() {
         return Ok(None);
@@ -671,20 +701,43 @@ pub fn heldout_rmse_of(
     Ok(Some(p.rmse(&o).1))
 }
 
-pub(crate) fn prepare(rec: &Recording, opt: &Options) -> Result<Prepared, DataError> {
-    let data = Data::new(rec)?;
-    let stretches = Stretches::detect(&data);
+/// Read `rec` (called `name` in the outputs) and look up its baseline's response: the FE's at
+/// its contact angle and azimuth, or its simulation's (`opt.baseline`).
+pub(crate) fn prepare(rec: &Recording, name: &str, opt: &Options) -> Result<Prepared, DataError> {
+    let mut data = Data::new(rec)?;
     let meta = rec.meta.clone();
-    let fingertip = opt.fe.response(
-        meta.fingertip_radius_mm,
-        meta.contact_angle_deg,
-        meta.azimuth_deg,
-    )?;
+    let (fingertip, simulation) = match &opt.baseline {
+        BaselineSource::Fe => {
+            let fe = opt.fe.response(
+                meta.fingertip_radius_mm,
+                meta.contact_angle_deg,
+                meta.azimuth_deg,
+            )?;
+            (Fingertip::Fe(Box::new(fe)), None)
+        }
+        BaselineSource::Simulation(sims) => {
+            let path = sims
+                .for_recording(name)
+                .ok_or_else(|| SimulationError::Unpaired(name.to_string()))?;
+            let at = Samples {
+                t_s: &data.full.t_s,
+                rod_mm: &data.full.rod_mm,
+            };
+            let loaded = simulation::load(path, rec, at, opt.sensitivity_per_v)?;
+            data = data.unmodelled(loaded.lacks);
+            (
+                Fingertip::Simulated(Arc::new(loaded.units)),
+                Some(loaded.report),
+            )
+        }
+    };
+    let stretches = Stretches::detect(&data);
     Ok(Prepared {
         held: data.without_held(),
         data,
         stretches,
         fingertip,
+        simulation,
         meta,
         frozen: Vec::new(),
         discovered: None,
@@ -755,8 +808,12 @@ impl Prepared {
     /// The drive at the full rate, for the contract's RMSEs.
     pub fn full_drive(&self, setup: &Setup) -> Drive {
         let data = &self.data;
-        Drive::new(&self.fingertip, data.full.t_s.clone(), &data.full.rod_mm)
-            .with_temperature(setup.thermal.and(data.full.temp_c.clone()))
+        let (t, rod) = (data.full.t_s.clone(), &data.full.rod_mm);
+        let drive = match &self.fingertip {
+            Fingertip::Fe(fe) => Drive::new(fe.as_ref(), t, rod),
+            Fingertip::Simulated(units) => Drive::of_samples(t, rod, units.to_vec()),
+        };
+        drive.with_temperature(setup.thermal.and(data.full.temp_c.clone()))
     }
 
     /// What the recording's protocol shows, for the effects' preconditions.
@@ -831,7 +888,7 @@ impl Stretches {
 fn calibration_setup<'a>(
     data: &'a Data,
     meta: &Meta,
-    fingertip: &AngleBlend,
+    fingertip: &Fingertip,
     stretches: &Stretches,
     opt: &Options,
 ) -> Setup<'a> {
@@ -841,23 +898,28 @@ fn calibration_setup<'a>(
         (Some(fit), Some(full)) => crate::temperature::fit(fit_t, fit, full),
         _ => None,
     };
+    let (t, rod) = (fit_t.clone(), &data.fit.rod_mm);
+    let (drive, fit_bounds) = match fingertip {
+        Fingertip::Fe(fe) => (
+            Drive::over_blocks(fe.as_ref(), t, rod, &data.full.rod_mm, &data.bounds),
+            opt.fit_bounds.clone(),
+        ),
+        Fingertip::Simulated(units) => (
+            Drive::over_blocks_of_samples(t, rod, units, &data.bounds),
+            simulation::calibration_bounds(&opt.fit_bounds, data.compared(0)),
+        ),
+    };
     Setup {
         data,
-        drive: Drive::over_blocks(
-            fingertip,
-            fit_t.clone(),
-            &data.fit.rod_mm,
-            &data.full.rod_mm,
-            &data.bounds,
-        )
-        .with_temperature(thermal.and(data.fit.temp_c.clone())),
+        drive: drive.with_temperature(thermal.and(data.fit.temp_c.clone())),
+        user_simulation: matches!(fingertip, Fingertip::Simulated(_)),
         readout: readout(meta, opt),
         contact_angle_deg: meta.contact_angle_deg,
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,
         used: std::array::from_fn(|c| data.compared(c)),
         thermal,
-        fit_bounds: opt.fit_bounds.clone(),
+        fit_bounds,
         initial: Default::default(),
     }
 }
@@ -909,11 +971,14 @@ fn full_rate(
     let heldout = stretches.heldout;
     let full_heldout = stretches.mask(&data.full.t_s);
     let full_fit: Vec<bool> = full_heldout.iter().map(|h| !h).collect();
-    let baseline_line = line_in_residual(data, base_full, &full_fit, &OUTPUTS);
-    let mains = line_in_residual(data, chosen_full, &full_fit, &OUTPUTS)
+    // An output the baseline does not model (a user's simulation without moments) leaves the
+    // recorded output itself as its residual: no line is looked for there.
+    let outputs: Vec<usize> = OUTPUTS.into_iter().filter(|&c| data.modelled(c)).collect();
+    let baseline_line = line_in_residual(data, base_full, &full_fit, &outputs);
+    let mains = line_in_residual(data, chosen_full, &full_fit, &outputs)
         .filter(|_| mains_allowed)
-        .filter(|l| mains_helps(data, chosen_full, l, (&full_fit, &full_heldout), &OUTPUTS));
-    let with_mains = add_line(data, chosen_full, mains.as_ref(), &OUTPUTS);
+        .filter(|l| mains_helps(data, chosen_full, l, (&full_fit, &full_heldout), &outputs));
+    let with_mains = add_line(data, chosen_full, mains.as_ref(), &outputs);
     // The load cell picks up the mains as well: its line is looked for on its own (it need
     // not share the outputs' phase or even their presence: a test of the material alone has
     // only the rate's precondition, the mains' own).
@@ -1118,6 +1183,9 @@ const OUTPUTS: [usize; 3] = [1, 2, 3];
 const LOAD_CELL: [usize; 1] = [0];
 
 fn line_in_residual(data: &Data, o: &Outputs, mask: &[bool], chans: &[usize]) -> Option<Line> {
+    if chans.is_empty() {
+        return None;
+    }
     let res: Vec<Vec<f64>> = chans
         .iter()
         .map(|&c| diff(&data.full.y[c], o.channel(c)))

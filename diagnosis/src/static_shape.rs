@@ -2,9 +2,12 @@
 //! `[outputs]`): `stiffening` and `bridge_nonlinearity` are named only where they bend an output
 //! beyond what the calibration's map from the load may bend it.
 //!
-//! Over the samples loaded to 5-100 % of the largest load, the calibration may move output k's
+//! Over the samples loaded to 5-100 % of the largest load (of the largest output, where the
+//! baseline models no load), the calibration may move output k's
 //! map anywhere between the FE's and one linear in the load: a change of ln(output / load) of up
-//! to S_k = max ln r_k - min ln r_k (r_k the FE's departure from linear, [`Drive`]). An effect
+//! to S_k = (b_max - b_min) (max ln r_k - min ln r_k) (r_k the FE's departure from linear,
+//! [`Drive`]; b the map blend's bounds, 0 to 1, and 0 to 0 where the baseline is a user's
+//! simulation, whose maps are its own). An effect
 //! with strength s bends output k by B_k(s) = max - min of ln(y / x) over the same samples, x at
 //! its FE level u = x / max|x|:
 //! - stiffening, y = X sign(x) (|x| / X)^p: ln(y / x) = (p - 1) ln|u|;
@@ -31,16 +34,32 @@ pub struct Span {
 }
 
 impl Span {
-    pub fn of(drive: &Drive) -> Self {
+    pub fn of(drive: &Drive, bounds: &hardware::FitBounds) -> Self {
+        let blend_range = bounds.map_blend_max - bounds.map_blend_min;
         let unit = &drive.unit;
         let force_max = unit.iter().map(|u| u.force_n).fold(0.0, f64::max);
         let chip_max: [f64; 3] =
             std::array::from_fn(|k| unit.iter().map(|u| u.chip[k].abs()).fold(0.0, f64::max));
+        // Where the baseline models no load (a user's simulation of the outputs alone), the
+        // outputs' own levels say how loaded a sample is: read by the load, no sample would be,
+        // and any bend would pass for the calibration's.
+        let level = |i: usize| -> f64 {
+            if force_max > 0.0 {
+                unit[i].force_n / force_max
+            } else {
+                (0..3)
+                    .filter(|&k| chip_max[k] > 0.0)
+                    .map(|k| unit[i].chip[k].abs() / chip_max[k])
+                    .fold(0.0, f64::max)
+            }
+        };
         let loaded: Vec<usize> = (0..unit.len())
-            .filter(|&i| force_max > 0.0 && unit[i].force_n >= LOADED_SHARE * force_max)
+            .filter(|&i| level(i) >= LOADED_SHARE)
             .collect();
         let departure = drive.ln_map_departure();
-        let span = std::array::from_fn(|k| peak_to_peak(loaded.iter().map(|&i| departure[i][k])));
+        let span = std::array::from_fn(|k| {
+            blend_range * peak_to_peak(loaded.iter().map(|&i| departure[i][k]))
+        });
         let levels = loaded
             .iter()
             .map(|&i| {

@@ -8,6 +8,7 @@ pub mod lab;
 pub mod real;
 pub mod reported;
 pub mod sessions;
+pub mod simulation;
 
 use std::fmt::Write as _;
 

@@ -14,6 +14,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use convert::Columns;
+use diagnosis::simulation::Simulations;
+use diagnosis::BaselineSource;
 
 /// A recording's columns and metadata, as the package builds its DataFrame from.
 type Table<'py> = (Columns<'py>, Bound<'py, PyDict>);
@@ -95,10 +97,34 @@ fn simulate(
     ))
 }
 
-/// `tactile diagnose`'s JSON (pretty, as the command writes it) for `rec` named `name`.
-fn diagnose_json(py: Python<'_>, rec: &recording::Recording, name: &str) -> PyResult<String> {
+/// The diagnosis's options from `hardware/`, with `baseline` as its baseline.
+fn options(baseline: BaselineSource) -> PyResult<diagnosis::Options> {
     let hw = hardware()?;
     let options = diagnosis::Options::from_hardware(&hw).map_err(|e| error::raise(None, &e))?;
+    Ok(diagnosis::Options {
+        baseline,
+        ..options
+    })
+}
+
+/// The baseline of `recordings`: ours, or the `simulations` paired with them as
+/// `tactile diagnose --simulation` pairs them.
+fn baseline_of(recordings: &[PathBuf], simulations: &[PathBuf]) -> PyResult<BaselineSource> {
+    if simulations.is_empty() {
+        return Ok(BaselineSource::Fe);
+    }
+    let paired = Simulations::pair(recordings, simulations).map_err(|e| error::raise(None, &e))?;
+    Ok(BaselineSource::Simulation(paired))
+}
+
+/// `tactile diagnose`'s JSON (pretty, as the command writes it) for `rec` named `name`.
+fn diagnose_json(
+    py: Python<'_>,
+    rec: &recording::Recording,
+    name: &str,
+    baseline: BaselineSource,
+) -> PyResult<String> {
+    let options = options(baseline)?;
     let diagnosed = py
         .detach(|| diagnosis::diagnose(rec, name, &options))
         .map_err(|e| error::raise(Some(name), &e))?;
@@ -106,32 +132,52 @@ fn diagnose_json(py: Python<'_>, rec: &recording::Recording, name: &str) -> PyRe
         .map_err(|e| error::raise(Some("encoding the diagnosis"), &e))
 }
 
-/// The diagnosis of the recording at `path`, named as the command names it.
+/// The diagnosis of the recording at `path`, named as the command names it; against the
+/// user's `simulation` where one is given.
 #[pyfunction]
-fn diagnose_file(py: Python<'_>, path: PathBuf) -> PyResult<String> {
+#[pyo3(signature = (path, simulation=None))]
+fn diagnose_file(py: Python<'_>, path: PathBuf, simulation: Option<PathBuf>) -> PyResult<String> {
+    let baseline = baseline_of(std::slice::from_ref(&path), simulation.as_slice())?;
     let rec = recording::read(&path).map_err(|e| error::raise(None, &e))?;
-    diagnose_json(py, &rec, &path.display().to_string())
+    diagnose_json(py, &rec, &path.display().to_string(), baseline)
 }
 
-/// The diagnosis of the recording of `columns` and `attrs`, named `name` in the report.
+/// The diagnosis of the recording of `columns` and `attrs`, named `name` in the report;
+/// against the user's `simulation` where one is given.
 #[pyfunction]
+#[pyo3(signature = (columns, attrs, name, simulation=None))]
 fn diagnose_frame(
     py: Python<'_>,
     columns: Columns<'_>,
     attrs: Bound<'_, PyDict>,
     name: &str,
+    simulation: Option<PathBuf>,
 ) -> PyResult<String> {
+    let baseline = baseline_of(&[PathBuf::from(name)], simulation.as_slice())?;
     let (rec, _) = convert::file_of(&columns, &attrs)?;
-    diagnose_json(py, &rec, name)
+    diagnose_json(py, &rec, name, baseline)
 }
 
 /// `tactile diagnose --joint`'s JSON (the same text, through `diagnosis::joint::json_text`) for
 /// the recordings at `paths`: files, and for a folder every `*.csv` in it, checked and
-/// expanded by the library as for the command.
+/// expanded by the library as for the command; against the user's `simulations` where they are
+/// given (one for all, one per recording in order, or a folder of them by the recordings' file
+/// names).
 #[pyfunction]
-fn diagnose_session_json(py: Python<'_>, paths: Vec<PathBuf>) -> PyResult<String> {
-    let hw = hardware()?;
-    let options = diagnosis::Options::from_hardware(&hw).map_err(|e| error::raise(None, &e))?;
+#[pyo3(signature = (paths, simulations=None))]
+fn diagnose_session_json(
+    py: Python<'_>,
+    paths: Vec<PathBuf>,
+    simulations: Option<Vec<PathBuf>>,
+) -> PyResult<String> {
+    let simulations = simulations.unwrap_or_default();
+    let baseline = if simulations.is_empty() {
+        BaselineSource::Fe
+    } else {
+        let inputs = diagnosis::inputs::expand(&paths).map_err(|e| error::raise(None, &e))?;
+        baseline_of(&inputs, &simulations)?
+    };
+    let options = options(baseline)?;
     let text = py
         .detach(|| {
             diagnosis::joint::diagnose_session(&paths, &options)

@@ -59,6 +59,22 @@ impl SignalPath {
         core::array::from_fn(|b| self.gain[b] * self.excitation_v * self.per_volt(b, load))
     }
 
+    /// The chip loads (Fz in N, Mx and My in N·m) that give `volts` at the ADC inputs: the
+    /// inverse of [`Self::volts`]. A model that gives volts rather than loads (a user's
+    /// simulation) is read back to the loads the mechanical effects act on; `None` where the
+    /// path is singular (a zero gain or excitation, a degenerate chip).
+    pub fn chip_loads(&self, volts: [f64; CHANNELS]) -> Option<[f64; 3]> {
+        let inv = chip::sensitivity::inverse(&self.sensitivity_per_v)?;
+        let per_volt: [f64; CHANNELS] =
+            core::array::from_fn(|b| volts[b] / (self.gain[b] * self.excitation_v));
+        if per_volt.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        Some(core::array::from_fn(|k| {
+            inv[k][0] * per_volt[0] + inv[k][1] * per_volt[1] + inv[k][2] * per_volt[2]
+        }))
+    }
+
     /// Bridge `b`'s output per volt of excitation.
     fn per_volt(&self, b: usize, load: [f64; 3]) -> f64 {
         let s = &self.sensitivity_per_v[b];
@@ -99,5 +115,22 @@ mod tests {
         for i in 0..CHANNELS {
             assert!((volts[i] - path.gain[i] * linear[i]).abs() < 1e-15 * volts[i].abs().max(1.0));
         }
+    }
+
+    /// Volts read back to chip loads give the loads again.
+    #[test]
+    fn chip_loads_invert_the_volts() {
+        let p = hardware::Params::load_default().unwrap();
+        let path = SignalPath::from_params(&p).unwrap();
+        let load = [1.5, 2.0e-4, -3.0e-4];
+        let back = path.chip_loads(path.volts(load)).unwrap();
+        for (a, b) in load.iter().zip(back) {
+            assert!((a - b).abs() < 1e-9 * a.abs(), "{a} vs {b}");
+        }
+        let dead = SignalPath {
+            gain: [0.0, 1.0, 1.0],
+            ..path
+        };
+        assert!(dead.chip_loads([1.0; 3]).is_none());
     }
 }

@@ -421,6 +421,10 @@ fn undecided(m: &Members, protocols: &Protocols, outcome: &Outcome) -> Vec<Undec
 /// The session's shared output scales off the metadata's gains beyond what amplifiers and a
 /// chip's spread allow ([`crate::terms::sanity::gains_off`]).
 fn shared_gains_off(m: &Members, outcome: &Outcome) -> Option<Undecided> {
+    // Against a user's simulation a scale calibrates the simulation's outputs, not the gains.
+    if m.setups.iter().any(|s| s.user_simulation) {
+        return None;
+    }
     let f = &outcome.fitted;
     let details: Vec<crate::output::ParamDetail> = (0..3)
         .filter(|c| !f.layout.own_scales.contains(c))

@@ -217,7 +217,7 @@ fn prepare_all(
     (0..recs.len())
         .into_par_iter()
         .map(|r| {
-            let mut p = prepare(recs[r], opt)
+            let mut p = prepare(recs[r], &names[r], opt)
                 .map_err(|e| JointError::NothingUsable(format!("{}: {e}", names[r])))?;
             p.for_session(
                 diags[r].at_stage.as_ref(),

@@ -316,7 +316,7 @@ impl<'s, 'a> Search<'s, 'a> {
             value - (value - neutral).signum() * z * se
         };
         self.setups.iter().all(|s| {
-            let span = Span::of(&s.drive);
+            let span = Span::of(&s.drive, &s.fit_bounds);
             (0..3)
                 .filter(|&k| s.used[k + 1])
                 .all(|k| span.bend(kind, sure, k).is_none_or(|b| b <= span.span[k]))

@@ -54,7 +54,7 @@ pub fn head(r: &Report, sentence: &str) -> String {
          <p id=verdict class='verdict {class}'>{sentence}</p>\
          <p class=facts>Verdict <b>{words}</b>. Misfit (RMS over each channel's range, mean of \
          the compared channels): {} before, {} after; on the held-out stretch {}–{} s, which no \
-         parameter saw: {} before, {} after. Diagnosed in {} s.</p>",
+         parameter saw: {} before, {} after. Diagnosed in {} s.</p>{simulation}",
         pct(r.fit.rmse_before),
         pct(r.fit.rmse_after),
         significant(h.t_start_s, 3),
@@ -64,6 +64,38 @@ pub fn head(r: &Report, sentence: &str) -> String {
         significant(r.seconds, 2),
         name = esc(&r.recording),
         sentence = esc(sentence),
+        simulation = simulation(r),
+    )
+}
+
+/// Whose simulation the baseline was, where it was the user's (`baseline.simulation`).
+fn simulation(r: &Report) -> String {
+    let Some(s) = &r.baseline.simulation else {
+        return String::new();
+    };
+    let not: Vec<String> = s
+        .not_compared
+        .iter()
+        .map(|(c, why)| format!("<code>{}</code> ({})", esc(c), esc(why)))
+        .collect();
+    let not = if not.is_empty() {
+        String::new()
+    } else {
+        format!(" Not compared: {}.", not.join(", "))
+    };
+    let source = s
+        .metadata
+        .iter()
+        .find(|(k, _)| k == "source")
+        .map_or(String::new(), |(_, v)| format!(" ({})", esc(v)));
+    format!(
+        "<p class=facts id=simulation>Baseline: the simulation <code>{file}</code>{source}, \
+         {form}, in place of our fingertip FE and chip, calibrated by a load scale, the output \
+         scales and offsets; {aligned}. Its outputs were given at {at}.{not}</p>",
+        file = esc(&s.file),
+        form = s.form.replace('_', " "),
+        aligned = esc(&s.aligned),
+        at = esc(&s.outputs_at),
     )
 }
 

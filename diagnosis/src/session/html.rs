@@ -79,6 +79,16 @@ fn plots(rows: &[Row]) -> Vec<(String, Result<String, String>)> {
         "baseline: youngs_modulus_Pa".to_string(),
         parameter_svg(&labels, &modulus, &axis_title("youngs_modulus_Pa")),
     )];
+    let scale: Vec<Option<Point>> = rows
+        .iter()
+        .map(|r| r.outcome.as_ref().ok()?.load_scale.map(|v| (v, None)))
+        .collect();
+    if scale.iter().any(Option::is_some) {
+        out.push((
+            "baseline: load_scale (a user's simulation)".to_string(),
+            parameter_svg(&labels, &scale, &axis_title("load_scale")),
+        ));
+    }
     for col in parameters(rows) {
         let points: Vec<Option<Point>> = rows
             .iter()

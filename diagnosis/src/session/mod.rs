@@ -66,8 +66,10 @@ pub struct Outcome {
     pub verdict: String,
     /// The effects found, in OUT.json's order, each with its primary parameter.
     pub effects: Vec<Param>,
-    /// The calibrated baseline's Young's modulus, Pa.
+    /// The calibrated baseline's Young's modulus, Pa (NaN against a user's simulation).
     pub modulus_pa: f64,
+    /// The calibrated load scale of a user's simulation, where it is the baseline.
+    pub load_scale: Option<f64>,
     /// RMSE on the held-out stretch before and after the effects.
     pub heldout_rmse: (f64, f64),
 }
@@ -238,6 +240,7 @@ impl Outcome {
                 .params
                 .get("youngs_modulus_Pa")
                 .unwrap_or(f64::NAN),
+            load_scale: r.baseline.params.get("load_scale"),
             heldout_rmse: (r.fit.heldout.rmse_before, r.fit.heldout.rmse_after),
         }
     }

@@ -56,6 +56,13 @@ pub fn table(rows: &[Row]) -> Table {
     let mut header: Vec<String> = ["file", "status", "verdict", "effects", "youngs_modulus_Pa"]
         .map(String::from)
         .to_vec();
+    // Against users' simulations the baseline's level is a load scale: its column only then.
+    let scaled = rows
+        .iter()
+        .any(|r| r.outcome.as_ref().is_ok_and(|o| o.load_scale.is_some()));
+    if scaled {
+        header.push("load_scale".into());
+    }
     for (effect, name) in &params {
         header.push(format!("{effect}.{name}"));
         header.push(format!("{effect}.{name}_stderr"));
@@ -69,11 +76,11 @@ pub fn table(rows: &[Row]) -> Table {
         ]
         .map(String::from),
     );
-    let rows = rows.iter().map(|r| cells(r, &params)).collect();
+    let rows = rows.iter().map(|r| cells(r, &params, scaled)).collect();
     Table { header, rows }
 }
 
-fn cells(r: &Row, params: &[Column]) -> Vec<Cell> {
+fn cells(r: &Row, params: &[Column], scaled: bool) -> Vec<Cell> {
     let text = |s: &str| Cell::Text(s.to_string());
     let mut c = vec![text(&r.file)];
     match &r.outcome {
@@ -85,6 +92,9 @@ fn cells(r: &Row, params: &[Column]) -> Vec<Cell> {
                 text(&names.join("+")),
                 Cell::Num(o.modulus_pa),
             ]);
+            if scaled {
+                c.push(o.load_scale.map_or(Cell::Empty, Cell::Num));
+            }
             for col in params {
                 let (value, se) = match lookup(o, col) {
                     Some((v, se)) => (Cell::Num(v), se.map_or(Cell::Empty, Cell::Num)),
@@ -98,7 +108,11 @@ fn cells(r: &Row, params: &[Column]) -> Vec<Cell> {
         }
         Err(e) => {
             c.push(text("error"));
-            c.extend(std::iter::repeat_n(Cell::Empty, 3 + 2 * params.len() + 2));
+            let level = 1 + usize::from(scaled);
+            c.extend(std::iter::repeat_n(
+                Cell::Empty,
+                2 + level + 2 * params.len() + 2,
+            ));
             c.extend([Cell::Num(r.seconds), text(e)]);
         }
     }

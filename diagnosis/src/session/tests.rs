@@ -22,6 +22,7 @@ fn ok(effects: &[(&str, &str, f64, Option<f64>)]) -> Result<Outcome, String> {
             })
             .collect(),
         modulus_pa: 25e3,
+        load_scale: None,
         heldout_rmse: (0.02, 0.004),
     })
 }

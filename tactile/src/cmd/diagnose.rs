@@ -5,6 +5,8 @@
 //! (`docs/session-format.md`) through `diagnosis::joint`. In every mode the inputs are there
 //! and the outputs can be written before any work (`diagnosis::inputs`, `diagnosis::outputs`),
 //! and each output is written whole.
+//! Each may take the user's own simulation as the baseline (`--simulation`,
+//! `docs/simulation-format.md`).
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -13,7 +15,8 @@ use sysexit::ResultExt as _;
 
 use anyhow::Context;
 
-use diagnosis::{diagnose, report, session, Options};
+use diagnosis::simulation::Simulations;
+use diagnosis::{diagnose, report, session, BaselineSource, Options};
 
 use sysexit::{self as exit, ExitStatus};
 
@@ -43,6 +46,12 @@ pub struct Args {
     /// --report; docs/session-format.md).
     #[arg(long)]
     pub joint: bool,
+    /// The user's own simulation of the test as the baseline instead of ours: a recording of
+    /// the simulated test or a static response table (docs/simulation-format.md). One for every
+    /// recording, one per recording (repeated, in the recordings' order), or one folder
+    /// holding a simulation named as each recording.
+    #[arg(long, value_name = "SIM")]
+    pub simulation: Vec<PathBuf>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -135,19 +144,30 @@ impl Config {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let show = !args.quiet && std::io::stderr().is_terminal();
+    let sims = args.simulation.clone();
     match Config::of(args).coded()? {
         Config::Single {
             recording,
             json,
             report,
-        } => single(&recording, &json, report.as_deref(), show),
-        Config::Session { inputs, out_dir } => whole_session(&inputs, &out_dir, show),
+        } => single(&recording, &json, report.as_deref(), (show, &sims)),
+        Config::Session { inputs, out_dir } => whole_session(&inputs, &out_dir, (show, &sims)),
         Config::Joint {
             inputs,
             json,
             report,
-        } => joint(&inputs, &json, report.as_deref(), show),
+        } => joint(&inputs, &json, report.as_deref(), (show, &sims)),
     }
+}
+
+/// The baseline of `recordings`: ours, or the simulations `sims` paired with them.
+fn baseline(recordings: &[PathBuf], sims: &[PathBuf]) -> anyhow::Result<BaselineSource> {
+    if sims.is_empty() {
+        return Ok(BaselineSource::Fe);
+    }
+    Ok(BaselineSource::Simulation(
+        Simulations::pair(recordings, sims).coded()?,
+    ))
 }
 
 /// The session diagnosed jointly; [`exit::DATA`] after writing when a file could not be
@@ -157,12 +177,12 @@ fn joint(
     inputs: &[PathBuf],
     json: &Path,
     report_path: Option<&Path>,
-    show: bool,
+    (show, sims): (bool, &[PathBuf]),
 ) -> anyhow::Result<()> {
     let files = diagnosis::inputs::expand(inputs).coded()?;
     let report = report_path.map(report_file);
     check_outputs(json, report.as_deref(), &files)?;
-    let opt = options()?;
+    let opt = options(baseline(&files, sims)?)?;
     let bar = progress_bar(show, "diagnosing the session");
     bar.set_length(1);
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
@@ -197,11 +217,14 @@ fn write_outputs(json: &Path, text: &str, page: Option<(&Path, &str)>) -> anyhow
         .with_context(|| format!("writing {}", names.join(" and ")))
 }
 
-fn options() -> anyhow::Result<Options> {
+fn options(baseline: BaselineSource) -> anyhow::Result<Options> {
     let hw = hardware::Params::load_default()
         .coded()
         .context("loading hardware/")?;
-    Ok(Options::from_hardware(&hw).coded()?)
+    Ok(Options {
+        baseline,
+        ..Options::from_hardware(&hw).coded()?
+    })
 }
 
 /// One recording into `json` (and its page).
@@ -209,14 +232,15 @@ fn single(
     recording: &Path,
     json: &Path,
     report_path: Option<&Path>,
-    show: bool,
+    (show, sims): (bool, &[PathBuf]),
 ) -> anyhow::Result<()> {
     let files =
         diagnosis::inputs::expand(std::slice::from_ref(&recording.to_path_buf())).coded()?;
     let report = report_path.map(report_file);
     check_outputs(json, report.as_deref(), &files)?;
+    let baseline = baseline(&[recording.to_path_buf()], sims)?;
     let rec = recording::read(recording).coded()?;
-    let mut opt = options()?;
+    let mut opt = options(baseline)?;
     let bar = progress_bar(show, "fitting candidate models");
     let shown = bar.clone();
     opt.progress = Some(Arc::new(move |done, total| {
@@ -247,9 +271,13 @@ fn report_file(path: &Path) -> PathBuf {
 
 /// Every recording into `out_dir`; one stderr line per recording that could not be analysed,
 /// then [`exit::DATA`] if there was any.
-fn whole_session(inputs: &[PathBuf], out_dir: &std::path::Path, show: bool) -> anyhow::Result<()> {
+fn whole_session(
+    inputs: &[PathBuf],
+    out_dir: &std::path::Path,
+    (show, sims): (bool, &[PathBuf]),
+) -> anyhow::Result<()> {
     let inputs = session::expand_inputs(inputs).coded()?;
-    let opt = options()?;
+    let opt = options(baseline(&inputs, sims)?)?;
     let bar = progress_bar(show, "diagnosing recordings");
     bar.set_length(inputs.len() as u64);
     let rows = session::run(&inputs, out_dir, &opt, &|done, _| {

@@ -56,6 +56,13 @@ pub struct Args {
     /// and each session's JSON in the output folder.
     #[arg(long, conflicts_with = "categories")]
     pub sessions: bool,
+    /// Score the user's-simulation category instead: the lab's own model of the test (another
+    /// contact law and other output laws) written as a simulation file (a static response or
+    /// the test in time at its own rate), the recording that model with concealed effects;
+    /// each diagnosed against the simulation and, for comparison, against our own baseline:
+    /// simulation.md and the simulations (`simulations/`) in the output folder.
+    #[arg(long, conflicts_with_all = ["categories", "sessions"])]
+    pub simulation_category: bool,
     /// With --sessions, the category: `lab` (mixed sessions, null sessions on another model's
     /// fingertip, friction and hysteresis or relaxation across speeds, tests at their own rates
     /// and gains; sessions-lab.md and lab-NN.json in the output folder). Without it, the
@@ -165,6 +172,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.categories {
         return run_categories(&plan, &args);
     }
+    if args.simulation_category {
+        return run_simulation_category(&plan, &args);
+    }
     let started = Instant::now();
     let cases = plan.generate()?;
     let generated = started.elapsed().as_secs_f64();
@@ -245,6 +255,45 @@ fn run_sessions(plan: &Plan, args: &Args) -> anyhow::Result<()> {
     println!("{text}");
     let path = args.out.join("sessions.md");
     std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+/// `--simulation-category`: each recording diagnosed against the lab's simulation and against
+/// our own baseline; simulation.md and the simulations in the output folder.
+fn run_simulation_category(plan: &Plan, args: &Args) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let cases = plan.simulation_cases(&args.out.join("simulations"))?;
+    if args.write_recordings {
+        for c in &cases {
+            let path = args.out.join(format!("prove-{:04}.csv", c.case.id));
+            let file = std::fs::File::create(&path)
+                .with_context(|| format!("creating {}", path.display()))?;
+            c.case
+                .recording
+                .write_to(file)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+    }
+    let scored = plan.run_simulation_cases(&cases);
+    let (table, against_simulation, _) = prove::simulation::table(&cases, &scored);
+    let text = format!(
+        "# The user's simulation as the baseline, seed {}, {} Hz
+
+{table}
+{} recordings in {:.0} s
+",
+        plan.seed,
+        plan.sample_rate_hz,
+        cases.len(),
+        started.elapsed().as_secs_f64()
+    );
+    println!("{text}");
+    let path = args.out.join("simulation.md");
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+    anyhow::ensure!(
+        against_simulation.passes(),
+        "the user's-simulation category misses the acceptance bar (see the table)"
+    );
     Ok(())
 }
 
