@@ -42,6 +42,9 @@ pub(crate) struct FeatureInfo {
     /// The column's scale: the coefficient in the feature's unit is beta / scale.
     pub scale: f64,
     pub depends: Vec<Quantity>,
+    /// Its grid value: a time constant (s), or a damped oscillation's frequency (Hz, with
+    /// `true`).
+    pub grid: Option<(f64, bool)>,
 }
 
 impl FeatureInfo {
@@ -51,6 +54,7 @@ impl FeatureInfo {
             unit: f.unit.clone(),
             scale: f.scale,
             depends: f.depends.clone(),
+            grid: f.grid.map(|g| (g, f.family.starts_with("ring"))),
         }
     }
 }
@@ -70,6 +74,10 @@ pub(crate) struct Info {
     pub inclusion: Vec<f64>,
     /// What the stage's test said, in words.
     pub stage_note: String,
+    /// The price in chi-square of choosing this part's features among those the dictionary
+    /// offered ([`stage::choice_chi2`]): a description from a dictionary is weighed against
+    /// the library's with it, as the selection weighed it.
+    pub choice_chi2: f64,
 }
 
 /// The library's result `terms` with what discovery adds or replaces.
@@ -105,8 +113,24 @@ fn grow(ctx: &Context, nested: Nested, q: &Quantities, mut terms: Vec<Term>) -> 
 /// term is the smaller claim: a dictionary's terms that only match it stay out.
 fn better(ctx: &Context, nested: Nested, a: &[Term], b: &[Term]) -> bool {
     let needed = heldout_needed(heldout_diff(ctx, b, a), nested.heldout_chi2);
-    bic(ctx, nested, a) < bic(ctx, nested, b) - MIN_BIC_GAIN
+    let priced = |t: &[Term]| bic(ctx, nested, t) + search_price(t);
+    priced(a) < priced(b) - MIN_BIC_GAIN
         && heldout(ctx, nested, b) - heldout(ctx, nested, a) > needed
+}
+
+/// What the discovered terms among `terms` paid for being chosen from the dictionary: each
+/// part's [`Info::choice_chi2`] once (its terms on several channels carry the same).
+fn search_price(terms: &[Term]) -> f64 {
+    let mut parts: Vec<(usize, u64)> = Vec::new();
+    let mut total = 0.0;
+    for info in terms.iter().filter_map(|t| t.info.as_deref()) {
+        let key = (info.group, info.choice_chi2.to_bits());
+        if !parts.contains(&key) {
+            parts.push(key);
+            total += info.choice_chi2;
+        }
+    }
+    total
 }
 
 /// Each library term (one at a time, the best replacement first) replaced by what discovery

@@ -10,6 +10,8 @@ use crate::output::{EffectReport, Numbers, ParamDetail};
 
 /// Parameter names of a term's coefficients, in the order of its features.
 const COEFFICIENTS: [&str; 3] = ["c1", "c2", "c3"];
+const TIME_CONSTANTS: [&str; 3] = ["tau1_s", "tau2_s", "tau3_s"];
+const FREQUENCIES: [&str; 3] = ["freq1_hz", "freq2_hz", "freq3_hz"];
 
 /// The recorded quantities the features are functions of, in the contract's order.
 fn depends(features: &[FeatureInfo]) -> Vec<Quantity> {
@@ -82,11 +84,19 @@ fn number(v: f64) -> String {
 /// The lead term's description (the report groups a discovered effect's terms by it).
 pub(crate) fn describe(t: &Term) -> Description {
     let info = t.info.as_ref().expect("a discovered term has its info");
-    let params = coefficients(t, &info.features)
+    let mut params: Vec<(&'static str, f64, String)> = coefficients(t, &info.features)
         .into_iter()
         .zip(COEFFICIENTS)
         .map(|((v, u), n)| (n, v, u))
         .collect();
+    // Each feature's time constant or frequency, named by the coefficient it goes with.
+    for (i, f) in info.features.iter().enumerate().take(COEFFICIENTS.len()) {
+        match f.grid {
+            Some((hz, true)) => params.push((FREQUENCIES[i], hz, "Hz".into())),
+            Some((tau, false)) => params.push((TIME_CONSTANTS[i], tau, "s".into())),
+            None => {}
+        }
+    }
     Description {
         name: name(&info.features).into(),
         params,

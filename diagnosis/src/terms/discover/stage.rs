@@ -430,6 +430,7 @@ pub(super) fn terms_of(
         propagated,
         inclusion: Vec::new(),
         stage_note: note.to_string(),
+        choice_chi2: choice_chi2(h),
     };
     let own = |b: usize| {
         let c = h.channels[b];
@@ -467,4 +468,10 @@ pub(super) fn terms_of(
         Shape::Outputs(_) => (0..h.channels.len()).map(own).collect(),
         _ => vec![own(0)],
     }
+}
+
+/// The price in chi-square of having chosen `h`'s features among the joint features it was
+/// offered: 2 ln M each, as the selection's extended BIC charges ([`super::select::prices`]).
+pub(super) fn choice_chi2(h: &Hypothesis) -> f64 {
+    h.chosen.len() as f64 * 2.0 * (h.joint.len().max(2) as f64).ln()
 }
