@@ -116,6 +116,14 @@ pub struct EffectReport {
     pub parameters: Vec<ParamDetail>,
 }
 
+impl EffectReport {
+    /// Whether the discovery step found it (it alone carries `inclusion`): a session holds it
+    /// as the recording's own, at its stage.
+    pub fn is_discovered(&self) -> bool {
+        self.inclusion.is_some()
+    }
+}
+
 #[derive(Debug, Clone, DeriveSerialize)]
 pub struct Heldout {
     pub t_start_s: f64,

@@ -321,7 +321,9 @@ fn row(m: &Members, outcome: &Outcome, r: usize, flags: RowFlags, seen: &Seen) -
     let mut effects: Vec<EffectReport> = single
         .effects
         .iter()
-        .filter(|e| e.catalogue || terms_hold || (flipped && e.name == "inverted_sign"))
+        .filter(|e| {
+            e.catalogue || terms_hold || e.is_discovered() || (flipped && e.name == "inverted_sign")
+        })
         .filter(|e| {
             !e.catalogue
                 || EffectKind::from_name(&e.name)
@@ -527,7 +529,13 @@ fn rotation(
 /// shared model elsewhere does not keep them.
 fn described_still_needed(m: &Members, outcome: &Outcome, r: usize) -> bool {
     let d = m.diags[r];
-    let terms: Vec<&EffectReport> = d.report.effects.iter().filter(|e| !e.catalogue).collect();
+    // A discovered term is held in the session's fit itself (`Diagnosis::at_stage`).
+    let terms: Vec<&EffectReport> = d
+        .report
+        .effects
+        .iter()
+        .filter(|e| !e.catalogue && !e.is_discovered())
+        .collect();
     let k: usize = terms.iter().map(|e| e.params.0.len().max(1)).sum();
     let s = m.setups[r];
     let channels: Vec<usize> = (0..4)

@@ -90,6 +90,26 @@ pub struct AtStage {
 }
 
 impl AtStage {
+    /// Both parts together, where either is.
+    fn sum(a: Option<AtStage>, b: Option<AtStage>) -> Option<AtStage> {
+        match (a, b) {
+            (Some(mut a), Some(b)) => {
+                for c in 0..4 {
+                    a.decimated[c]
+                        .iter_mut()
+                        .zip(&b.decimated[c])
+                        .for_each(|(x, y)| *x += y);
+                    a.full[c]
+                        .iter_mut()
+                        .zip(&b.full[c])
+                        .for_each(|(x, y)| *x += y);
+                }
+                Some(a)
+            }
+            (a, b) => a.or(b),
+        }
+    }
+
     /// `data` less these parts (per channel, on the decimated series and at the full rate):
     /// what the recording shows without a term found in it, for a calibration that must not
     /// bend towards that term. Its noise, weights and regimes stay the recording's.
@@ -135,26 +155,26 @@ impl Described {
         let decimated: [Vec<f64>; 4] =
             std::array::from_fn(|c| score::contribution(ctx, &found.terms, c));
         let full: [Vec<f64>; 4] = std::array::from_fn(|c| at_full(ctx, &found.terms, c, full_t));
-        let staged: Vec<Term> = found
-            .terms
-            .iter()
-            .filter(|t| t.kind.catalogue_kind().is_some())
-            .cloned()
-            .collect();
         let parts = |terms: &[Term]| {
             (!terms.is_empty()).then(|| AtStage {
                 decimated: std::array::from_fn(|c| score::contribution(ctx, terms, c)),
                 full: std::array::from_fn(|c| at_full(ctx, terms, c, full_t)),
             })
         };
-        let at_stage = parts(&staged);
-        let discovered: Vec<Term> = found
-            .terms
-            .iter()
-            .filter(|t| t.kind == TermKind::Discovered)
-            .cloned()
-            .collect();
-        let discovered = parts(&discovered).map(|p| discover::beyond_calibration(ctx, p));
+        let of_kind = |kind: fn(&Term) -> bool| -> Vec<Term> {
+            found.terms.iter().filter(|t| kind(t)).cloned().collect()
+        };
+        let own = parts(&of_kind(|t| t.kind == TermKind::Discovered));
+        // Held as found in a session: a catalogue effect at another stage than the catalogue's,
+        // and a discovered term, which no session searches (sharing a catalogue effect in its
+        // place would make up for one recording's own physics).
+        let at_stage = AtStage::sum(
+            parts(&of_kind(|t| t.kind.catalogue_kind().is_some())),
+            own.clone(),
+        );
+        // A discovered term beyond what the channel's calibration could take up: the catalogue
+        // refitted without it keeps its own share of the calibration.
+        let discovered = own.map(|p| discover::beyond_calibration(ctx, p));
         Self {
             found,
             effects,
