@@ -20,6 +20,7 @@ pub mod output;
 mod search;
 mod seen;
 mod tables;
+mod transfer;
 mod validation;
 mod verdict;
 
@@ -253,6 +254,7 @@ fn session_report(
     };
     let outcome = members.search();
     let loo = loo::leave_one_out(&members, &outcome.fitted);
+    let (outcome, loo) = transfer::transferring(&members, outcome, loo);
     let (report, plots) = assemble::report(&members, &outcome, loo);
     (report, outcome.fitted, plots)
 }

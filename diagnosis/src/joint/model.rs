@@ -33,6 +33,18 @@ impl Layout {
         [self.shared.as_slice(), &self.own[r]].concat()
     }
 
+    /// The layout with the shared effect `kind` (each of its terms) fitted per recording
+    /// instead.
+    pub fn per_recording(&self, kind: EffectKind) -> Layout {
+        let mut layout = self.clone();
+        let terms = layout.shared.iter().filter(|&&s| s == kind).count();
+        layout.shared.retain(|&s| s != kind);
+        for own in &mut layout.own {
+            own.extend(std::iter::repeat_n(kind, terms));
+        }
+        layout
+    }
+
     /// The layout of recordings `idx` alone (their own effects, the same shared ones).
     pub fn only(&self, idx: &[usize]) -> Layout {
         Layout {

@@ -199,7 +199,7 @@ impl<'s, 'a> Search<'s, 'a> {
         f
     }
 
-    fn record(&mut self, f: &Fitted, accepted: bool, reason: String) {
+    pub(super) fn record(&mut self, f: &Fitted, accepted: bool, reason: String) {
         let names = |v: &[EffectKind]| v.iter().map(|k| k.name().to_string()).collect();
         let per_recording = distinct_kinds(
             f.layout
@@ -392,13 +392,7 @@ impl<'s, 'a> Search<'s, 'a> {
             return cur;
         }
         for k in distinct_kinds(cur.layout.shared.clone()) {
-            let mut layout = cur.layout.clone();
-            let terms = layout.shared.iter().filter(|&&s| s == k).count();
-            layout.shared.retain(|&s| s != k);
-            for own in &mut layout.own {
-                own.extend(std::iter::repeat_n(k, terms));
-            }
-            let f = self.fit(layout, &cur);
+            let f = self.fit(cur.layout.per_recording(k), &cur);
             let g = Gain::of(&f, &cur);
             let reason = format!("{} per recording: {}", k.name(), g.words("shared"));
             self.record(&f, g.passes(), reason);
