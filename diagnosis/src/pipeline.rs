@@ -103,6 +103,20 @@ pub struct PlotData {
     pub heldout: (f64, f64),
     /// Channels compared (a range above the noise).
     pub used: [bool; 4],
+    /// The rod's travel on the same time base, mm.
+    pub rod_mm: Vec<f64>,
+    /// Each discovered effect on its first channel.
+    pub terms: Vec<TermCurve>,
+}
+
+/// A discovered effect's contribution to one channel's model, on the decimated time base.
+#[derive(Debug, Clone)]
+pub struct TermCurve {
+    /// As the effect is reported (`name`).
+    pub name: String,
+    /// Its channel (index of `data::CHANNELS`).
+    pub channel: usize,
+    pub values: Vec<f64>,
 }
 
 /// The diagnosis of one recording: OUT.json's content and the report's plots.
@@ -328,6 +342,8 @@ fn diagnose_prepared(
         segments: stretches.segments.clone(),
         heldout: stretches.heldout,
         used: setup.used,
+        rod_mm: data.fit.rod_mm.clone(),
+        terms: described.curves.clone(),
     };
     let frozen = frozen_channels(&described.found.terms);
     let d = Diagnosis {

@@ -57,6 +57,8 @@ pub(crate) fn seen(m: &Members, f: &Fitted, r: usize, own_terms: &[usize]) -> Se
             segments: single.segments.clone(),
             heldout: m.prepared[r].heldout(),
             used: setup.used,
+            rod_mm: single.rod_mm.clone(),
+            terms: Vec::new(),
         }
     } else {
         // Not expected: the session reads the recording as its own diagnosis did. Drawn in the
@@ -69,6 +71,8 @@ pub(crate) fn seen(m: &Members, f: &Fitted, r: usize, own_terms: &[usize]) -> Se
             segments: Vec::new(),
             heldout: m.prepared[r].heldout(),
             used: setup.used,
+            rod_mm: setup.data.fit.rod_mm.clone(),
+            terms: Vec::new(),
         }
     };
     Seen { plots, white }

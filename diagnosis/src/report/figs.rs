@@ -6,7 +6,7 @@ use figures::{draw_panel, styles, svg_string, Band, Error, Line, Panel, Quantity
 
 use super::words::channel_unit;
 use crate::data::CHANNELS;
-use crate::pipeline::PlotData;
+use crate::pipeline::{PlotData, TermCurve};
 
 /// Figure width in SVG pixels; the page scales it to its column.
 const WIDTH: u32 = 960;
@@ -198,4 +198,40 @@ pub fn stacked(p: &PlotData, model: &str, bands: &[Vec<Band>; 4]) -> Result<Stri
         }
         Ok(())
     })
+}
+
+/// A discovered term (`curve`, on its channel) against what it depends on: the load, the rod's
+/// travel or another output (`against`, a channel index, or `None` for the travel), as dots, one
+/// per block of the fitting series; the held-out stretch's blocks in grey.
+pub fn term_against(
+    p: &PlotData,
+    curve: &TermCurve,
+    against: Option<usize>,
+) -> Result<String, Error> {
+    let (x, quantity) = match against {
+        Some(c) => (
+            &p.recorded[c],
+            Quantity::new(quantity_name(c), channel_unit(CHANNELS[c])),
+        ),
+        None => (&p.rod_mm, Quantity::new("rod travel", "mm")),
+    };
+    let unit = channel_unit(CHANNELS[curve.channel]);
+    let name = format!("term on {}", quantity_name(curve.channel));
+    let mut panel = Panel::new(quantity, Quantity::new(&name, unit));
+    panel.zero_line = true;
+    let held = |t: f64| (p.heldout.0..=p.heldout.1).contains(&t);
+    let points = |keep: bool| -> Vec<(f64, f64)> {
+        p.t_s
+            .iter()
+            .zip(x.iter().zip(&curve.values))
+            .filter(|(t, _)| held(**t) == keep)
+            .map(|(_, (x, y))| (*x, *y))
+            .collect()
+    };
+    let dots = |s: figures::Style| figures::Style { dots: true, ..s };
+    panel.lines = vec![
+        Line::new("fitted stretch", dots(styles::IMPROVED), points(false)),
+        Line::new("held out", dots(styles::RECORDING), points(true)),
+    ];
+    svg_string((WIDTH, PANEL_H), |root| draw_panel(root, &panel))
 }

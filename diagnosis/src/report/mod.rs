@@ -77,6 +77,7 @@ fn effects(d: &Diagnosis) -> String {
         ));
         let rows = params::rows(&e.parameters, &e.params, Some(&e.param_stderr));
         h.push_str(&params::table(&rows));
+        h.push_str(&discovered(d, e));
         let Some(m) = window else { continue };
         let Some(c) = CHANNELS.iter().position(|c| *c == m.channel) else {
             continue;
@@ -107,6 +108,47 @@ fn effects(d: &Diagnosis) -> String {
 }
 
 /// `s` with its first letter in upper case.
+/// A discovered term's inclusion (the share of bootstrap resamples that kept each feature) and
+/// its figure against what it depends on most directly: the load (its level, rate or memory),
+/// the rod's travel or speed, or another output; a term of time alone is seen in its window.
+fn discovered(d: &Diagnosis, e: &crate::output::EffectReport) -> String {
+    let Some(inclusion) = e.inclusion.as_ref() else {
+        return String::new();
+    };
+    let mut h =
+        String::from("<p>How often a bootstrap resample of the recording kept each feature: ");
+    let shares: Vec<String> = inclusion
+        .0
+        .iter()
+        .map(|(f, p)| format!("<code>{}</code> {:.0} %", esc(f), 100.0 * p))
+        .collect();
+    h.push_str(&shares.join(", "));
+    h.push_str(".</p>");
+    let depends = e.depends_on.as_deref().unwrap_or_default();
+    let has = |q: &str| depends.iter().any(|d| d == q);
+    let against = if has("load_N") || has("load_rate") || has("load_history") {
+        Some(Some(0))
+    } else if has("rod_mm") || has("rod_speed") {
+        Some(None)
+    } else {
+        (1..4).find(|&c| has(CHANNELS[c])).map(Some)
+    };
+    let curve = d.plots.terms.iter().find(|t| t.name == e.name);
+    if let (Some(against), Some(curve)) = (against, curve) {
+        let x = against.map_or("the rod's travel", figs::quantity_name);
+        let caption = format!(
+            "The term on {} against {x}, one dot per block (held-out blocks grey): the shape \
+             of the dependence the data chose.",
+            figs::quantity_name(curve.channel)
+        );
+        h.push_str(&figure(
+            figs::term_against(&d.plots, curve, against),
+            &caption,
+        ));
+    }
+    h
+}
+
 pub(crate) fn capital(s: &str) -> String {
     let mut c = s.chars();
     c.next()

@@ -76,6 +76,9 @@ pub(crate) struct Described {
     pub at_stage: Option<AtStage>,
     /// The discovered terms ([`discover`]), if any.
     pub discovered: Option<AtStage>,
+    /// Each discovered effect on its first channel, for the report's figure of it against
+    /// what it depends on.
+    pub curves: Vec<crate::pipeline::TermCurve>,
 }
 
 /// The contributions of the terms that are catalogue effects at a stage other than the
@@ -175,6 +178,7 @@ impl Described {
         // A discovered term beyond what the channel's calibration could take up: the catalogue
         // refitted without it keeps its own share of the calibration.
         let discovered = own.map(|p| discover::beyond_calibration(ctx, p));
+        let curves = discovered_curves(ctx, &found.terms);
         Self {
             found,
             effects,
@@ -182,6 +186,7 @@ impl Described {
             full,
             at_stage,
             discovered,
+            curves,
         }
     }
 
@@ -203,6 +208,32 @@ impl Described {
             v
         })
     }
+}
+
+/// Each discovered effect's contribution on its first channel (decimated), named as it is
+/// reported.
+fn discovered_curves(ctx: &Context, terms: &[Term]) -> Vec<crate::pipeline::TermCurve> {
+    let mut groups: Vec<usize> = terms
+        .iter()
+        .filter_map(|t| t.info.as_ref().map(|i| i.group))
+        .collect();
+    groups.dedup();
+    groups
+        .into_iter()
+        .filter_map(|g| {
+            let of: Vec<Term> = terms
+                .iter()
+                .filter(|t| t.info.as_ref().is_some_and(|i| i.group == g))
+                .cloned()
+                .collect();
+            let lead = of.iter().min_by_key(|t| t.channel)?;
+            Some(crate::pipeline::TermCurve {
+                name: discover::describe(lead).name.into_owned(),
+                channel: lead.channel,
+                values: score::contribution(ctx, &of, lead.channel),
+            })
+        })
+        .collect()
 }
 
 /// Channel `c`'s terms at the full rate's times `t_s`, each where the channel is live.
