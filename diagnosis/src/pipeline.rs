@@ -109,6 +109,24 @@ pub struct PlotData {
     pub terms: Vec<TermCurve>,
 }
 
+impl PlotData {
+    /// The recording `data` and its `baseline` on the fitting series, with `stretches`; the
+    /// improved model the baseline until set.
+    fn of(data: &Data, baseline: [Vec<f64>; 4], stretches: &Stretches, used: [bool; 4]) -> Self {
+        PlotData {
+            t_s: data.fit.t_s.clone(),
+            recorded: data.fit.y.clone(),
+            improved: baseline.clone(),
+            baseline,
+            segments: stretches.segments.clone(),
+            heldout: stretches.heldout,
+            used,
+            rod_mm: data.fit.rod_mm.clone(),
+            terms: Vec::new(),
+        }
+    }
+}
+
 /// A discovered effect's contribution to one channel's model, on the decimated time base.
 #[derive(Debug, Clone)]
 pub struct TermCurve {
@@ -333,17 +351,11 @@ fn diagnose_prepared(
         seconds: 0.0,
     };
     let plots = PlotData {
-        t_s: data.fit.t_s.clone(),
-        recorded: data.fit.y.clone(),
-        baseline: local.baseline,
         // At the fitting rate a mains line averages out over whole periods, so the improved
         // model plotted there is the slow model alone.
         improved: local.chosen,
-        segments: stretches.segments.clone(),
-        heldout: stretches.heldout,
-        used: setup.used,
-        rod_mm: data.fit.rod_mm.clone(),
         terms: described.curves.clone(),
+        ..PlotData::of(data, local.baseline, stretches, setup.used)
     };
     let frozen = frozen_channels(&described.found.terms);
     let d = Diagnosis {
