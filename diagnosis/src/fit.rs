@@ -52,6 +52,9 @@ pub struct Setup<'a> {
     pub heldout_mask: Vec<bool>,
     /// Channels worth comparing (a peak-to-peak range above the noise).
     pub used: [bool; 4],
+    /// Whether the residual may be described by the discovery step (off for a diagnosis
+    /// whose discovered terms predicted the held-out stretch worse than the baseline).
+    pub discover: bool,
     /// A usable measured temperature: `thermal_drift` is then regressed on it, with the
     /// warm-up time constant the temperature shows (see [`super::temperature`]).
     pub thermal: Option<super::temperature::ThermalFit>,

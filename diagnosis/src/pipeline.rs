@@ -190,9 +190,29 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         frozen = still;
     }
     let d = with_discovery_refitted(&mut prepared, d, name, opt);
-    let mut d = d;
+    let mut d = without_unsupported_discovery(&mut prepared, d, name, opt);
     d.report.seconds = started.elapsed().as_secs_f64();
     Ok(d)
+}
+
+/// `d`, or where its discovered terms leave the held-out stretch predicted worse than by the
+/// baseline (the contract's RMSE, at the full rate: the terms passed their test on the fitting
+/// series' blocks), the diagnosis without the discovery step. Only what the held-out stretch
+/// supports is reported.
+fn without_unsupported_discovery(
+    prepared: &mut Prepared,
+    d: Diagnosis,
+    name: &str,
+    opt: &Options,
+) -> Diagnosis {
+    let held = &d.report.fit.heldout;
+    let discovered = d.report.effects.iter().any(|e| e.is_discovered());
+    if !discovered || held.rmse_after <= held.rmse_before {
+        return d;
+    }
+    prepared.discovered = None;
+    prepared.without_discovery = true;
+    diagnose_prepared(prepared, name, opt).0
 }
 
 /// Refits of the catalogue without what the discovery step found before it is taken as found.
@@ -515,6 +535,7 @@ fn describe(
         std::array::from_fn(|c| chosen_full.channel(c)),
         offset,
     );
+    ctx.discover = setup.discover;
     ctx.loop_in_model = chosen.kinds.iter().any(|k| {
         matches!(
             k,
@@ -705,6 +726,8 @@ pub(crate) struct Prepared {
     frozen: Vec<(usize, f64)>,
     /// What an earlier diagnosis discovered, which the catalogue is fitted without.
     discovered: Option<crate::terms::AtStage>,
+    /// No discovery step ([`Setup::discover`]).
+    without_discovery: bool,
 }
 
 /// Read `rec` and look up its fingertip's response at its contact angle and azimuth.
@@ -769,6 +792,7 @@ pub(crate) fn prepare(rec: &Recording, name: &str, opt: &Options) -> Result<Prep
         meta,
         frozen: Vec::new(),
         discovered: None,
+        without_discovery: false,
     })
 }
 
@@ -804,7 +828,10 @@ impl Prepared {
 
     /// The calibration setup on `data` (this recording's, or it without a frozen channel).
     fn setup_on<'a>(&self, data: &'a Data, opt: &Options) -> Setup<'a> {
-        calibration_setup(data, &self.meta, &self.fingertip, &self.stretches, opt)
+        Setup {
+            discover: !self.without_discovery,
+            ..calibration_setup(data, &self.meta, &self.fingertip, &self.stretches, opt)
+        }
     }
 
     /// The data the catalogue is fitted on where it is not the recording as read: without the
@@ -946,6 +973,7 @@ fn calibration_setup<'a>(
         fit_mask: heldout_mask.iter().map(|h| !h).collect(),
         heldout_mask,
         used: std::array::from_fn(|c| data.compared(c)),
+        discover: true,
         thermal,
         fit_bounds,
         initial: Default::default(),

@@ -34,6 +34,8 @@ pub(crate) struct Context<'d> {
     /// The terms are searched beside the whole catalogue model: only those that no catalogue
     /// effect's own misfit can mimic are offered ([`super::TermKind::beside_catalogue`]).
     pub beside_catalogue: bool,
+    /// Whether the discovery step runs ([`crate::fit::Setup::discover`]).
+    pub discover: bool,
     /// Beside the whole catalogue model, per channel: the directions in which the catalogue's
     /// fitted parameters move the model (its Jacobian, orthonormal on the fitting stretch with
     /// the channel's offset and scale). A term is fitted with them refitted beside it, to
@@ -91,6 +93,7 @@ impl<'d> Context<'d> {
             full_residual,
             loop_in_model: false,
             beside_catalogue: false,
+            discover: true,
             catalogue: Default::default(),
             forbidden: Vec::new(),
             directions: Default::default(),

@@ -19,7 +19,7 @@ pub(crate) struct Found {
     pub terms: Vec<Term>,
     /// Per term: BIC gain and held-out chi-square ratio against the model without it.
     pub evidence: Vec<(f64, f64)>,
-    /// The BIC of the nested model with the terms.
+    /// The BIC of the nested model with the terms, discovered terms with their search price.
     pub bic: f64,
     /// Its chi-square on the held-out stretch.
     pub heldout_chi2: f64,
@@ -45,7 +45,7 @@ pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
     }
     // Beside the whole catalogue model only what no catalogue effect's misfit can mimic is
     // offered (`TermKind::beside_catalogue`); a dictionary can write any smooth misfit.
-    if !ctx.beside_catalogue {
+    if !ctx.beside_catalogue && ctx.discover {
         terms = super::discover::discover(ctx, nested, terms);
     }
     let evidence = (0..terms.len())
@@ -63,7 +63,9 @@ pub(crate) fn search(ctx: &Context, nested: Nested) -> Found {
         })
         .collect();
     Found {
-        bic: bic(ctx, nested, &terms),
+        // A description from the dictionary pays for having been chosen among its features,
+        // wherever it is weighed against a catalogue model.
+        bic: bic(ctx, nested, &terms) + super::discover::search_price(&terms),
         heldout_chi2: heldout(ctx, nested, &terms),
         terms,
         evidence,

@@ -120,7 +120,7 @@ fn better(ctx: &Context, nested: Nested, a: &[Term], b: &[Term]) -> bool {
 
 /// What the discovered terms among `terms` paid for being chosen from the dictionary: each
 /// part's [`Info::choice_chi2`] once (its terms on several channels carry the same).
-fn search_price(terms: &[Term]) -> f64 {
+pub(crate) fn search_price(terms: &[Term]) -> f64 {
     let mut parts: Vec<(usize, u64)> = Vec::new();
     let mut total = 0.0;
     for info in terms.iter().filter_map(|t| t.info.as_deref()) {
