@@ -118,44 +118,86 @@ pub(crate) fn describe(t: &Term, unit: &str) -> Description {
     }
 }
 
+/// How the line search bins the full-rate series over the fitting stretch: from `t0`, `bins`
+/// bins of `dt` (a twentieth of a second's half, or finer for the fastest line), a periodogram
+/// of `size` bins, over `span` s.
+struct Binning {
+    t0: f64,
+    dt: f64,
+    bins: usize,
+    size: usize,
+    span: f64,
+}
+
+impl Binning {
+    fn of(ctx: &Context) -> Option<Binning> {
+        let full = &ctx.data.full;
+        let end_s = ctx
+            .t_s()
+            .iter()
+            .zip(ctx.heldout_mask)
+            .find(|(_, &h)| h)
+            .map_or(f64::INFINITY, |(t, _)| *t);
+        let dt = 0.5 / MAX_FREQ_HZ.min(0.45 * ctx.data.rate_hz);
+        let t0 = *full.t_s.first()?;
+        let span = end_s.min(*full.t_s.last()?) - t0;
+        let bins = (span / dt).floor() as usize;
+        (bins >= 16).then(|| Binning {
+            t0,
+            dt,
+            bins,
+            size: (2 * bins).next_power_of_two(),
+            span,
+        })
+    }
+
+    /// The bin of the rod's periodic drive, if it has one (worked out once per recording).
+    fn drive(&self, ctx: &Context) -> Option<usize> {
+        let full = &ctx.data.full;
+        let grid = (self.t0, self.dt, self.bins);
+        let (at_size, cached) = *ctx
+            .data
+            .drive_bin
+            .get_or_init(|| (self.size, drive_bin(full, grid, self.size)));
+        // Another stretch than the one cached (none in a diagnosis today) is worked out anew.
+        if at_size == self.size {
+            cached
+        } else {
+            drive_bin(full, grid, self.size)
+        }
+    }
+}
+
+/// The frequency of the rod's periodic drive, Hz, if it has one: what the material responds
+/// to, so that a term at its multiples is the response's shape, not a line.
+pub(crate) fn drive_hz(ctx: &Context) -> Option<f64> {
+    let b = Binning::of(ctx)?;
+    b.drive(ctx).map(|d| d as f64 / (b.size as f64 * b.dt))
+}
+
 /// The strongest peak of the periodogram of channel `c`'s full-rate residual over the fitting
 /// stretch, binned to a twentieth of a second's half, and the periodogram's resolution.
 fn strongest_frequency(ctx: &Context, c: usize) -> Option<(f64, f64)> {
     let full = &ctx.data.full;
-    let end_s = ctx
-        .t_s()
-        .iter()
-        .zip(ctx.heldout_mask)
-        .find(|(_, &h)| h)
-        .map_or(f64::INFINITY, |(t, _)| *t);
     let f_hi = MAX_FREQ_HZ.min(0.45 * ctx.data.rate_hz);
-    let dt = 0.5 / f_hi;
-    let t0 = *full.t_s.first()?;
-    let span = end_s.min(*full.t_s.last()?) - t0;
-    let bins = (span / dt).floor() as usize;
-    if bins < 16 {
-        return None;
-    }
+    let b = Binning::of(ctx)?;
+    let Binning {
+        t0,
+        dt,
+        bins,
+        size,
+        span,
+    } = b;
     let (mut sum, mut count) = (vec![0.0; bins], vec![0usize; bins]);
     for (t, r) in full.t_s.iter().zip(&ctx.full_residual[c]) {
-        let b = ((t - t0) / dt) as usize;
-        if b < bins {
-            sum[b] += r;
-            count[b] += 1;
+        let i = ((t - t0) / dt) as usize;
+        if i < bins {
+            sum[i] += r;
+            count[i] += 1;
         }
     }
-    let size = (2 * bins).next_power_of_two();
     let power = crate::stats::periodogram(&binned(&sum, &count), size);
-    let (at_size, cached) = *ctx
-        .data
-        .drive_bin
-        .get_or_init(|| (size, drive_bin(full, (t0, dt, bins), size)));
-    // Another stretch than the one cached (none in a diagnosis today) is worked out anew.
-    let drive = if at_size == size {
-        cached
-    } else {
-        drive_bin(full, (t0, dt, bins), size)
-    };
+    let drive = b.drive(ctx);
     let df = 1.0 / (size as f64 * dt);
     let f_lo = (2.0 / span).max(lowest_hz(ctx));
     let k = (1..size / 2)

@@ -113,6 +113,8 @@ pub(crate) struct Quantities {
     pub temp: Option<Vec<f64>>,
     /// Indices where the regime changes (the start of every segment but the first).
     pub changes: Vec<usize>,
+    /// The frequency of the rod's periodic drive, Hz, if it has one.
+    pub drive_hz: Option<f64>,
 }
 
 impl Quantities {
@@ -136,6 +138,7 @@ impl Quantities {
             load_rate,
             temp,
             changes,
+            drive_hz: super::super::line::drive_hz(ctx),
         }
     }
 
@@ -463,13 +466,41 @@ fn time_since_change(q: &Quantities) -> Vec<Option<f64>> {
         .collect()
 }
 
+/// The median time between one regime change and the next, s (the record's span without two).
+fn median_stretch_s(q: &Quantities) -> f64 {
+    let mut gaps: Vec<f64> = q
+        .changes
+        .windows(2)
+        .map(|w| q.t[w[1]] - q.t[w[0]])
+        .collect();
+    if gaps.is_empty() {
+        return q.span_s();
+    }
+    let mid = gaps.len() / 2;
+    *gaps.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
 /// Damped oscillations after each regime change, e^(-dt/tau) sin and cos(2 pi f dt), at
 /// frequencies the series resolves (below a quarter of its sample rate) and decays of a few
 /// periods.
 fn ringing(q: &Quantities, since: &[Option<f64>], out: &mut Vec<Raw>) {
     let f_top = 0.25 / q.step_s();
-    let mut f = 0.25;
+    // An oscillation rings: at least two periods fit between one regime change and the next
+    // (in the median stretch); slower, a damped sinusoid from each change is only a shape of
+    // each stretch (a loop's), which the load's memories and the catalogue describe.
+    let mut f = 0.25_f64.max(2.0 / median_stretch_s(q));
     while f <= f_top {
+        // Near a multiple of a periodic drive an oscillation is the material's response to the
+        // drive (its phase, its loss), which the catalogue's relaxation and hysteresis
+        // describe; the library offers no line there either (`line::harmonic_of`), within the
+        // band it keeps free beside the catalogue (a quarter of the drive's frequency).
+        if q.drive_hz.is_some_and(|d| {
+            let n = (f / d).round().max(1.0);
+            (f - n * d).abs() <= 0.25 * d
+        }) {
+            f *= 1.5;
+            continue;
+        }
         for periods in [1.0, 3.0] {
             let tau = periods / f;
             for (name, phase) in [("sin", 0.0), ("cos", std::f64::consts::FRAC_PI_2)] {
