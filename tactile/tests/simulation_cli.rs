@@ -195,8 +195,10 @@ fn refusals_name_the_file_and_the_field() {
     );
     let other = d.join("other.csv");
     write_recording(&other, 1.0, 4.0);
+    // Another test of the same protocol (a stiffer gel): a byte-identical copy is refused as
+    // the same recording given twice before any pairing.
     let rec2 = d.join("rec2.csv");
-    write_recording(&rec2, 1.0, 6.0);
+    write_recording(&rec2, 1.1, 6.0);
     fails(
         &tactile(&[
             "diagnose",
