@@ -86,6 +86,22 @@ pub struct ParamDetail {
     pub note: Option<String>,
 }
 
+impl ParamDetail {
+    /// A parameter fitted without bounds (a described term's amplitude or time constant).
+    pub fn unbounded(name: &str, value: f64, stderr: Option<f64>, unit: &str) -> Self {
+        ParamDetail {
+            name: name.to_string(),
+            value,
+            stderr,
+            unit: unit.to_string(),
+            lower: f64::NEG_INFINITY,
+            upper: f64::INFINITY,
+            at_bound: false,
+            note: None,
+        }
+    }
+}
+
 /// One effect found: a catalogue entry, or a term the catalogue lacks, described
 /// (`catalogue: false`, with `depends_on` and `form`).
 #[derive(Debug, Clone, DeriveSerialize)]

@@ -436,16 +436,12 @@ fn shared_gains_off(m: &Members, outcome: &Outcome) -> Option<Undecided> {
                 .find(|&r| m.setups[r].used[c + 1])
                 .unwrap_or(0);
             let i = SCALE_AT + c;
-            crate::output::ParamDetail {
-                name: format!("scale_{}", ["fz", "mx", "my"][c]),
-                value: f.fit.full[r][i],
-                stderr: f.fit.shared_stderr(i),
-                unit: String::new(),
-                lower: f64::NEG_INFINITY,
-                upper: f64::INFINITY,
-                at_bound: false,
-                note: None,
-            }
+            crate::output::ParamDetail::unbounded(
+                &format!("scale_{}", ["fz", "mx", "my"][c]),
+                f.fit.full[r][i],
+                f.fit.shared_stderr(i),
+                "",
+            )
         })
         .collect();
     crate::terms::sanity::gains_off(&details)

@@ -84,16 +84,7 @@ fn effect(t: &Term, stage: Stage, channels: &[usize], bic_gain: f64, ratio: f64)
     let parameters: Vec<ParamDetail> = d
         .params
         .iter()
-        .map(|(name, value, unit)| ParamDetail {
-            name: name.to_string(),
-            value: *value,
-            stderr: None,
-            unit: unit.clone(),
-            lower: f64::NEG_INFINITY,
-            upper: f64::INFINITY,
-            at_bound: false,
-            note: None,
-        })
+        .map(|(name, value, unit)| ParamDetail::unbounded(name, *value, None, unit))
         .collect();
     EffectReport {
         name: d.name.to_string(),

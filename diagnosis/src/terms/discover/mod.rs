@@ -119,14 +119,13 @@ fn better(ctx: &Context, nested: Nested, a: &[Term], b: &[Term]) -> bool {
 }
 
 /// What the discovered terms among `terms` paid for being chosen from the dictionary: each
-/// part's [`Info::choice_chi2`] once (its terms on several channels carry the same).
+/// effect's [`Info::choice_chi2`] once (its terms on several channels carry the same).
 pub(crate) fn search_price(terms: &[Term]) -> f64 {
-    let mut parts: Vec<(usize, u64)> = Vec::new();
+    let mut groups: Vec<usize> = Vec::new();
     let mut total = 0.0;
     for info in terms.iter().filter_map(|t| t.info.as_deref()) {
-        let key = (info.group, info.choice_chi2.to_bits());
-        if !parts.contains(&key) {
-            parts.push(key);
+        if !groups.contains(&info.group) {
+            groups.push(info.group);
             total += info.choice_chi2;
         }
     }
@@ -185,27 +184,17 @@ fn library_groups(terms: &[Term]) -> Vec<Vec<usize>> {
 fn add(ctx: &Context, nested: Nested, q: &Quantities, terms: &[Term]) -> Option<Vec<Term>> {
     let ch = channels(ctx, q, terms);
     let rows = select::Rows::fitting(ctx);
-    let hs = stage::hypotheses(ctx, &ch, &rows);
-    let mut parts = stage::best(ctx, &ch, &rows, hs)?;
+    let mut h = stage::best(ctx, &ch, &rows, stage::hypotheses(ctx, &ch, &rows))?;
     let group = next_group(terms);
-    let mut r = terms.to_vec();
-    for h in &parts {
-        r = reference(ctx, &r, h);
-    }
-    let reference = r;
-    let (stage, note) = stage::stage_of_parts(ctx, &ch, &parts);
-    for h in &mut parts {
-        h.chosen = prune_heldout(ctx, nested, &reference, &ch, h, (group, stage, &note));
-    }
-    parts.retain(|h| !h.chosen.is_empty());
-    if parts.is_empty() {
+    let reference = reference(ctx, terms, &h);
+    let (stage, note) = stage::stage_of(ctx, &ch, &h);
+    h.chosen = prune_heldout(ctx, nested, &reference, &ch, &h, (group, stage, &note));
+    if h.chosen.is_empty() {
         return None;
     }
-    let (stage, note) = stage::stage_of_parts(ctx, &ch, &parts);
-    let new: Vec<Term> = parts
-        .iter()
-        .flat_map(|h| stage::terms_of(ctx, &ch, h, &h.chosen, (group, stage, &note)))
-        .collect();
+    // The stage of what the held-out test kept.
+    let (stage, note) = stage::stage_of(ctx, &ch, &h);
+    let new = stage::terms_of(ctx, &ch, &h, &h.chosen, (group, stage, &note));
     let mut with = joined(ctx, &reference, new);
     let gain = bic(ctx, nested, &reference) - bic(ctx, nested, &with);
     let (h_without, h_with) = (
@@ -216,9 +205,7 @@ fn add(ctx: &Context, nested: Nested, q: &Quantities, terms: &[Term]) -> Option<
     if !(gain > MIN_BIC_GAIN && h_without - h_with > needed) {
         return None;
     }
-    for h in &parts {
-        bootstrap::inclusion(ctx, &ch, h, &mut with, group);
-    }
+    bootstrap::inclusion(ctx, &ch, &h, &mut with, group);
     Some(with)
 }
 

@@ -153,16 +153,7 @@ pub(crate) fn effect(terms: &[&Term], bic_gain: f64, ratio: f64) -> EffectReport
         parameters: d
             .params
             .iter()
-            .map(|(name, value, unit)| ParamDetail {
-                name: name.to_string(),
-                value: *value,
-                stderr: None,
-                unit: unit.clone(),
-                lower: f64::NEG_INFINITY,
-                upper: f64::INFINITY,
-                at_bound: false,
-                note: None,
-            })
+            .map(|(name, value, unit)| ParamDetail::unbounded(name, *value, None, unit))
             .collect(),
     }
 }

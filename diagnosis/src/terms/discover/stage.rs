@@ -204,22 +204,10 @@ pub(super) fn best(
     ch: &Channels,
     rows: &Rows,
     hs: Vec<Hypothesis>,
-) -> Option<Vec<Hypothesis>> {
-    let mut joint = hs.into_iter().max_by(|a, b| a.net.total_cmp(&b.net))?;
-    trim(ctx, ch, &mut joint, rows);
-    Some(vec![joint])
-}
-
-/// The stage of the term the parts make: their first's ([`stage_of`]).
-pub(super) fn stage_of_parts(
-    ctx: &Context,
-    ch: &Channels,
-    parts: &[Hypothesis],
-) -> (Stage, String) {
-    match parts {
-        [first, ..] => stage_of(ctx, ch, first),
-        [] => (Stage::Electronics, String::new()),
-    }
+) -> Option<Hypothesis> {
+    let mut h = hs.into_iter().max_by(|a, b| a.net.total_cmp(&b.net))?;
+    trim(ctx, ch, &mut h, rows);
+    Some(h)
 }
 
 /// Hypothesis `h` (the outputs together) on the outputs that carry its term: each keeps it
