@@ -34,6 +34,7 @@ pub use protocols::TestShape;
 
 use crate::{Case, CaseSpec, Plan, Score, Summary};
 use baseline::fe_response::FeResponseError;
+use recording::Recording;
 
 /// A group of recordings scored together.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -339,4 +340,27 @@ pub fn details(labelled: &[Labelled], scores: &[Score]) -> String {
         );
     }
     out
+}
+
+/// The recorded channel called `column` (`load_N` or an output), mutable: where the groups'
+/// generators put their physics in.
+pub(crate) fn column_mut<'a>(rec: &'a mut Recording, column: &str) -> &'a mut Vec<f64> {
+    let c = &mut rec.channels;
+    match column {
+        "load_N" => &mut c.load_n,
+        "fz_V" => &mut c.fz_v,
+        "mx_V" => &mut c.mx_v,
+        _ => &mut c.my_v,
+    }
+}
+
+/// The same column, read-only.
+pub(crate) fn column<'a>(rec: &'a Recording, column: &str) -> &'a [f64] {
+    let c = &rec.channels;
+    match column {
+        "load_N" => &c.load_n,
+        "fz_V" => &c.fz_v,
+        "mx_V" => &c.mx_v,
+        _ => &c.my_v,
+    }
 }

@@ -27,27 +27,7 @@ impl Ctx<'_> {
     }
 }
 
-/// The recorded channel called `column`, mutable.
-pub(super) fn column_mut<'a>(rec: &'a mut Recording, column: &str) -> &'a mut Vec<f64> {
-    let c = &mut rec.channels;
-    match column {
-        "load_N" => &mut c.load_n,
-        "fz_V" => &mut c.fz_v,
-        "mx_V" => &mut c.mx_v,
-        _ => &mut c.my_v,
-    }
-}
-
-/// The same column of a recording, read-only.
-pub(super) fn column<'a>(rec: &'a Recording, column: &str) -> &'a [f64] {
-    let c = &rec.channels;
-    match column {
-        "load_N" => &c.load_n,
-        "fz_V" => &c.fz_v,
-        "mx_V" => &c.mx_v,
-        _ => &c.my_v,
-    }
-}
+pub(super) use crate::categories::{column, column_mut};
 
 /// The rod speed at each sample, mm/min (central differences).
 pub(super) fn speed_mm_per_min(t_s: &[f64], rod_mm: &[f64]) -> Vec<f64> {

@@ -2,7 +2,6 @@
 //! presses, a first-order memory, the load as a function of the travel.
 
 use baseline::synth::SimSpec;
-use recording::Recording;
 
 /// Uniform deviates `u(a, b)`.
 pub(super) type Draw<'a> = &'a mut dyn FnMut(f64, f64) -> f64;
@@ -10,27 +9,7 @@ pub(super) type Draw<'a> = &'a mut dyn FnMut(f64, f64) -> f64;
 /// Drawn parameters, named.
 pub(super) type Params = Vec<(&'static str, f64)>;
 
-/// The recorded channel called `column`, mutable (`load_N` or an output).
-pub(super) fn column_mut<'a>(rec: &'a mut Recording, column: &str) -> &'a mut Vec<f64> {
-    let c = &mut rec.channels;
-    match column {
-        "load_N" => &mut c.load_n,
-        "fz_V" => &mut c.fz_v,
-        "mx_V" => &mut c.mx_v,
-        _ => &mut c.my_v,
-    }
-}
-
-/// The same column, read-only.
-pub(super) fn column<'a>(rec: &'a Recording, column: &str) -> &'a [f64] {
-    let c = &rec.channels;
-    match column {
-        "load_N" => &c.load_n,
-        "fz_V" => &c.fz_v,
-        "mx_V" => &c.mx_v,
-        _ => &c.my_v,
-    }
-}
+pub(super) use crate::categories::{column, column_mut};
 
 /// The rod's speed at each sample, mm/min: the slope of the segment the sample ends (the path
 /// is straight between corners, so this is the speed the drive was set to).
