@@ -9,14 +9,16 @@
 //! recordings with their summary, [`joint`] a session diagnosed jointly; [`inputs`] and
 //! [`outputs`] check the files a run reads and writes before any work.
 //!
-//! The steps are private modules, each importing only those before it:
-//! `stats` (tests and estimators) -> `data` (read, decimate; `noise`, `quantisation`) ->
-//! `regimes` -> `preconditions` -> `fit` (calibrate; `specs`, `lm`, `temperature`) ->
-//! `candidate` -> `params` -> `select` (the effects' selection) -> `localise`, `mains` ->
-//! `evidence` -> `pipeline` (candidates, selection, full-rate evaluation, verdict) -> [`output`]
-//! and [`report`].
+//! The private modules, each importing only those before it: `stats` (tests and estimators)
+//! -> `data` (read, decimate; `noise`, `quantisation`) -> `regimes` -> `preconditions` -> `fit`
+//! (calibrate; `specs`, `lm`, `temperature`) -> `candidate` -> `params` -> `select` (the
+//! effects' selection) -> `localise`, `mains` -> `evidence` -> `terms` (the library beyond the
+//! catalogue) -> the types the steps share (`options`, `stretches`, `calibration`, `misfit`,
+//! `prepared`, `outcome`) -> `steps` (one module per step) -> `pipeline` (the steps in order,
+//! holding none of them) -> [`output`] and [`report`].
 #![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
+mod calibration;
 mod candidate;
 mod data;
 mod evidence;
@@ -26,12 +28,16 @@ pub mod joint;
 mod lm;
 mod localise;
 mod mains;
+mod misfit;
 mod noise;
+mod options;
+mod outcome;
 pub mod output;
 pub mod outputs;
 mod params;
 mod pipeline;
 mod preconditions;
+mod prepared;
 mod quantisation;
 mod regimes;
 pub mod report;
@@ -41,10 +47,15 @@ pub mod simulation;
 mod specs;
 mod static_shape;
 mod stats;
+mod steps;
+mod stretches;
 mod temperature;
 mod terms;
 mod undecided;
 
 pub use data::DataError;
-pub use pipeline::{diagnose, heldout_rmse_of, BaselineSource, Diagnosis, Options, Progress};
+pub use options::{BaselineSource, Options, Progress};
+pub use outcome::Diagnosis;
+pub use pipeline::diagnose;
 pub use preconditions::mains_visible;
+pub use prepared::heldout_rmse_of;

@@ -3,6 +3,7 @@
 //! anyway, its operator would only bend the model towards whatever else is missing (a lag on a
 //! single ramp is a modulus change; a loop without unloading is a curvature).
 
+use baseline::Drive;
 use sim::effects::EffectKind;
 
 use crate::data::Data;
@@ -151,4 +152,14 @@ fn loading_speeds_differ(t: &[f64], rod: &[f64], segments: &[Segment]) -> bool {
     let max = speeds.iter().cloned().fold(0.0, f64::max);
     let min = speeds.iter().cloned().fold(f64::INFINITY, f64::min);
     speeds.len() > 1 && max > 2.0 * min
+}
+
+/// The direction atan2(My, Mx) of the baseline's chip moment at the drive's largest moment.
+pub(crate) fn moment_direction(drive: &Drive) -> Option<f64> {
+    let m = drive.unit.iter().max_by(|a, b| {
+        a.chip[1]
+            .hypot(a.chip[2])
+            .total_cmp(&b.chip[1].hypot(b.chip[2]))
+    })?;
+    (m.chip[1] != 0.0 || m.chip[2] != 0.0).then(|| m.chip[2].atan2(m.chip[1]))
 }

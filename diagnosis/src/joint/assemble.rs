@@ -11,8 +11,8 @@ use super::seen::{self, Seen};
 use super::{distinct, distinct_kinds, verdict, Members, Outcome};
 use crate::data::CHANNELS;
 use crate::fit::{physical, Model, N_BASE, SCALE_AT};
+use crate::outcome::PlotData;
 use crate::output::{EffectReport, Fit, Heldout, Numbers, Undecided, Verdict};
-use crate::pipeline::PlotData;
 
 /// The report of the session's `outcome` with its validation, and each recording's series as
 /// the session's model sees it ([`Seen::plots`]).

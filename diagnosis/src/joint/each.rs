@@ -14,8 +14,8 @@ use super::output::{RecordingRow, Remaining};
 use super::SessionDiagnosis;
 use crate::data::CHANNELS;
 use crate::localise::Mismatch;
+use crate::outcome::{Diagnosis, PlotData};
 use crate::output::{Report, Verdict};
-use crate::pipeline::{Diagnosis, PlotData};
 use crate::report::page::{esc, figure, verdict_label};
 use crate::report::{figs, remains};
 

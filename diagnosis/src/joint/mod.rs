@@ -35,7 +35,10 @@ use sim::effects::EffectKind;
 
 use crate::fit::{Model, Setup};
 use crate::inputs::InputError;
-use crate::pipeline::{diagnose, prepare, Diagnosis, Options, PlotData, Prepared};
+use crate::options::Options;
+use crate::outcome::{Diagnosis, PlotData};
+use crate::pipeline::diagnose;
+use crate::prepared::{prepare, Prepared};
 use model::{JointFit, Layout};
 use output::{Protocol, SessionReport};
 use search::{Fitted, Search, OWN_ALWAYS};

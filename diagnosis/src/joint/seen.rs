@@ -10,7 +10,7 @@ use super::Members;
 use crate::data::CHANNELS;
 use crate::fit::{Model, N_BASE};
 use crate::localise::mismatches;
-use crate::pipeline::PlotData;
+use crate::outcome::PlotData;
 use crate::report::{remains, words};
 
 /// The windows of a residual named in `Remaining`: at most this many, each holding at least
@@ -24,7 +24,7 @@ pub(crate) struct Seen {
     /// session's model, all in the recording's own frame, with the session's held-out stretch.
     pub plots: PlotData,
     /// Whether what the session's model leaves on every compared channel is noise (the single
-    /// diagnosis's test, [`crate::pipeline::white`]).
+    /// diagnosis's test, [`crate::misfit::white`]).
     pub white: bool,
 }
 
@@ -47,7 +47,7 @@ pub(crate) fn seen(m: &Members, f: &Fitted, r: usize, own_terms: &[usize]) -> Se
             outputs.channel(c).to_vec()
         }
     });
-    let white = crate::pipeline::white(setup, &session);
+    let white = crate::misfit::white(setup, &session);
     let plots = if same_base {
         PlotData {
             t_s: single.t_s.clone(),
@@ -80,7 +80,7 @@ pub(crate) fn seen(m: &Members, f: &Fitted, r: usize, own_terms: &[usize]) -> Se
 
 /// How the session's reading of a recording differs from the recording: a catalogue effect its
 /// own diagnosis found at another stage taken out, then a sign turned back
-/// ([`crate::pipeline::Prepared::for_session`]).
+/// ([`crate::prepared::Prepared::for_session`]).
 pub(super) struct Frame<'d> {
     part: Option<&'d [Vec<f64>; 4]>,
     sign: [f64; 4],

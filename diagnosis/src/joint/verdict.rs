@@ -14,7 +14,7 @@ use crate::output::Verdict;
 
 /// A recording's verdict under the session's model. `named`: an effect of the session acts on
 /// it (its own, or a shared one); `white`: what the session's model leaves on every compared
-/// channel is noise ([`crate::pipeline::white`]); `lowered`: the model's held-out misfit is
+/// channel is noise ([`crate::misfit::white`]); `lowered`: the model's held-out misfit is
 /// below that of the baseline calibrated to the recording alone.
 pub(crate) fn recording(named: bool, white: bool, lowered: bool) -> Verdict {
     match (named, white) {

@@ -6,7 +6,8 @@ use figures::{draw_panel, styles, svg_string, Band, Error, Line, Panel, Quantity
 
 use super::words::channel_unit;
 use crate::data::CHANNELS;
-use crate::pipeline::{PlotData, TermCurve};
+use crate::outcome::PlotData;
+use crate::terms::TermCurve;
 
 /// Figure width in SVG pixels; the page scales it to its column.
 const WIDTH: u32 = 960;

@@ -16,8 +16,8 @@ pub(crate) mod words;
 use std::path::Path;
 
 use crate::data::CHANNELS;
+use crate::outcome::{Diagnosis, PlotData};
 use crate::output::Verdict;
-use crate::pipeline::{Diagnosis, PlotData};
 use page::{esc, figure};
 use remains::Remains;
 

@@ -4,7 +4,7 @@
 //! reader of a partial explanation needs the same for what is left.
 
 use crate::localise::{mismatches, Mismatch};
-use crate::pipeline::PlotData;
+use crate::outcome::PlotData;
 use crate::stats::{lag1, pearson};
 
 /// A straight-line trend of a residual against time.

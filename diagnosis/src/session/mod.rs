@@ -18,8 +18,10 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::inputs::InputError;
+use crate::options::Options;
+use crate::outcome::Diagnosis;
 use crate::outputs::{write_whole, OutputError};
-use crate::pipeline::{diagnose, Diagnosis, Options};
+use crate::pipeline::diagnose;
 
 /// Why a session could not run or its summary could not be written (the errors of single
 /// recordings are rows, not this).

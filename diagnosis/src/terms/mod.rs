@@ -64,6 +64,16 @@ pub(crate) struct FastLine {
     pub heldout_ratio: f64,
 }
 
+/// A discovered effect's contribution to one channel's model, on the decimated time base.
+#[derive(Debug, Clone)]
+pub struct TermCurve {
+    /// As the effect is reported (`name`).
+    pub name: String,
+    /// Its channel (index of `data::CHANNELS`).
+    pub channel: usize,
+    pub values: Vec<f64>,
+}
+
 /// What was described beyond the catalogue: the effects to report and the terms' contributions
 /// to the model, on the decimated series and at the full rate.
 pub(crate) struct Described {
@@ -78,14 +88,14 @@ pub(crate) struct Described {
     pub discovered: Option<AtStage>,
     /// Each discovered effect on its first channel, for the report's figure of it against
     /// what it depends on.
-    pub curves: Vec<crate::pipeline::TermCurve>,
+    pub curves: Vec<TermCurve>,
 }
 
 /// The contributions of the terms that are catalogue effects at a stage other than the
 /// catalogue's (a sensing element's relaxation; the load cell's lag, stiffening or clip), on
 /// the decimated series and at the full rate. A session searches each catalogue effect at its
 /// own stage only, so it holds these as the recording's own diagnosis found them
-/// ([`crate::pipeline::Prepared::for_session`]).
+/// ([`crate::prepared::Prepared::for_session`]).
 #[derive(Debug, Clone)]
 pub struct AtStage {
     pub decimated: [Vec<f64>; 4],
@@ -212,7 +222,7 @@ impl Described {
 
 /// Each discovered effect's contribution on its first channel (decimated), named as it is
 /// reported.
-fn discovered_curves(ctx: &Context, terms: &[Term]) -> Vec<crate::pipeline::TermCurve> {
+fn discovered_curves(ctx: &Context, terms: &[Term]) -> Vec<TermCurve> {
     let mut groups: Vec<usize> = terms
         .iter()
         .filter_map(|t| t.info.as_ref().map(|i| i.group))
@@ -227,7 +237,7 @@ fn discovered_curves(ctx: &Context, terms: &[Term]) -> Vec<crate::pipeline::Term
                 .cloned()
                 .collect();
             let lead = of.iter().min_by_key(|t| t.channel)?;
-            Some(crate::pipeline::TermCurve {
+            Some(TermCurve {
                 name: discover::describe(lead).name.into_owned(),
                 channel: lead.channel,
                 values: score::contribution(ctx, &of, lead.channel),
