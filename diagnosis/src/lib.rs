@@ -35,6 +35,7 @@ mod preconditions;
 mod quantisation;
 mod regimes;
 pub mod report;
+mod scale_check;
 mod select;
 pub mod session;
 pub mod simulation;

@@ -192,6 +192,8 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     let d = with_discovery_refitted(&mut prepared, d, name, opt);
     let mut d = without_unsupported_discovery(&mut prepared, d, name, opt);
     d.report.seconds = started.elapsed().as_secs_f64();
+    let judged = matches!(&opt.baseline, BaselineSource::Simulation(s) if !s.accepts_scale());
+    crate::scale_check::check(&d.report, &rec.meta, judged)?;
     Ok(d)
 }
 
@@ -774,7 +776,8 @@ pub(crate) fn prepare(rec: &Recording, name: &str, opt: &Options) -> Result<Prep
                 t_s: &data.full.t_s,
                 rod_mm: &data.full.rod_mm,
             };
-            let loaded = simulation::load(path, rec, at, opt.sensitivity_per_v)?;
+            let loaded =
+                simulation::load(path, rec, at, opt.sensitivity_per_v, sims.accepts_scale())?;
             data = data.unmodelled(loaded.lacks);
             (
                 Fingertip::Simulated(Arc::new(loaded.units)),
@@ -1052,7 +1055,8 @@ fn full_rate(
         (0..4)
             .filter(|&c| setup.used[c])
             .map(|c| {
-                let r = channel_rmse(data, base_full, c, &all_rows);
+                // In the channel's unit (the contract's `fit.rmse_*` is the one per range).
+                let r = channel_rmse(data, base_full, c, &all_rows) * data.range[c].max(1e-300);
                 (CHANNELS[c].to_string(), r)
             })
             .collect(),
