@@ -167,7 +167,8 @@ pub enum SimulationError {
         byte: u8,
     },
     /// A fitted scale or the rod's travel beyond a physically plausible factor
-    /// ([`plausible::PLAUSIBLE_FACTOR`]): a unit read as another, more likely than physics.
+    /// (10x either way, `docs/simulation-format.md`): a unit read as another, more likely than
+    /// physics.
     #[error("simulation {path}: the simulation's {what} is {}x the recording's: {hint} (a calibration absorbs up to {}x either way; --accept-scale takes the factor on purpose)", factor(*.ratio), plausible::PLAUSIBLE_FACTOR)]
     Scale {
         path: String,
