@@ -4,9 +4,9 @@ with our own baseline. Numpy only.
 
     T=target/release/tactile; R=shared/real-data; D=real-sims; mkdir -p $D
     unzip -o $R/mach1/examples.zip        # Hayes_data.txt, Static_data.txt, Dynamic_data.txt
-    $T import Hayes_data.txt --block 3 -o $D/hayes1.csv     # --block 6 hayes2, --block 9 hayes3
-    $T import Static_data.txt -o $D/static.csv
-    $T import Dynamic_data.txt --block 1 -o $D/dynamic.csv
+    $T import Hayes_data.txt --block 3 --radius-mm R -o $D/hayes1.csv  # --block 6 hayes2, 9 hayes3
+    $T import Static_data.txt --radius-mm R -o $D/static.csv    # R: the indenter's radius, mm
+    $T import Dynamic_data.txt --block 1 --radius-mm R -o $D/dynamic.csv
     $T import $R/ecoflex/EF10_0T_A1.csv --format csv --time-col 1 --disp-col 2 --force-col 3 \
         --skip-rows 7 --radius-mm 25 -o $D/EF10_0T_A1.csv  # and EF30_0T_A2, EF50_0T_A1
     # eflesh.csv: the eFlesh pair imported (docs/recording-format.md, importing a pair of logs)

@@ -211,9 +211,17 @@ fn fill(file: &mut std::fs::File, buf: &mut [u8]) -> std::io::Result<usize> {
 }
 
 /// The metadata keys that name the sensor: what may not differ between the recordings of one
-/// session. The fingertip's radius (every recording gives it), and the device's serial where
-/// the metadata name it (the logger writes it; a simulated or imported recording has none).
-pub const SENSOR_KEYS: [&str; 2] = ["fingertip_radius_mm", recording::CHIP_SERIAL_KEY];
+/// session. The fingertip's radius (every recording gives it), and where the metadata name
+/// them the device's serial (the logger writes it), the instrument's identity (`sensor`: an
+/// import's `--sensor-id`, a test machine's serials) and the unit its outputs hold
+/// (`sensor_unit`, a foreign sensor's import). Two recordings that lack a key are not compared
+/// on it.
+pub const SENSOR_KEYS: [&str; 4] = [
+    "fingertip_radius_mm",
+    recording::CHIP_SERIAL_KEY,
+    recording::SENSOR_KEY,
+    recording::SENSOR_UNIT_KEY,
+];
 
 /// Refuse a recording of another sensor: each of [`SENSOR_KEYS`] is judged against the first
 /// recording (in input order) that gives it, which for the radius is the first readable one.

@@ -41,6 +41,7 @@ mod prepared;
 mod quantisation;
 mod regimes;
 pub mod report;
+mod scale_check;
 mod select;
 pub mod session;
 pub mod simulation;

@@ -1,5 +1,11 @@
-//! Where a diagnosis writes: every output path checked before any work, and every file written
-//! whole.
+//! Where every command writes (the diagnosis, `simulate`, `import`, `plot`): every output path
+//! checked before any work, and every output written where the user points ([`Sink`]).
+//!
+//! `-` (and `/dev/stdout`) is the standard output. A path that is not a regular file (a
+//! character device such as `/dev/null` or `/dev/full`, a FIFO, a process's stream such as
+//! `/dev/fd/3`) is opened and written to as it is, never replaced or renamed over: running as
+//! root, replacing `/dev/null` with a regular file would break the machine. A write error
+//! there (`/dev/full`: no space) is an error naming the path.
 //!
 //! The rule for folders (`docs/bad-input.md`): an output's missing folders are created when it
 //! is written, for `--json`, `--report` and `--out-dir` alike. Before any work, the nearest
@@ -8,9 +14,10 @@
 //! not be a folder, two outputs of one run must not be one file, and no output may be one of
 //! the recordings read, which writing it would destroy.
 //!
-//! Each file is written to a temporary file beside it and renamed over it ([`write_whole`],
-//! [`write_all_whole`]): a run that fails or is killed leaves either the old file or the new
-//! one, never a half-written one.
+//! Each regular file is written to a temporary file beside it and renamed over it
+//! ([`write_whole`], [`write_all_whole`]): a run that fails or is killed leaves either the old
+//! file or the new one, never a half-written one. A symlink is written through: the file it
+//! names is replaced, the link kept.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -59,13 +66,17 @@ impl sysexit::ExitStatus for OutputError {
 }
 
 /// Check the output files `files` and output folders `folders` of one run that reads
-/// `inputs`, before any work (the module's rule).
+/// `inputs`, before any work (the module's rule). A path that is not a regular file (a
+/// device, a FIFO, `-`) needs no folder; two outputs may share a device, never a regular file
+/// or the standard output.
 pub fn check(files: &[&Path], folders: &[&Path], inputs: &[PathBuf]) -> Result<(), OutputError> {
     for &file in files {
         if std::fs::metadata(file).is_ok_and(|m| m.is_dir()) {
             return Err(OutputError::IsFolder(file.to_path_buf()));
         }
-        writable_folder_above(file)?;
+        if let Sink::Whole(_) = Sink::of(file) {
+            writable_folder_above(file)?;
+        }
     }
     for &dir in folders {
         match std::fs::metadata(dir) {
@@ -80,7 +91,11 @@ pub fn check(files: &[&Path], folders: &[&Path], inputs: &[PathBuf]) -> Result<(
         .collect();
     let mut resolved: Vec<(PathBuf, &Path)> = Vec::new();
     for &file in files {
-        let at = resolve(file);
+        let at = match Sink::of(file) {
+            Sink::AsIs(_) => continue,
+            Sink::Stdout => PathBuf::from("-"),
+            Sink::Whole(_) => resolve(file),
+        };
         if inputs.contains(&at) {
             return Err(OutputError::IsInput(file.to_path_buf()));
         }
@@ -162,45 +177,168 @@ fn resolve(path: &Path) -> PathBuf {
     }
 }
 
-/// Write `bytes` to `path` whole: its missing folders created, the bytes into a temporary file
-/// beside it, flushed to the disk, then renamed over it. A link is written through, to the
-/// file it names.
+/// Where one output goes: the process's standard output, a path written as it is (not a
+/// regular file: a device, a FIFO, another stream of this process), or a regular file (there or
+/// not yet, through any links) written whole.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Sink {
+    /// `-` or `/dev/stdout`: the standard output as the shell set it up.
+    Stdout,
+    /// A path that is not a regular file, opened and written to as it is: never replaced.
+    AsIs(PathBuf),
+    /// A regular file (or one to create): written to a temporary file beside the file a link
+    /// names, then renamed over it, so that a link stays a link.
+    Whole(PathBuf),
+}
+
+impl Sink {
+    /// The sink `path` names (the module's rule).
+    pub fn of(path: &Path) -> Self {
+        if path.as_os_str() == "-" || path == Path::new("/dev/stdout") {
+            return Self::Stdout;
+        }
+        let stream = std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        if stream || names_a_stream(path) {
+            Self::AsIs(path.to_path_buf())
+        } else {
+            Self::Whole(path.to_path_buf())
+        }
+    }
+}
+
+/// Whether `path`, or a link it goes through, names one of this process's streams by its
+/// descriptor (`/dev/fd/N`, `/dev/stderr`, `/proc/self/fd/N`): such a path resolves to the
+/// file behind the descriptor, which must be written through the descriptor, not replaced.
+fn names_a_stream(path: &Path) -> bool {
+    let mut at = path.to_path_buf();
+    for _ in 0..40 {
+        let s = at.to_string_lossy();
+        if s.starts_with("/dev/fd/")
+            || s.starts_with("/dev/std")
+            || (s.starts_with("/proc/") && s.contains("/fd/"))
+        {
+            return true;
+        }
+        match std::fs::read_link(&at) {
+            Ok(next) => at = at.parent().map_or(next.clone(), |p| p.join(&next)),
+            Err(_) => return false,
+        }
+    }
+    false
+}
+
+/// An output that could not be written: the path and why, one line. Its kind is the cause's
+/// (a full disk: `StorageFull`), so that the exit code follows it (`sysexit::code_of`).
+#[derive(Debug, thiserror::Error)]
+#[error("writing {}: {source}", .path.display())]
+pub struct WriteError {
+    /// The output as the user named it.
+    pub path: PathBuf,
+    /// Why.
+    pub source: std::io::Error,
+}
+
+fn failed(path: &Path) -> impl Fn(std::io::Error) -> std::io::Error + '_ {
+    move |source| {
+        std::io::Error::new(
+            source.kind(),
+            WriteError {
+                path: path.to_path_buf(),
+                source,
+            },
+        )
+    }
+}
+
+/// Write `bytes` to `path` ([`write_all_whole`] of one file).
 pub fn write_whole(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     write_all_whole(&[(path, bytes)])
 }
 
-/// [`write_whole`] for the files of one run together: every temporary file written before
-/// the first is renamed, so that an error leaves none of them changed.
+/// Write the files of one run, each to its [`Sink`]: `-` to the standard output, a path that
+/// is not a regular file as it is, a regular file whole (its missing folders created, a
+/// temporary file beside it flushed to the disk, then renamed over it; a link written
+/// through). Every temporary file is written before any stream, and every stream before the
+/// first rename, so that an error leaves no regular file changed. The error names the path
+/// that failed (a [`WriteError`] inside the `io::Error`).
 pub fn write_all_whole(files: &[(&Path, &[u8])]) -> std::io::Result<()> {
     let mut staged: Vec<(PathBuf, PathBuf)> = Vec::new();
+    let unstage = |staged: &[(PathBuf, PathBuf)]| {
+        for (tmp, _) in staged {
+            let _ = std::fs::remove_file(tmp);
+        }
+    };
     for &(path, bytes) in files {
-        match stage(path, bytes) {
-            Ok(s) => staged.push(s),
-            Err(e) => {
-                for (tmp, _) in &staged {
-                    let _ = std::fs::remove_file(tmp);
+        if let Sink::Whole(_) = Sink::of(path) {
+            match stage(path, bytes).map_err(failed(path)) {
+                Ok(s) => staged.push(s),
+                Err(e) => {
+                    unstage(&staged);
+                    return Err(e);
                 }
-                return Err(e);
             }
         }
     }
+    for &(path, bytes) in files {
+        if let Err(e) = write_stream(&Sink::of(path), bytes).map_err(failed(path)) {
+            unstage(&staged);
+            return Err(e);
+        }
+    }
     for (i, (tmp, target)) in staged.iter().enumerate() {
-        if let Err(e) = std::fs::rename(tmp, target) {
-            for (tmp, _) in &staged[i..] {
-                let _ = std::fs::remove_file(tmp);
-            }
+        if let Err(e) = std::fs::rename(tmp, target).map_err(failed(target)) {
+            unstage(&staged[i..]);
             return Err(e);
         }
     }
     Ok(())
 }
 
+/// `bytes` written to a stream sink, as it is: no temporary file, no rename, no truncation of
+/// a device or FIFO (a regular file behind a descriptor is truncated first). A regular file's
+/// sink writes nothing here.
+fn write_stream(sink: &Sink, bytes: &[u8]) -> std::io::Result<()> {
+    match sink {
+        Sink::Whole(_) => Ok(()),
+        Sink::Stdout => {
+            let mut out = std::io::stdout().lock();
+            out.write_all(bytes)?;
+            out.flush()
+        }
+        Sink::AsIs(path) => {
+            let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+            let mut f = std::fs::OpenOptions::new()
+                .write(true)
+                .truncate(regular)
+                .open(path)?;
+            f.write_all(bytes)?;
+            f.flush()
+        }
+    }
+}
+
+/// The file `path` names, every link followed (to a file not there yet, for a dangling link), so
+/// that the rename replaces the file and keeps the link.
+fn link_target(path: &Path) -> PathBuf {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return p;
+    }
+    let mut at = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::read_link(&at) {
+            Ok(next) => at = at.parent().map_or(next.clone(), |p| p.join(&next)),
+            Err(_) => break,
+        }
+    }
+    at
+}
+
 /// `bytes` in a temporary file beside `path`'s target: (the temporary file, the target).
 fn stage(path: &Path, bytes: &[u8]) -> std::io::Result<(PathBuf, PathBuf)> {
-    if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+    let target = link_target(path);
+    if let Some(dir) = target.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
     let name = target
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());

@@ -18,7 +18,7 @@ use std::time::Instant;
 use recording::Recording;
 
 use crate::data::DataError;
-use crate::options::Options;
+use crate::options::{BaselineSource, Options};
 use crate::outcome::Diagnosis;
 use crate::prepared::{prepare, Prepared};
 use crate::select::select;
@@ -50,6 +50,8 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         format!("discovery step dropped: {}", prepared.without_discovery)
     });
     d.report.seconds = started.elapsed().as_secs_f64();
+    let judged = matches!(&opt.baseline, BaselineSource::Simulation(s) if !s.accepts_scale());
+    crate::scale_check::check(&d.report, &rec.meta, judged)?;
     Ok(d)
 }
 

@@ -79,7 +79,8 @@ pub(crate) fn prepare(rec: &Recording, name: &str, opt: &Options) -> Result<Prep
                 t_s: &data.full.t_s,
                 rod_mm: &data.full.rod_mm,
             };
-            let loaded = simulation::load(path, rec, at, opt.sensitivity_per_v)?;
+            let loaded =
+                simulation::load(path, rec, at, opt.sensitivity_per_v, sims.accepts_scale())?;
             data = data.unmodelled(loaded.lacks);
             (
                 Fingertip::Simulated(Arc::new(loaded.units)),

@@ -233,6 +233,25 @@ fn what_the_simulation_lacks_is_named_and_its_missing_channels_are_not_compared(
     assert_eq!(not, ["mx_V", "my_V"]);
     assert_eq!(s.channels, ["load_N", "fz_V"]);
     assert!(r.baseline.rmse.get("mx_V").is_none() && r.baseline.rmse.get("fz_V").is_some());
+    // `baseline.rmse` is in each channel's unit: per its recorded range, its mean is the
+    // dimensionless `fit.rmse_before` (were it already per range, this mean would be far off).
+    let whole = rec.without_gaps();
+    let per_range: Vec<f64> = s
+        .channels
+        .iter()
+        .map(|c| {
+            let y = whole.column(c).unwrap();
+            let lo = y.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = y.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            r.baseline.rmse.get(c).unwrap() / (hi - lo)
+        })
+        .collect();
+    let mean = per_range.iter().sum::<f64>() / per_range.len() as f64;
+    assert!(
+        (mean / r.fit.rmse_before - 1.0).abs() < 1e-9,
+        "{mean} per range against fit.rmse_before {}",
+        r.fit.rmse_before
+    );
 }
 
 /// A static shape is named against a simulation without the load, as with one: where the

@@ -24,13 +24,23 @@ impl Scale {
     }
 }
 
+/// Whether `unit` already carries an SI prefix on a base unit (`µT`, `mm`, `mV`): shown as it
+/// is, since a second prefix (`kµT`) would not be a unit.
+fn prefixed(unit: &str) -> bool {
+    const BASES: [&str; 9] = ["T", "V", "A", "N", "Pa", "m", "g", "s", "Hz"];
+    let mut chars = unit.chars();
+    let first = chars.next();
+    let rest = chars.as_str();
+    matches!(first, Some('p' | 'n' | 'µ' | 'u' | 'm' | 'k' | 'M' | 'G')) && BASES.contains(&rest)
+}
+
 /// The SI prefix that puts `max_abs` (in `unit`) between 1 and 1000: 0.005 V -> mV (×1000).
 pub fn si_scale(max_abs: f64, unit: &str) -> Scale {
     let plain = Scale {
         factor: 1.0,
         unit: unit.to_string(),
     };
-    if NO_PREFIX.contains(&unit) || !(max_abs.is_finite() && max_abs > 0.0) {
+    if NO_PREFIX.contains(&unit) || prefixed(unit) || !(max_abs.is_finite() && max_abs > 0.0) {
         return plain;
     }
     let e = ((max_abs.log10() / 3.0).floor() as i32 * 3).clamp(-12, 12);
@@ -145,6 +155,9 @@ mod tests {
         assert_eq!(si_scale(77_967.0, "Pa").unit, "kPa");
         assert_eq!(si_scale(3e-6, "V").unit, "µV");
         assert_eq!(si_scale(0.5, "%").unit, "%");
+        assert_eq!(si_scale(5300.0, "µT").unit, "µT");
+        assert_eq!(si_scale(0.05, "mm").unit, "mm");
+        assert_eq!(si_scale(5.0, "Pa").unit, "Pa");
         assert_eq!(si_scale(0.0, "V").factor, 1.0);
     }
 

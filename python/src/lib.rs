@@ -108,13 +108,19 @@ fn options(baseline: BaselineSource) -> PyResult<diagnosis::Options> {
 }
 
 /// The baseline of `recordings`: ours, or the `simulations` paired with them as
-/// `tactile diagnose --simulation` pairs them.
-fn baseline_of(recordings: &[PathBuf], simulations: &[PathBuf]) -> PyResult<BaselineSource> {
+/// `tactile diagnose --simulation` pairs them; `accept_scale` as `--accept-scale`.
+fn baseline_of(
+    recordings: &[PathBuf],
+    simulations: &[PathBuf],
+    accept_scale: bool,
+) -> PyResult<BaselineSource> {
     if simulations.is_empty() {
         return Ok(BaselineSource::Fe);
     }
     let paired = Simulations::pair(recordings, simulations).map_err(|e| error::raise(None, &e))?;
-    Ok(BaselineSource::Simulation(paired))
+    Ok(BaselineSource::Simulation(
+        paired.accepting_scale(accept_scale),
+    ))
 }
 
 /// `tactile diagnose`'s JSON (pretty, as the command writes it) for `rec` named `name`.
@@ -135,9 +141,18 @@ fn diagnose_json(
 /// The diagnosis of the recording at `path`, named as the command names it; against the
 /// user's `simulation` where one is given.
 #[pyfunction]
-#[pyo3(signature = (path, simulation=None))]
-fn diagnose_file(py: Python<'_>, path: PathBuf, simulation: Option<PathBuf>) -> PyResult<String> {
-    let baseline = baseline_of(std::slice::from_ref(&path), simulation.as_slice())?;
+#[pyo3(signature = (path, simulation=None, accept_scale=false))]
+fn diagnose_file(
+    py: Python<'_>,
+    path: PathBuf,
+    simulation: Option<PathBuf>,
+    accept_scale: bool,
+) -> PyResult<String> {
+    let baseline = baseline_of(
+        std::slice::from_ref(&path),
+        simulation.as_slice(),
+        accept_scale,
+    )?;
     let rec = recording::read(&path).map_err(|e| error::raise(None, &e))?;
     diagnose_json(py, &rec, &path.display().to_string(), baseline)
 }
@@ -145,15 +160,16 @@ fn diagnose_file(py: Python<'_>, path: PathBuf, simulation: Option<PathBuf>) -> 
 /// The diagnosis of the recording of `columns` and `attrs`, named `name` in the report;
 /// against the user's `simulation` where one is given.
 #[pyfunction]
-#[pyo3(signature = (columns, attrs, name, simulation=None))]
+#[pyo3(signature = (columns, attrs, name, simulation=None, accept_scale=false))]
 fn diagnose_frame(
     py: Python<'_>,
     columns: Columns<'_>,
     attrs: Bound<'_, PyDict>,
     name: &str,
     simulation: Option<PathBuf>,
+    accept_scale: bool,
 ) -> PyResult<String> {
-    let baseline = baseline_of(&[PathBuf::from(name)], simulation.as_slice())?;
+    let baseline = baseline_of(&[PathBuf::from(name)], simulation.as_slice(), accept_scale)?;
     let (rec, _) = convert::file_of(&columns, &attrs)?;
     diagnose_json(py, &rec, name, baseline)
 }
@@ -164,18 +180,19 @@ fn diagnose_frame(
 /// given (one for all, one per recording in order, or a folder of them by the recordings' file
 /// names).
 #[pyfunction]
-#[pyo3(signature = (paths, simulations=None))]
+#[pyo3(signature = (paths, simulations=None, accept_scale=false))]
 fn diagnose_session_json(
     py: Python<'_>,
     paths: Vec<PathBuf>,
     simulations: Option<Vec<PathBuf>>,
+    accept_scale: bool,
 ) -> PyResult<String> {
     let simulations = simulations.unwrap_or_default();
     let baseline = if simulations.is_empty() {
         BaselineSource::Fe
     } else {
         let inputs = diagnosis::inputs::expand(&paths).map_err(|e| error::raise(None, &e))?;
-        baseline_of(&inputs, &simulations)?
+        baseline_of(&inputs, &simulations, accept_scale)?
     };
     let options = options(baseline)?;
     let text = py

@@ -136,24 +136,31 @@ def diagnose(
     recording: Union[PathLike, pd.DataFrame],
     name: str = "DataFrame",
     simulation: Optional[PathLike] = None,
+    accept_scale: bool = False,
 ) -> Dict[str, Any]:
     """The diagnosis of a recording file or DataFrame, as the dict of the JSON
     ``tactile diagnose --json`` writes (``docs/diagnosis-format.md``). A file is named in the
     report by its path as given; a DataFrame by ``name``. ``simulation``: the user's own
     simulation of the test as the baseline instead of ours (``tactile diagnose --simulation``,
     ``docs/simulation-format.md``): a recording of the simulated test or a static response
-    table; the result's ``baseline.simulation`` says how it was aligned."""
+    table; the result's ``baseline.simulation`` says how it was aligned. A simulation whose
+    fitted load or output scale, or rod travel, is more than 10x the recording's is refused
+    (:class:`TactileDataError`, a unit read as another) unless ``accept_scale`` (as
+    ``--accept-scale``)."""
     sim = None if simulation is None else os.fspath(simulation)
     if isinstance(recording, pd.DataFrame):
-        text = _tactile.diagnose_frame(_columns(recording), dict(recording.attrs), name, sim)
+        text = _tactile.diagnose_frame(
+            _columns(recording), dict(recording.attrs), name, sim, accept_scale
+        )
     else:
-        text = _tactile.diagnose_file(os.fspath(recording), sim)
+        text = _tactile.diagnose_file(os.fspath(recording), sim, accept_scale)
     return json.loads(text)
 
 
 def diagnose_session(
     paths: Union[PathLike, Sequence[PathLike]],
     simulations: Union[None, PathLike, Sequence[PathLike]] = None,
+    accept_scale: bool = False,
 ) -> Dict[str, Any]:
     """The joint diagnosis of a session of recordings, one model of the sensor and the gel for
     all of them, as the dict of the JSON ``tactile diagnose --joint ... --json`` writes
@@ -164,16 +171,18 @@ def diagnose_session(
     with the command's message. Before any work, as the command: a missing file raises
     :class:`TactileFileError`; an empty list, a recording given twice (the same file, a link
     to it, a byte-identical copy) or recordings of another sensor or fingertip (their
-    ``fingertip_radius_mm`` or ``chip_serial``) raise :class:`TactileDataError` naming them.
+    ``fingertip_radius_mm``, or where given ``chip_serial``, ``sensor`` or ``sensor_unit``) raise :class:`TactileDataError` naming them.
     ``simulations``: the user's own simulations as the baselines, as ``--simulation`` takes
     them: one file for every recording, one per recording in the recordings' order, or a folder
-    holding a simulation named as each recording."""
+    holding a simulation named as each recording; ``accept_scale`` as in :func:`diagnose`."""
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     if isinstance(simulations, (str, os.PathLike)):
         simulations = [simulations]
     sims = None if simulations is None else [os.fspath(s) for s in simulations]
-    return json.loads(_tactile.diagnose_session_json([os.fspath(p) for p in paths], sims))
+    return json.loads(
+        _tactile.diagnose_session_json([os.fspath(p) for p in paths], sims, accept_scale)
+    )
 
 
 def chip() -> Dict[str, Any]:

@@ -19,7 +19,7 @@ mod reader;
 mod writer;
 
 pub use error::RecordingError;
-pub use meta::{Meta, CHIP_SERIAL_KEY, NUMBER_KEYS, SMOOTHER_KEY};
+pub use meta::{Meta, CHIP_SERIAL_KEY, NUMBER_KEYS, SENSOR_KEY, SENSOR_UNIT_KEY, SMOOTHER_KEY};
 pub use reader::{read, read_from, read_from_with, read_with, read_with_columns, Limits};
 pub use writer::RecordingWriter;
 

@@ -39,6 +39,15 @@ pub const SMOOTHER_KEY: &str = "firmware_smoother_alpha";
 /// session must agree on it where they name it (`docs/session-format.md`).
 pub const CHIP_SERIAL_KEY: &str = "chip_serial";
 
+/// The metadata key (this project's own) that names the instrument where no chip serial does:
+/// what `tactile import --sensor-id` was told, or a test machine's own serials. Recordings of
+/// one session must agree on it where they name it (`docs/session-format.md`).
+pub const SENSOR_KEY: &str = "sensor";
+
+/// The metadata key (this project's own) that says which unit the outputs `fz_V`, `mx_V`,
+/// `my_V` hold where it is not volts (a foreign sensor's, e.g. `uT`).
+pub const SENSOR_UNIT_KEY: &str = "sensor_unit";
+
 /// The metadata keys [`Meta`] types as numbers, in the order the writer emits them; every one
 /// but the last (`rod_speed_mm_per_min`) is required. One list for every reader and writer of
 /// the format (the file's, the Python package's DataFrame attributes).

@@ -63,7 +63,7 @@ fn mach1_block_imports_and_lists() {
         .unwrap()
         .contains("block 2 (Stress Relaxation)"));
     fails(
-        &tactile(&["import", s(&input), "-o", s(&out)]),
+        &tactile(&["import", s(&input), "--radius-mm", "2", "-o", s(&out)]),
         exit::DATA,
         &["m.txt:1", "--block"],
     );
@@ -98,6 +98,8 @@ fn csv_imports_with_units_and_sign() {
         "um",
         "--force-unit",
         "kgf",
+        "--radius-mm",
+        "2",
         "-o",
         s(&out),
     ]);
@@ -144,7 +146,16 @@ fn broken_exports_exit_65_naming_line_and_field() {
         let input = d.join(name);
         std::fs::write(&input, text).unwrap();
         fails(
-            &tactile(&["import", s(&input), "--block", "2", "-o", s(&out)]),
+            &tactile(&[
+                "import",
+                s(&input),
+                "--block",
+                "2",
+                "--radius-mm",
+                "2",
+                "-o",
+                s(&out),
+            ]),
             exit::DATA,
             &[needle],
         );
@@ -160,6 +171,8 @@ fn broken_exports_exit_65_naming_line_and_field() {
             "csv",
             "--force-unit",
             "stone",
+            "--radius-mm",
+            "2",
             "-o",
             s(&out),
         ]),
@@ -171,7 +184,14 @@ fn broken_exports_exit_65_naming_line_and_field() {
 
 #[test]
 fn a_missing_export_names_the_file_and_says_why_once() {
-    let out = tactile(&["import", "/nonexistent/export.txt", "-o", "/tmp/never.csv"]);
+    let out = tactile(&[
+        "import",
+        "/nonexistent/export.txt",
+        "--radius-mm",
+        "2",
+        "-o",
+        "/tmp/never.csv",
+    ]);
     fails(&out, exit::NO_INPUT, &["/nonexistent/export.txt"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(
@@ -179,4 +199,87 @@ fn a_missing_export_names_the_file_and_says_why_once() {
         1,
         "the cause said twice: {err}"
     );
+}
+
+/// An import writes only what it is told or can read: without a radius it writes nothing
+/// (the format requires `fingertip_radius_mm`, and a default would pass for a measured one);
+/// `--sensor-id` is recorded as `sensor`, by which a session refuses another instrument.
+#[test]
+fn an_import_says_which_sensor_and_invents_no_radius() {
+    let d = dir();
+    let input = d.join("plain.csv");
+    std::fs::write(
+        &input,
+        "t,z,f\n0,0,0\n0.1,0.1,0.5\n0.2,0.2,1.0\n0.3,0.3,1.6\n",
+    )
+    .unwrap();
+    let out = d.join("plain-rec.csv");
+    fails(
+        &tactile(&["import", "--format", "csv", s(&input), "-o", s(&out)]),
+        exit::USAGE,
+        &["--radius-mm"],
+    );
+    assert!(!out.exists(), "an import without a radius wrote a file");
+    let run = tactile(&[
+        "import",
+        "--format",
+        "csv",
+        s(&input),
+        "--radius-mm",
+        "0.5",
+        "--sensor-id",
+        "rig-7 cell 123",
+        "-o",
+        s(&out),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let rec = recording::read(&out).unwrap();
+    assert_eq!(rec.meta.fingertip_radius_mm, 0.5);
+    assert_eq!(rec.meta.get("sensor"), Some("rig-7 cell 123"));
+    assert!(!rec
+        .meta
+        .source
+        .as_deref()
+        .unwrap()
+        .contains("hardware/ written"));
+    // Another instrument's import: one session refuses the pair by name, writing nothing.
+    let other = d.join("other-rec.csv");
+    let run = tactile(&[
+        "import",
+        "--format",
+        "csv",
+        s(&input),
+        "--radius-mm",
+        "0.5",
+        "--sensor-id",
+        "skin-2",
+        "-o",
+        s(&other),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let json = d.join("session.json");
+    fails(
+        &tactile(&[
+            "diagnose",
+            "--joint",
+            s(&out),
+            s(&other),
+            "--json",
+            s(&json),
+        ]),
+        exit::DATA,
+        &[
+            "other-rec.csv: sensor = skin-2",
+            "plain-rec.csv has sensor = rig-7 cell 123",
+        ],
+    );
+    assert!(!json.exists());
 }

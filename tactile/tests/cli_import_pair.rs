@@ -52,6 +52,8 @@ fn pair_args<'a>(sensor: &'a str, reference: &'a str, out: &'a str) -> Vec<&'a s
         "uT",
         "--tare-s",
         "1",
+        "--radius-mm",
+        "10",
         "-o",
         out,
     ]

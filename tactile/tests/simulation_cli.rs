@@ -248,3 +248,115 @@ fn refusals_name_the_file_and_the_field() {
     );
     assert!(!out.exists(), "nothing written on a refusal");
 }
+
+/// A simulation in another unit is refused naming the factor and the unit it looks like, exit
+/// 65, nothing written; `--accept-scale` takes it on purpose.
+#[test]
+fn a_simulation_in_another_unit_is_refused_unless_accepted() {
+    let d = dir("unit");
+    let (rec, out) = (d.join("rec.csv"), d.join("out.json"));
+    write_recording(&rec, 1.1, 6.0);
+    // The lab's law in mN labelled N: loads and outputs a thousand times the recording's.
+    let milli = d.join("milli.csv");
+    write_table(&milli, 1100.0, 6.2);
+    let run = |sim: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "diagnose",
+            s(&rec),
+            "--simulation",
+            s(sim),
+            "--json",
+            s(&out),
+        ];
+        args.extend_from_slice(extra);
+        tactile(&args)
+    };
+    fails(
+        &run(&milli, &[]),
+        65,
+        &[
+            "milli.csv",
+            "load is 1000x the recording's",
+            "mN labelled N?",
+        ],
+    );
+    assert!(!out.exists(), "a refused diagnosis wrote its JSON");
+    let o = run(&milli, &["--accept-scale"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let scale = json(&out)["baseline"]["params"]["load_scale"]
+        .as_f64()
+        .unwrap();
+    assert!((scale - 1e-3).abs() < 1e-5, "{scale}");
+    // The rod's travel in µm labelled mm.
+    let micro = d.join("micro.csv");
+    let text = std::fs::read_to_string(&milli).unwrap();
+    let mut lines = Vec::new();
+    for line in text.lines() {
+        match line.split_once(',') {
+            Some((rod, rest)) if rod.parse::<f64>().is_ok() => {
+                lines.push(format!("{},{rest}", rod.parse::<f64>().unwrap() * 1000.0));
+            }
+            _ => lines.push(line.to_string()),
+        }
+    }
+    std::fs::write(&micro, lines.join("\n") + "\n").unwrap();
+    fails(
+        &run(&micro, &[]),
+        65,
+        &[
+            "micro.csv",
+            "rod travel",
+            "1033x the recording's",
+            "µm labelled mm?",
+        ],
+    );
+}
+
+/// A binary simulation or recording is bad data (65) naming the file and the line, not an
+/// I/O failure (74).
+#[test]
+fn a_binary_simulation_or_recording_is_bad_data_naming_the_line() {
+    let d = dir("binary");
+    let (rec, out) = (d.join("rec.csv"), d.join("out.json"));
+    write_recording(&rec, 1.0, 6.0);
+    let blob = d.join("blob.csv");
+    std::fs::write(
+        &blob,
+        [0x89u8, b'P', b'N', b'G', 0, 0xff, 0xfe, b'\n', 1, 2],
+    )
+    .unwrap();
+    fails(
+        &tactile(&[
+            "diagnose",
+            s(&rec),
+            "--simulation",
+            s(&blob),
+            "--json",
+            s(&out),
+        ]),
+        65,
+        &["blob.csv", "line 1", "not UTF-8"],
+    );
+    let table = d.join("latin.csv");
+    write_table(&table, 1.0, 6.2);
+    let mut bytes = std::fs::read(&table).unwrap();
+    bytes.splice(0..0, b"# note = 20\xb0C\n".iter().copied());
+    std::fs::write(&table, bytes).unwrap();
+    fails(
+        &tactile(&[
+            "diagnose",
+            s(&rec),
+            "--simulation",
+            s(&table),
+            "--json",
+            s(&out),
+        ]),
+        65,
+        &["latin.csv", "line 1", "not UTF-8"],
+    );
+    fails(
+        &tactile(&["diagnose", s(&blob), "--json", s(&out)]),
+        65,
+        &["blob.csv", "line 1"],
+    );
+}

@@ -124,3 +124,40 @@ fn another_fingertip_or_device_is_refused_naming_file_key_and_both_values() {
     let same = meta(20.000, Some(" 00C0FFEE "));
     assert!(one_sensor([("c.csv", &c), ("e.csv", &same)]).is_ok());
 }
+
+#[test]
+fn another_instrument_or_unit_is_refused_and_a_key_only_one_names_is_not() {
+    let with = |pairs: &[(&str, &str)]| {
+        let mut m = meta(2.0, None);
+        m.other = pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        m
+    };
+    let cartilage = with(&[("sensor", "Mach-1 MA0561076c, load cell 25kg SN:1886652")]);
+    let skin = with(&[("sensor", "eflesh-1"), ("sensor_unit", "uT")]);
+    let err = one_sensor([("cartilage.csv", &cartilage), ("skin.csv", &skin)]).unwrap_err();
+    assert_eq!(err.exit_code(), sysexit::DATA);
+    assert!(
+        err.to_string().starts_with(
+            "skin.csv: sensor = eflesh-1, but cartilage.csv has sensor = Mach-1 MA0561076c, \
+             load cell 25kg SN:1886652"
+        ),
+        "{err}"
+    );
+    // The unit alone tells two skins apart.
+    let (ut, volts) = (
+        with(&[("sensor_unit", "uT")]),
+        with(&[("sensor_unit", "V")]),
+    );
+    let err = one_sensor([("a.csv", &ut), ("b.csv", &volts)]).unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("b.csv: sensor_unit = V, but a.csv has sensor_unit = uT"),
+        "{err}"
+    );
+    // Recordings that merely lack a key are not refused for it.
+    let bare = with(&[]);
+    assert!(one_sensor([("a.csv", &bare), ("b.csv", &skin), ("c.csv", &bare)]).is_ok());
+}

@@ -41,12 +41,15 @@ pub enum SessionError {
     /// An output path that cannot be used, found before any work ([`crate::outputs`]).
     #[error(transparent)]
     Output(#[from] OutputError),
-    /// An output file or the output folder could not be written.
+    /// The output folder could not be created.
     #[error("{}: {source}", .path.display())]
     Write {
         path: PathBuf,
         source: std::io::Error,
     },
+    /// An output file could not be written (the error names it: [`crate::outputs`]).
+    #[error(transparent)]
+    Written(std::io::Error),
 }
 
 /// One effect's primary parameter in a recording.
@@ -144,8 +147,7 @@ pub fn run(
         })
         .collect();
     let write = |name: &str, text: String| {
-        let path = out_dir.join(name);
-        write_whole(&path, text.as_bytes()).map_err(|source| SessionError::Write { path, source })
+        write_whole(&out_dir.join(name), text.as_bytes()).map_err(SessionError::Written)
     };
     write("summary.csv", csv::summary(&rows))?;
     write("summary.html", html::summary(&rows))?;
@@ -201,8 +203,9 @@ fn write_outputs(out_dir: &Path, stem: &str, d: &Diagnosis) -> Result<(), String
     let text = json_text(d).map_err(|e| format!("encoding the diagnosis: {e}"))?;
     let html = crate::report::html(d);
     let (json, report) = (json_path(out_dir, stem), report_path(out_dir, stem));
+    // The error names the file that failed.
     crate::outputs::write_all_whole(&[(&json, text.as_bytes()), (&report, html.as_bytes())])
-        .map_err(|e| format!("writing {} and {}: {e}", json.display(), report.display()))
+        .map_err(|e| e.to_string())
 }
 
 /// OUT.json's text, exactly as `tactile diagnose REC --json OUT` writes it.
@@ -257,6 +260,10 @@ impl sysexit::ExitStatus for SessionError {
             SessionError::Output(e) => sysexit::ExitStatus::exit_code(e),
             SessionError::SameStem { .. } => sysexit::USAGE,
             SessionError::Write { .. } => sysexit::CANT_CREATE,
+            SessionError::Written(e) => match e.kind() {
+                std::io::ErrorKind::PermissionDenied => sysexit::NO_PERM,
+                _ => sysexit::IO,
+            },
         }
     }
 }

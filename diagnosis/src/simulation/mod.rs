@@ -18,6 +18,7 @@
 
 mod curve;
 pub mod pairing;
+pub(crate) mod plausible;
 mod series;
 mod table;
 
@@ -157,6 +158,24 @@ pub enum SimulationError {
         gain: [f64; 3],
         excitation_v: f64,
     },
+    /// A line that is not UTF-8 text (a binary file, UTF-16, Latin-1): bad data, not an I/O
+    /// failure.
+    #[error("simulation {}: line {line}: not UTF-8 text (byte 0x{byte:02x}): a binary or differently encoded file? A simulation is UTF-8 text (docs/simulation-format.md)", .path.display())]
+    NotText {
+        path: PathBuf,
+        line: usize,
+        byte: u8,
+    },
+    /// A fitted scale or the rod's travel beyond a physically plausible factor
+    /// (10x either way, `docs/simulation-format.md`): a unit read as another, more likely than
+    /// physics.
+    #[error("simulation {path}: the simulation's {what} is {}x the recording's: {hint} (a calibration absorbs up to {}x either way; --accept-scale takes the factor on purpose)", factor(*.ratio), plausible::PLAUSIBLE_FACTOR)]
+    Scale {
+        path: String,
+        what: String,
+        ratio: f64,
+        hint: String,
+    },
     /// The options pair no simulation with this recording.
     #[error("no simulation is paired with recording {0}")]
     Unpaired(String),
@@ -202,23 +221,38 @@ pub(crate) struct Samples<'a> {
 
 /// The simulation at `path` as the baseline of `rec`, at its full-rate samples `at`;
 /// `sensitivity_per_v` is the chip's, through which its outputs are read back to loads.
+/// `accept_scale`: a travel beyond the plausible factor is taken on purpose
+/// ([`plausible`]).
 pub(crate) fn load(
     path: &Path,
     rec: &Recording,
     at: Samples,
     sensitivity_per_v: [[f64; 3]; 3],
+    accept_scale: bool,
 ) -> Result<Loaded, SimulationError> {
     let head = read_head(path)?;
+    let largest = |v: &[f64]| {
+        v.iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .fold(0.0, f64::max)
+    };
+    let travel = |simulated: &[f64]| match accept_scale {
+        true => Ok(()),
+        false => plausible::check_travel(path, largest(simulated), largest(at.rod_mm)),
+    };
     let (meta_text, own, aligned) = match head.format.as_deref() {
         Some(recording::FORMAT) => {
             let sim = recording::read(path)?;
             check_jig(path, &Angles::of_meta(&sim.meta), &rec.meta)?;
+            travel(&sim.channels.rod_mm)?;
             let own = Front::of_meta(&sim.meta);
             (head.pairs.clone(), own, series::align(path, &sim, at)?)
         }
         Some(RESPONSE_FORMAT) => {
             let t = table::read(path)?;
             check_jig(path, &t.angles(), &rec.meta)?;
+            travel(t.rod_mm())?;
             let own = t.front(&rec.meta);
             let aligned = t.drive(path, at)?;
             (head.pairs.clone(), own, aligned)
@@ -412,6 +446,20 @@ impl Front {
     }
 }
 
+/// A factor in a few significant figures: 1000, 175, 0.0057.
+fn factor(x: f64) -> String {
+    if x >= 100.0 {
+        return format!("{x:.0}");
+    }
+    let digits = (1 - x.log10().floor() as i32).max(0) as usize;
+    let text = format!("{x:.digits$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 /// The metadata block of a simulation's file: its `# key = value` pairs in order and its
 /// `format`.
 struct Head {
@@ -429,7 +477,8 @@ impl Head {
     }
 }
 
-/// Read the metadata lines ahead of the header (no further).
+/// Read the metadata lines ahead of the header (no further); a line that is not UTF-8 is
+/// bad data, named by its number.
 fn read_head(path: &Path) -> Result<Head, SimulationError> {
     use std::io::BufRead;
     let io = |source| SimulationError::Io {
@@ -438,8 +487,9 @@ fn read_head(path: &Path) -> Result<Head, SimulationError> {
     };
     let file = std::fs::File::open(path).map_err(io)?;
     let mut pairs = Vec::new();
-    for line in std::io::BufReader::new(file).lines() {
-        let line = line.map_err(io)?;
+    for (i, bytes) in std::io::BufReader::new(file).split(b'\n').enumerate() {
+        let bytes = bytes.map_err(io)?;
+        let line = utf8(path, &bytes, i + 1)?;
         let text = line.trim().trim_start_matches('\u{feff}');
         if text.is_empty() {
             continue;
@@ -456,6 +506,23 @@ fn read_head(path: &Path) -> Result<Head, SimulationError> {
         .find(|(k, _)| k == "format")
         .map(|(_, v)| v.clone());
     Ok(Head { pairs, format })
+}
+
+/// `bytes` (from line `first_line` of the simulation at `path` on) as text, or the line and
+/// byte where they stop being UTF-8.
+pub(crate) fn utf8<'b>(
+    path: &Path,
+    bytes: &'b [u8],
+    first_line: usize,
+) -> Result<&'b str, SimulationError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        SimulationError::NotText {
+            path: path.to_path_buf(),
+            line: first_line + bytes[..at].iter().filter(|&&b| b == b'\n').count(),
+            byte: bytes[at],
+        }
+    })
 }
 
 /// The calibration's bounds with a simulation as the baseline: the issue's "same calibration

@@ -13,6 +13,9 @@ pub struct Simulations {
     all: Option<PathBuf>,
     /// Each recording's, under each name its diagnosis may be given.
     by_name: Vec<(String, PathBuf)>,
+    /// A scale or travel beyond the plausible factor is taken on purpose
+    /// (`super::plausible`).
+    accept_scale: bool,
 }
 
 /// Simulations that cannot be paired with the recordings.
@@ -53,7 +56,21 @@ impl Simulations {
         Self {
             all: Some(path.into()),
             by_name: Vec::new(),
+            accept_scale: false,
         }
+    }
+
+    /// The same simulations, with a fitted scale or travel beyond the plausible factor taken
+    /// on purpose (`--accept-scale`): the user says the simulation is in another unit, or of
+    /// another gel, knowingly.
+    pub fn accepting_scale(mut self, accept: bool) -> Self {
+        self.accept_scale = accept;
+        self
+    }
+
+    /// Whether a scale beyond the plausible factor is taken on purpose.
+    pub fn accepts_scale(&self) -> bool {
+        self.accept_scale
     }
 
     /// Pair `recordings` (files, as the run will name them) with `simulations`: one file for
@@ -101,7 +118,11 @@ impl Simulations {
                 by_name.push((name, s));
             }
         }
-        Ok(Self { all: None, by_name })
+        Ok(Self {
+            all: None,
+            by_name,
+            accept_scale: false,
+        })
     }
 
     /// The simulation of the recording named `name` (its path as given, or its file name).

@@ -19,12 +19,20 @@ pub(crate) struct Table {
     columns: [Option<Vec<f64>>; 4],
 }
 
+impl Table {
+    /// The travels the table gives, mm.
+    pub(crate) fn rod_mm(&self) -> &[f64] {
+        &self.rod_mm
+    }
+}
+
 /// Read and check the table at `path`.
 pub(crate) fn read(path: &Path) -> Result<Table, SimulationError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SimulationError::Io {
+    let bytes = std::fs::read(path).map_err(|source| SimulationError::Io {
         path: path.to_path_buf(),
         source,
     })?;
+    let text = super::utf8(path, &bytes, 1)?;
     let err = |line: usize, what: String| SimulationError::Table {
         path: path.to_path_buf(),
         line,

@@ -81,7 +81,8 @@ fn full_rate(
         (0..4)
             .filter(|&c| setup.used[c])
             .map(|c| {
-                let r = channel_rmse(data, base_full, c, &all_rows);
+                // In the channel's unit (the contract's `fit.rmse_*` is the one per range).
+                let r = channel_rmse(data, base_full, c, &all_rows) * data.range[c].max(1e-300);
                 (CHANNELS[c].to_string(), r)
             })
             .collect(),

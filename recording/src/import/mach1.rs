@@ -79,6 +79,36 @@ struct Columns {
     offset_s: f64,
 }
 
+/// The instrument an export names in its `<INFO>` block, where it does: the system's serial
+/// and the load cell's name (which carries its serial), e.g. `Mach-1 MA0561076c, load cell
+/// 25kg SN:1886652`.
+pub fn identity(text: &str) -> Option<String> {
+    let mut info = text
+        .lines()
+        .map(|l| l.trim_end_matches('\r'))
+        .skip_while(|l| l.trim() != "<INFO>")
+        .take_while(|l| l.trim() != "<END INFO>");
+    let mut system = None;
+    let mut cell = None;
+    for line in info.by_ref() {
+        let Some((key, value)) = line.split_once(':') else {
+            continue;
+        };
+        let value = value.trim();
+        match key.trim() {
+            "Mach-1 System S/N" if !value.is_empty() => system = Some(value.to_string()),
+            "Load Cell Name" if !value.is_empty() => cell = Some(value.to_string()),
+            _ => {}
+        }
+    }
+    match (system, cell) {
+        (Some(s), Some(c)) => Some(format!("Mach-1 {s}, load cell {c}")),
+        (Some(s), None) => Some(format!("Mach-1 {s}")),
+        (None, Some(c)) => Some(format!("Mach-1, load cell {c}")),
+        (None, None) => None,
+    }
+}
+
 /// Parse a whole export already in memory; `path` names it in errors.
 pub fn parse(text: &str, path: &str) -> Result<Vec<Block>, MachineExportError> {
     let mut blocks: Vec<Block> = Vec::new();
@@ -277,6 +307,17 @@ fn rows_line(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_identity_is_the_system_and_load_cell_serials_where_the_info_gives_them() {
+        let info = "<Mach-1 File>\r\n<INFO>\r\nMach-1 System S/N:\tMA0561076c\r\n\
+                    Load Cell Name:\t25kg SN:1886652\r\n<END INFO>\r\n<Sinusoid>\r\n";
+        assert_eq!(
+            identity(info).as_deref(),
+            Some("Mach-1 MA0561076c, load cell 25kg SN:1886652")
+        );
+        assert_eq!(identity(HAYES), None);
+    }
 
     const HAYES: &str = "<Mach-1 File>\r\n<INFO>\r\nLoad Cell Type:\tSingle-axis\r\n<END INFO>\r\n\
 <Stress Relaxation>\r\nVelocity, mm/s:\t0.2794\r\n<DATA>\r\n\

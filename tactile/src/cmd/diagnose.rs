@@ -1,4 +1,4 @@
-//! `tactile diagnose REC.csv --json OUT.json [--report PATH]` (`docs/diagnosis-format.md`), a
+//! `tactile diagnose REC.csv [--json OUT.json] [--report PATH]` (at least one) (`docs/diagnosis-format.md`), a
 //! batch, each recording alone: `tactile diagnose A.csv B.csv ... --out-dir DIR` (or a folder of
 //! recordings) through `diagnosis::session`; or jointly, one model for the session:
 //! `tactile diagnose --joint A.csv B.csv ... --json OUT.json [--report OUT.html]`
@@ -25,16 +25,18 @@ use sysexit::{self as exit, ExitStatus};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Recordings in the recording format (`docs/recording-format.md`), or folders of them (every
-    /// `*.csv` in it, sorted). One recording: --json OUT.json. Several: --out-dir DIR diagnoses
+    /// `*.csv` in it, sorted). One recording: --json OUT.json, --report OUT.html or both. Several: --out-dir DIR diagnoses
     /// each alone (batch), --joint --json OUT.json diagnoses them together as one session.
     #[arg(required = true, value_name = "RECORDING")]
     pub recordings: Vec<PathBuf>,
     /// The diagnosis's JSON: of one recording (tactile-diagnosis/1), or with --joint of the
-    /// session (tactile-session-diagnosis/1). Missing folders are created.
+    /// session (tactile-session-diagnosis/1). Missing folders are created; `-` is the standard
+    /// output, and a device or FIFO is written as it is.
     #[arg(long)]
     pub json: Option<PathBuf>,
-    /// Also write the HTML page, one self-contained file: PATH itself when it ends in `.html`,
-    /// else PATH/report.html. Of one recording, or with --joint of the session.
+    /// The HTML page, one self-contained file: PATH itself when it ends in `.html` (or is `-`,
+    /// a device or a FIFO), else PATH/report.html. Of one recording (alone or with --json), or
+    /// with --joint of the session.
     #[arg(long)]
     pub report: Option<PathBuf>,
     /// Batch: diagnose every recording alone, in parallel, into DIR: `<stem>.json`, its report
@@ -52,6 +54,11 @@ pub struct Args {
     /// holding a simulation named as each recording.
     #[arg(long, value_name = "SIM")]
     pub simulation: Vec<PathBuf>,
+    /// With --simulation: take a fitted load or output scale, or a rod travel, more than 10x
+    /// off the recording's on purpose (refused otherwise as a unit read as another,
+    /// docs/simulation-format.md).
+    #[arg(long, requires = "simulation")]
+    pub accept_scale: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -60,10 +67,10 @@ pub struct Args {
 /// What the arguments ask for, checked.
 #[derive(Debug, PartialEq)]
 enum Config {
-    /// One recording to `--json` (and `--report`).
+    /// One recording to `--json`, `--report` or both.
     Single {
         recording: PathBuf,
-        json: PathBuf,
+        json: Option<PathBuf>,
         report: Option<PathBuf>,
     },
     /// Recordings and folders of them diagnosed jointly into one OUT.json (and page).
@@ -131,12 +138,14 @@ impl Config {
                  --json OUT.json (diagnosed together as one session)",
             ));
         }
-        let json = args.json.ok_or(UsageError(
-            "one recording needs --json OUT.json (or --out-dir DIR)",
-        ))?;
+        if args.json.is_none() && args.report.is_none() {
+            return Err(UsageError(
+                "one recording needs --json OUT.json, --report OUT.html or both (or --out-dir DIR)",
+            ));
+        }
         Ok(Self::Single {
             recording,
-            json,
+            json: args.json,
             report: args.report,
         })
     }
@@ -144,13 +153,21 @@ impl Config {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let show = !args.quiet && std::io::stderr().is_terminal();
-    let sims = args.simulation.clone();
+    let sims = Sims {
+        files: args.simulation.clone(),
+        accept_scale: args.accept_scale,
+    };
     match Config::of(args).coded()? {
         Config::Single {
             recording,
             json,
             report,
-        } => single(&recording, &json, report.as_deref(), (show, &sims)),
+        } => single(
+            &recording,
+            json.as_deref(),
+            report.as_deref(),
+            (show, &sims),
+        ),
         Config::Session { inputs, out_dir } => whole_session(&inputs, &out_dir, (show, &sims)),
         Config::Joint {
             inputs,
@@ -160,13 +177,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
 }
 
+/// The user's simulations (`--simulation`), and whether a scale beyond the plausible factor is
+/// taken on purpose (`--accept-scale`).
+struct Sims {
+    files: Vec<PathBuf>,
+    accept_scale: bool,
+}
+
 /// The baseline of `recordings`: ours, or the simulations `sims` paired with them.
-fn baseline(recordings: &[PathBuf], sims: &[PathBuf]) -> anyhow::Result<BaselineSource> {
-    if sims.is_empty() {
+fn baseline(recordings: &[PathBuf], sims: &Sims) -> anyhow::Result<BaselineSource> {
+    if sims.files.is_empty() {
         return Ok(BaselineSource::Fe);
     }
     Ok(BaselineSource::Simulation(
-        Simulations::pair(recordings, sims).coded()?,
+        Simulations::pair(recordings, &sims.files)
+            .coded()?
+            .accepting_scale(sims.accept_scale),
     ))
 }
 
@@ -177,11 +203,11 @@ fn joint(
     inputs: &[PathBuf],
     json: &Path,
     report_path: Option<&Path>,
-    (show, sims): (bool, &[PathBuf]),
+    (show, sims): (bool, &Sims),
 ) -> anyhow::Result<()> {
     let files = diagnosis::inputs::expand(inputs).coded()?;
     let report = report_path.map(report_file);
-    check_outputs(json, report.as_deref(), &files)?;
+    check_outputs(Some(json), report.as_deref(), &files)?;
     let opt = options(baseline(&files, sims)?)?;
     let bar = progress_bar(show, "diagnosing the session");
     bar.set_length(1);
@@ -191,7 +217,7 @@ fn joint(
     let d = diagnosed.coded()?;
     let text = diagnosis::joint::json_text(&d).context("encoding the diagnosis")?;
     let html = report.as_ref().map(|_| diagnosis::joint::report_html(&d));
-    write_outputs(json, &text, report.as_deref().zip(html.as_deref()))?;
+    write_outputs(Some((json, &text)), report.as_deref().zip(html.as_deref()))?;
     let bad: Vec<&str> = d
         .report
         .recordings
@@ -203,18 +229,25 @@ fn joint(
 
 /// Refuse, before any work, a `--json` or report path that cannot be written, is one of the
 /// recordings `inputs`, or is the other output ([`diagnosis::outputs::check`]).
-fn check_outputs(json: &Path, report: Option<&Path>, inputs: &[PathBuf]) -> anyhow::Result<()> {
-    let files: Vec<&Path> = std::iter::once(json).chain(report).collect();
+fn check_outputs(
+    json: Option<&Path>,
+    report: Option<&Path>,
+    inputs: &[PathBuf],
+) -> anyhow::Result<()> {
+    let files: Vec<&Path> = json.into_iter().chain(report).collect();
     Ok(diagnosis::outputs::check(&files, &[], inputs).coded()?)
 }
 
-/// The JSON and, where asked for, the page, written whole together.
-fn write_outputs(json: &Path, text: &str, page: Option<(&Path, &str)>) -> anyhow::Result<()> {
-    let mut files = vec![(json, text.as_bytes())];
-    files.extend(page.map(|(path, html)| (path, html.as_bytes())));
-    let names: Vec<String> = files.iter().map(|(p, _)| p.display().to_string()).collect();
-    diagnosis::outputs::write_all_whole(&files)
-        .with_context(|| format!("writing {}", names.join(" and ")))
+/// The JSON and the page, each where asked for, written together where the user points
+/// ([`diagnosis::outputs::write_all_whole`]: a device or `-` as it is, a file whole); the
+/// error names the path that failed.
+fn write_outputs(json: Option<(&Path, &str)>, page: Option<(&Path, &str)>) -> anyhow::Result<()> {
+    let files: Vec<(&Path, &[u8])> = json
+        .into_iter()
+        .chain(page)
+        .map(|(path, text)| (path, text.as_bytes()))
+        .collect();
+    Ok(diagnosis::outputs::write_all_whole(&files)?)
 }
 
 fn options(baseline: BaselineSource) -> anyhow::Result<Options> {
@@ -227,12 +260,12 @@ fn options(baseline: BaselineSource) -> anyhow::Result<Options> {
     })
 }
 
-/// One recording into `json` (and its page).
+/// One recording into `json`, its page or both.
 fn single(
     recording: &Path,
-    json: &Path,
+    json: Option<&Path>,
     report_path: Option<&Path>,
-    (show, sims): (bool, &[PathBuf]),
+    (show, sims): (bool, &Sims),
 ) -> anyhow::Result<()> {
     let files =
         diagnosis::inputs::expand(std::slice::from_ref(&recording.to_path_buf())).coded()?;
@@ -253,16 +286,24 @@ fn single(
     let d = diagnosed.coded().with_context(|| name.clone())?;
     let text = session::json_text(&d).context("encoding the diagnosis")?;
     let html = report.as_ref().map(|_| report::html(&d));
-    write_outputs(json, &text, report.as_deref().zip(html.as_deref()))
+    write_outputs(
+        json.map(|j| (j, text.as_str())),
+        report.as_deref().zip(html.as_deref()),
+    )
 }
 
-/// The report's file: `PATH` when it names an `.html` file, else `PATH/report.html` (a folder,
-/// as `--report DIR` always meant).
+/// The report's file: `PATH` when it names an `.html` file or is not a regular file or folder
+/// (`-`, a device, a FIFO: written as it is), else `PATH/report.html` (a folder, as `--report
+/// DIR` always meant).
 fn report_file(path: &Path) -> PathBuf {
     let is_html = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
-    if is_html {
+    let stream = !matches!(
+        diagnosis::outputs::Sink::of(path),
+        diagnosis::outputs::Sink::Whole(_)
+    );
+    if is_html || stream {
         path.to_path_buf()
     } else {
         path.join("report.html")
@@ -274,7 +315,7 @@ fn report_file(path: &Path) -> PathBuf {
 fn whole_session(
     inputs: &[PathBuf],
     out_dir: &std::path::Path,
-    (show, sims): (bool, &[PathBuf]),
+    (show, sims): (bool, &Sims),
 ) -> anyhow::Result<()> {
     let inputs = session::expand_inputs(inputs).coded()?;
     let opt = options(baseline(&inputs, sims)?)?;
@@ -349,6 +390,8 @@ mod tests {
         assert_eq!(report_file(Path::new("R.HTML")), Path::new("R.HTML"));
         assert_eq!(report_file(Path::new("rep/")), Path::new("rep/report.html"));
         assert_eq!(report_file(Path::new("rep")), Path::new("rep/report.html"));
+        assert_eq!(report_file(Path::new("-")), Path::new("-"));
+        assert_eq!(report_file(Path::new("/dev/null")), Path::new("/dev/null"));
     }
 
     #[test]
@@ -357,11 +400,20 @@ mod tests {
             config(&["r.csv", "--json", "o.json"]).unwrap(),
             Config::Single {
                 recording: "r.csv".into(),
-                json: "o.json".into(),
+                json: Some("o.json".into()),
                 report: None
             }
         );
         assert!(config(&["r.csv"]).is_err());
+        // The page alone.
+        assert_eq!(
+            config(&["r.csv", "--report", "r.html"]).unwrap(),
+            Config::Single {
+                recording: "r.csv".into(),
+                json: None,
+                report: Some("r.html".into())
+            }
+        );
         assert!(config(&["a.csv", "b.csv", "--json", "o.json"]).is_err());
         assert!(config(&["a.csv", "b.csv", "--out-dir", "d", "--json", "o.json"]).is_err());
         assert!(config(&["a.csv", "--out-dir", "d", "--report", "r"]).is_err());

@@ -24,7 +24,8 @@ pub struct Args {
     /// than the elastic gel would need).
     #[arg(long)]
     pub peak_load: f64,
-    /// Output recording (CSV, `docs/recording-format.md`).
+    /// Output recording (CSV, `docs/recording-format.md`); `-` is the standard output, a device
+    /// or FIFO is written as it is.
     #[arg(long)]
     pub out: PathBuf,
     /// Sample rate, Hz [default: hardware/fingertip.toml test.sample_rate_hz].
@@ -174,16 +175,19 @@ fn options(args: &Args) -> Result<SimulateOptions, CountError> {
     })
 }
 
-/// The recording, and the ADC stimulus and the machine's export where asked for.
+/// The recording, and the ADC stimulus and the machine's export where asked for, written
+/// together where the user points (`diagnosis::outputs`: `-` the standard output, a device or
+/// FIFO as it is, a file whole).
 fn write_outputs(args: &Args, params: &hardware::Params, rec: &Recording) -> anyhow::Result<()> {
-    let file = std::fs::File::create(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    rec.write_to(file)
-        .with_context(|| format!("writing {}", args.out.display()))?;
+    let mut recording = Vec::new();
+    rec.write_to(&mut recording)
+        .context("encoding the recording")?;
+    let mut files: Vec<(&std::path::Path, Vec<u8>)> = vec![(&args.out, recording)];
     if let Some(path) = &args.adc_stimulus {
         let sensor = sim::frontend::FrontEnd::from_params(params).temperature;
-        write_adc_stimulus(path, rec, &sensor)
-            .with_context(|| format!("writing {}", path.display()))?;
+        let mut bytes = Vec::new();
+        write_adc_stimulus(&mut bytes, rec, &sensor).context("encoding the ADC stimulus")?;
+        files.push((path, bytes));
     }
     if let Some(path) = &args.machine_csv {
         let c = &rec.channels;
@@ -192,18 +196,24 @@ fn write_outputs(args: &Args, params: &hardware::Params, rec: &Recording) -> any
             rod_mm: c.rod_mm.clone(),
             load_n: c.load_n.clone(),
         };
-        std::fs::File::create(path)
-            .and_then(|file| export.write_to(file))
-            .with_context(|| format!("writing {}", path.display()))?;
+        let mut bytes = Vec::new();
+        export
+            .write_to(&mut bytes)
+            .context("encoding the machine's export")?;
+        files.push((path, bytes));
     }
-    Ok(())
+    let paths: Vec<&std::path::Path> = files.iter().map(|(p, _)| *p).collect();
+    diagnosis::outputs::check(&paths, &[], &[]).coded()?;
+    let whole: Vec<(&std::path::Path, &[u8])> =
+        files.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    Ok(diagnosis::outputs::write_all_whole(&whole)?)
 }
 
 /// The recording's volts, sample by sample, as the QEMU board's ADC inputs. Without noise the
 /// rest reads exactly zero; the temperature channel is the sensor's output at `temp_C` (its
 /// offset where the recording has none).
 fn write_adc_stimulus(
-    path: &std::path::Path,
+    out: &mut Vec<u8>,
     rec: &Recording,
     sensor: &sim::frontend::TempSensor,
 ) -> anyhow::Result<()> {
@@ -218,7 +228,6 @@ fn write_adc_stimulus(
         })
         .collect();
     let m = &rec.meta;
-    let out = std::io::BufWriter::new(std::fs::File::create(path)?);
     sim::ads131m04::stimulus_file::write(
         out,
         m.sample_rate_hz as f32,

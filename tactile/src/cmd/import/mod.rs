@@ -36,9 +36,15 @@ pub struct Args {
     /// Mach-1: the first test block of this type, e.g. "Stress Relaxation".
     #[arg(long)]
     pub test: Option<String>,
-    /// Indenter radius, mm [default: the fingertip radius of hardware/fingertip.toml].
+    /// Indenter (or fingertip) radius, mm: required, since the recording format requires
+    /// `fingertip_radius_mm` and an import writes only what it is told or can read.
     #[arg(long)]
     pub radius_mm: Option<f64>,
+    /// The instrument's identity, recorded as the metadata's `sensor` (a serial, a name): a
+    /// session refuses recordings of different instruments by it. A Mach-1 export's own
+    /// system and load-cell serials are recorded where this is not given.
+    #[arg(long, value_name = "ID")]
+    pub sensor_id: Option<String>,
     #[command(flatten)]
     pub csv: CsvArgs,
     #[command(flatten)]
@@ -131,12 +137,31 @@ fn delimiter(s: &str) -> Result<Delimiter, String> {
     s.parse()
 }
 
+/// An import asked to write a recording without the radius the format requires.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "--radius-mm is required: the recording format requires `fingertip_radius_mm` (the \
+     indenter's or fingertip's radius, mm), and an import writes only what it is told or can \
+     read"
+)]
+pub struct NoRadius;
+
+impl sysexit::ExitStatus for NoRadius {
+    fn exit_code(&self) -> u8 {
+        sysexit::USAGE
+    }
+}
+
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if args.radius_mm.is_none() && !args.list {
+        return Err(sysexit::Coded::new(NoRadius).into());
+    }
     let Some(input) = args.input.clone() else {
         return pair::run(&args);
     };
     let name = input.display().to_string();
     let text = import::read_text(&input).coded()?;
+    let mut own_id = None;
     let (export, what) = match args.format {
         Format::Mach1 => {
             let blocks = mach1::parse(&text, &name).coded()?;
@@ -154,6 +179,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 return Ok(());
             }
             let b = choose(&blocks, &args, &name).coded()?;
+            own_id = mach1::identity(&text);
             let what = format!("Mach-1 export {name}, block {} ({})", b.index, b.kind);
             (b.to_export(), what)
         }
@@ -162,7 +188,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (export, format!("machine CSV {name}"))
         }
     };
-    write(&args, &input, &export, what)
+    write(&args, &input, &export, (what, own_id))
 }
 
 /// The Mach-1 block asked for; with neither --block nor --test, the only block.
@@ -225,35 +251,49 @@ fn table_options(
     }
 }
 
-/// What every import writes into the metadata: the radius asked for (or the fingertip's) and
-/// the front end of `hardware/`; `what` opens the `source` text.
+/// What every import writes into the metadata: the radius given and the front end of
+/// `hardware/`; `what` opens the `source` text.
 fn import_meta(args: &Args, what: &str, sensor_note: &str) -> anyhow::Result<ImportMeta> {
     let params = hardware::Params::load_default()
         .coded()
         .context("loading hardware/")?;
     let readout = Readout::from_hardware(&params).coded()?;
-    let (radius_mm, radius_note) = match args.radius_mm {
-        Some(r) if r > 0.0 && r.is_finite() => (r, "indenter radius given"),
+    let radius_mm = match args.radius_mm {
+        Some(r) if r > 0.0 && r.is_finite() => r,
         Some(r) => anyhow::bail!("--radius-mm {r}: not a positive number"),
-        None => (
-            params.fingertip.radius_mm,
-            "indenter radius unknown: the fingertip's radius of hardware/ written",
-        ),
+        None => return Err(sysexit::Coded::new(NoRadius).into()),
     };
     Ok(ImportMeta {
         fingertip_radius_mm: radius_mm,
         gain: readout.signal.gain,
         excitation_v: readout.signal.excitation_v,
-        source: format!("{what}; {radius_note}; {sensor_note}"),
+        source: format!("{what}; {sensor_note}"),
     })
 }
 
-/// Write a machine export's recording.
-fn write(args: &Args, input: &Path, export: &MachineExport, what: String) -> anyhow::Result<()> {
+/// The metadata's `sensor` key (`SENSOR_KEY`): the identity given, else the file's own.
+fn with_sensor(rec: &mut recording::Recording, given: Option<&str>, own: Option<String>) {
+    let id = given
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(str::to_string);
+    if let Some(id) = id.or(own) {
+        rec.meta.other.push((recording::SENSOR_KEY.to_string(), id));
+    }
+}
+
+/// Write a machine export's recording (`what` it is, and the identity its file gives).
+fn write(
+    args: &Args,
+    input: &Path,
+    export: &MachineExport,
+    (what, own_id): (String, Option<String>),
+) -> anyhow::Result<()> {
     let out = args.out.as_ref().context("--out is required")?;
     let meta = import_meta(args, &what, "sensor not measured")?;
-    let rec = import::to_recording(export, &meta, &input.display().to_string()).coded()?;
-    save(&rec, out)?;
+    let mut rec = import::to_recording(export, &meta, &input.display().to_string()).coded()?;
+    with_sensor(&mut rec, args.sensor_id.as_deref(), own_id);
+    save(&rec, out, &[input.to_path_buf()])?;
     eprintln!(
         "{}: {} rows, {:.1} s at {:.0} Hz -> {}",
         what,
@@ -265,8 +305,11 @@ fn write(args: &Args, input: &Path, export: &MachineExport, what: String) -> any
     Ok(())
 }
 
-fn save(rec: &recording::Recording, out: &Path) -> anyhow::Result<()> {
-    let file = std::fs::File::create(out).with_context(|| format!("creating {}", out.display()))?;
-    rec.write_to(file)
-        .with_context(|| format!("writing {}", out.display()))
+/// Write `rec` where `out` points (`diagnosis::outputs`: `-` the standard output, a device or
+/// FIFO as it is, a file whole, never one of the files read: `inputs`).
+fn save(rec: &recording::Recording, out: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    diagnosis::outputs::check(&[out], &[], inputs).coded()?;
+    let mut bytes = Vec::new();
+    rec.write_to(&mut bytes).context("encoding the recording")?;
+    Ok(diagnosis::outputs::write_whole(out, &bytes)?)
 }

@@ -151,7 +151,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         &meta,
     )
     .coded()?;
-    save(&rec, out)?;
+    let mut rec = rec;
+    super::with_sensor(&mut rec, args.sensor_id.as_deref(), None);
+    save(&rec, out, &[sensor.clone(), reference.clone()])?;
     let m = summary.missing;
     eprintln!(
         "{what}: {} rows, {:.1} s at {} Hz, sensor clock {:+} s; missing: rod_mm {}, load_N \
