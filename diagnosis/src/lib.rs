@@ -46,5 +46,6 @@ mod terms;
 mod undecided;
 
 pub use data::DataError;
+pub use fit::model_evaluations;
 pub use pipeline::{diagnose, heldout_rmse_of, BaselineSource, Diagnosis, Options, Progress};
 pub use preconditions::mains_visible;

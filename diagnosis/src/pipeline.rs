@@ -165,7 +165,26 @@ pub struct Diagnosis {
 /// speed and a relaxation at the transducer to follow it).
 pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis, DataError> {
     let started = Instant::now();
-    let mut prepared = prepare(rec, name, opt)?;
+    Ok(diagnose_from(prepare(rec, name, opt)?, name, opt, started))
+}
+
+/// [`diagnose`], and `rec` as read, ready to fit (before the diagnosis's own refits moved its
+/// stretches or freeze): a session's member is read once.
+pub(crate) fn diagnose_kept(
+    rec: &Recording,
+    name: &str,
+    opt: &Options,
+) -> Result<(Diagnosis, Prepared), DataError> {
+    let started = Instant::now();
+    let prepared = prepare(rec, name, opt)?;
+    Ok((
+        diagnose_from(prepared.clone(), name, opt, started),
+        prepared,
+    ))
+}
+
+/// [`diagnose`] of `prepared`, begun at `started`.
+fn diagnose_from(mut prepared: Prepared, name: &str, opt: &Options, started: Instant) -> Diagnosis {
     let (mut d, mut frozen) = diagnose_prepared(&prepared, name, opt);
     if d.report.verdict == Verdict::Unexplained {
         prepared.stretches.swap(&prepared.data.fit.t_s);
@@ -192,7 +211,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
     let d = with_discovery_refitted(&mut prepared, d, name, opt);
     let mut d = without_unsupported_discovery(&mut prepared, d, name, opt);
     d.report.seconds = started.elapsed().as_secs_f64();
-    Ok(d)
+    d
 }
 
 /// `d`, or where its discovered terms leave the held-out stretch predicted worse than by the
@@ -702,6 +721,7 @@ fn moment_direction(drive: &Drive) -> Option<f64> {
 }
 
 /// The baseline's response to the recorded rod path.
+#[derive(Clone)]
 enum Fingertip {
     /// Our FE tables at the recording's contact angle and azimuth.
     Fe(Box<AngleBlend>),
@@ -711,6 +731,7 @@ enum Fingertip {
 
 /// One recording read and ready to fit: its data, stretches and fingertip. A single diagnosis
 /// and each member of a joint one (`crate::joint`) set up their fits from it alike.
+#[derive(Clone)]
 pub(crate) struct Prepared {
     pub data: Data,
     stretches: Stretches,
@@ -901,6 +922,7 @@ impl Prepared {
 
 /// The regimes of the test (found at the full rate with the load, carried onto the decimated
 /// series) and the stretch held out of the fits.
+#[derive(Clone)]
 struct Stretches {
     segments: Vec<Segment>,
     /// Start and end of the held-out stretch, s.
