@@ -15,6 +15,7 @@ use crate::simulation;
 use crate::stretches::Stretches;
 
 /// The baseline's response to the recorded rod path.
+#[derive(Clone)]
 pub(crate) enum Fingertip {
     /// Our FE tables at the recording's contact angle and azimuth.
     Fe(Box<AngleBlend>),

@@ -38,6 +38,15 @@ pub const MAP_LOAD_AT: usize = 17;
 /// while a candidate is tried, otherwise spend half their iterations below it.
 pub const MIN_BIC_STEP: f64 = 0.01;
 
+/// Model evaluations so far in this process ([`model_evaluations`]).
+static EVALUATIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// How many times a recording's model has been evaluated in this process: the work of the
+/// fits, counted, for benchmarks on a machine whose clock is shared.
+pub fn model_evaluations() -> usize {
+    EVALUATIONS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 /// What stays fixed for all fits of one recording.
 pub struct Setup<'a> {
     pub data: &'a Data,
@@ -264,6 +273,7 @@ impl<'s, 'a> Model<'s, 'a> {
     }
 
     pub fn outputs(&self, full: &[f64], series_drive: &Drive) -> Outputs {
+        EVALUATIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let (base, chain) = self.decode(full);
         evaluate(
             series_drive,

@@ -55,6 +55,7 @@ mod terms;
 mod undecided;
 
 pub use data::DataError;
+pub use fit::model_evaluations;
 pub use options::{BaselineSource, Options, Progress};
 pub use outcome::Diagnosis;
 pub use pipeline::diagnose;

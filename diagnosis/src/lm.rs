@@ -12,12 +12,16 @@ pub trait Problem: Sync {
     /// The residuals at parameters `p`, into `out` (same length at every `p`).
     fn residuals(&self, p: &[f64], out: &mut Vec<f64>);
 
-    /// The forward difference (r(p + h e_i) - r) / h, where the problem knows a cheaper way
-    /// than all residuals again (a parameter that moves one block of them); `None` otherwise.
-    fn difference(&self, _p: &[f64], _i: usize, _h: f64, _r: &[f64]) -> Option<Vec<f64>> {
+    /// JᵀJ and Jᵀr of the forward-difference Jacobian at `p` (residuals `r`, signed steps `h`),
+    /// where the problem knows a cheaper way than the dense Jacobian (residuals in blocks that
+    /// most parameters leave alone); `None` otherwise.
+    fn normal_equations(&self, _p: &[f64], _r: &[f64], _h: &[f64]) -> Option<Normal> {
         None
     }
 }
+
+/// The normal equations of a linearised least-squares problem: JᵀJ and Jᵀr.
+pub type Normal = (DMatrix<f64>, DVector<f64>);
 
 /// Result of a fit.
 #[derive(Debug, Clone)]
@@ -72,7 +76,7 @@ pub fn solve(problem: &dyn Problem, p0: &[f64], opt: &Options) -> Solution {
     let mut trial = Vec::new();
     for it in 0..opt.max_iterations {
         iterations = it + 1;
-        let normal = normal_equations(&jacobian(problem, &p, &r, opt), &r);
+        let normal = linearised(problem, &p, &r, opt);
         let Some(step) = damped_step(problem, &p, &normal, cost, &mut lambda, opt, &mut trial)
         else {
             break;
@@ -128,44 +132,17 @@ struct Step {
 fn damped_step(
     problem: &dyn Problem,
     p: &[f64],
-    (jtj, jtr): &(DMatrix<f64>, DVector<f64>),
+    normal: &Normal,
     cost: f64,
     lambda: &mut f64,
     opt: &Options,
     trial: &mut Vec<f64>,
 ) -> Option<Step> {
-    let m = p.len();
-    // A parameter with no influence here (a zero column) gets a unit diagonal, so it stays put
-    // instead of making the system singular.
-    let floor = 1e-12 * jtj.diagonal().iter().fold(0.0, |a: f64, &b| a.max(b));
-    // A parameter at a bound that the gradient pushes further out is held there for this step
-    // (the active set): left in the system, its clamped move would spoil the others' step,
-    // which was solved as if it had moved, and the fit stalled against the bound.
-    let held: Vec<bool> = (0..m)
-        .map(|i| (p[i] <= opt.lower[i] && jtr[i] > 0.0) || (p[i] >= opt.upper[i] && jtr[i] < 0.0))
-        .collect();
-    let mut rhs = -jtr;
     for _ in 0..12 {
-        let mut a = jtj.clone();
-        for i in 0..m {
-            if held[i] {
-                a.row_mut(i).fill(0.0);
-                a.column_mut(i).fill(0.0);
-                a[(i, i)] = 1.0;
-                rhs[i] = 0.0;
-            } else if jtj[(i, i)] <= floor {
-                a[(i, i)] = 1.0;
-            } else {
-                a[(i, i)] += *lambda * jtj[(i, i)];
-            }
-        }
-        let Some(delta) = solve_linear(a, rhs.clone()) else {
+        let Some(cand) = damped(p, normal, *lambda, opt) else {
             *lambda *= 10.0;
             continue;
         };
-        let cand: Vec<f64> = (0..m)
-            .map(|i| (p[i] + delta[i]).clamp(opt.lower[i], opt.upper[i]))
-            .collect();
         problem.residuals(&cand, trial);
         let c = sse(trial);
         if c.is_finite() && c < cost {
@@ -177,6 +154,41 @@ fn damped_step(
     None
 }
 
+/// The parameters after one step of the normal equations `(jtj, jtr)` from `p` with damping
+/// `lambda` (zero: Gauss–Newton), within the bounds; `None` where the system is singular.
+pub fn damped(p: &[f64], (jtj, jtr): &Normal, lambda: f64, opt: &Options) -> Option<Vec<f64>> {
+    let m = p.len();
+    // A parameter with no influence here (a zero column) gets a unit diagonal, so it stays put
+    // instead of making the system singular.
+    let floor = 1e-12 * jtj.diagonal().iter().fold(0.0, |a: f64, &b| a.max(b));
+    // A parameter at a bound that the gradient pushes further out is held there for this step
+    // (the active set): left in the system, its clamped move would spoil the others' step,
+    // which was solved as if it had moved, and the fit stalled against the bound.
+    let held: Vec<bool> = (0..m)
+        .map(|i| (p[i] <= opt.lower[i] && jtr[i] > 0.0) || (p[i] >= opt.upper[i] && jtr[i] < 0.0))
+        .collect();
+    let mut rhs = -jtr;
+    let mut a = jtj.clone();
+    for i in 0..m {
+        if held[i] {
+            a.row_mut(i).fill(0.0);
+            a.column_mut(i).fill(0.0);
+            a[(i, i)] = 1.0;
+            rhs[i] = 0.0;
+        } else if jtj[(i, i)] <= floor {
+            a[(i, i)] = 1.0;
+        } else {
+            a[(i, i)] += lambda * jtj[(i, i)];
+        }
+    }
+    let delta = solve_linear(a, rhs)?;
+    Some(
+        (0..m)
+            .map(|i| (p[i] + delta[i]).clamp(opt.lower[i], opt.upper[i]))
+            .collect(),
+    )
+}
+
 fn finish(
     problem: &dyn Problem,
     p: Vec<f64>,
@@ -185,7 +197,7 @@ fn finish(
     opt: &Options,
     iterations: usize,
 ) -> Solution {
-    let (jtj, _) = normal_equations(&jacobian(problem, &p, &r, opt), &r);
+    let (jtj, _) = linearised(problem, &p, &r, opt);
     Solution {
         n: r.len(),
         jtj_inv: invert(jtj),
@@ -195,27 +207,41 @@ fn finish(
     }
 }
 
-/// Forward differences, stepping inward at an upper bound, one column per parameter, evaluated
-/// in parallel: the baseline's fit and the search's refits run one model at a time, and each
-/// column is a whole model evaluation.
-fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options) -> DMatrix<f64> {
+/// The normal equations at `p`: the problem's own where it has them, else from the dense
+/// Jacobian.
+fn linearised(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options) -> Normal {
+    let h = steps(p, opt);
+    problem
+        .normal_equations(p, r, &h)
+        .unwrap_or_else(|| normal_equations(&jacobian(problem, p, r, &h), r))
+}
+
+/// Each parameter's forward-difference step, inward at an upper bound.
+pub fn steps(p: &[f64], opt: &Options) -> Vec<f64> {
+    (0..p.len())
+        .map(|i| {
+            if p[i] + opt.step[i] > opt.upper[i] {
+                -opt.step[i]
+            } else {
+                opt.step[i]
+            }
+        })
+        .collect()
+}
+
+/// Forward differences with steps `h`, one column per parameter, evaluated in parallel: the
+/// baseline's fit and the search's refits run one model at a time, and each column is a whole
+/// model evaluation.
+fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], h: &[f64]) -> DMatrix<f64> {
     use rayon::prelude::*;
     let columns: Vec<Vec<f64>> = (0..p.len())
         .into_par_iter()
         .map(|i| {
-            let h = if p[i] + opt.step[i] > opt.upper[i] {
-                -opt.step[i]
-            } else {
-                opt.step[i]
-            };
-            if let Some(column) = problem.difference(p, i, h, r) {
-                return column;
-            }
             let mut q = p.to_vec();
-            q[i] = p[i] + h;
+            q[i] = p[i] + h[i];
             let mut out = Vec::new();
             problem.residuals(&q, &mut out);
-            out.iter().zip(r).map(|(a, b)| (a - b) / h).collect()
+            out.iter().zip(r).map(|(a, b)| (a - b) / h[i]).collect()
         })
         .collect();
     let mut jac = DMatrix::zeros(r.len(), p.len());
@@ -226,7 +252,7 @@ fn jacobian(problem: &dyn Problem, p: &[f64], r: &[f64], opt: &Options) -> DMatr
 }
 
 /// JᵀJ and Jᵀr.
-fn normal_equations(jac: &DMatrix<f64>, r: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+pub fn normal_equations(jac: &DMatrix<f64>, r: &[f64]) -> Normal {
     let r = DVector::from_column_slice(r);
     (jac.tr_mul(jac), jac.tr_mul(&r))
 }

@@ -33,7 +33,35 @@ use crate::steps::{self, trace, Pass};
 /// discovery step dropped where the held-out stretch does not support it (`steps::discovery`).
 pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis, DataError> {
     let started = Instant::now();
-    let mut prepared = prepare(rec, name, opt)?;
+    let d = diagnose_from(prepare(rec, name, opt)?, name, opt, started);
+    judge_scale(&d, rec, opt)?;
+    Ok(d)
+}
+
+/// [`diagnose`], and `rec` as read, ready to fit (before the diagnosis's own refits moved its
+/// stretches or freeze): a session's member is read once.
+pub(crate) fn diagnose_kept(
+    rec: &Recording,
+    name: &str,
+    opt: &Options,
+) -> Result<(Diagnosis, Prepared), DataError> {
+    let started = Instant::now();
+    let prepared = prepare(rec, name, opt)?;
+    let d = diagnose_from(prepared.clone(), name, opt, started);
+    judge_scale(&d, rec, opt)?;
+    Ok((d, prepared))
+}
+
+/// A user's simulation whose calibration had to absorb an implausible factor is refused
+/// (`crate::scale_check`), unless the user accepted the factor.
+fn judge_scale(d: &Diagnosis, rec: &Recording, opt: &Options) -> Result<(), DataError> {
+    let judged = matches!(&opt.baseline, BaselineSource::Simulation(s) if !s.accepts_scale());
+    crate::scale_check::check(&d.report, &rec.meta, judged)?;
+    Ok(())
+}
+
+/// The steps over `prepared`, begun at `started`, with the refits around them.
+fn diagnose_from(mut prepared: Prepared, name: &str, opt: &Options, started: Instant) -> Diagnosis {
     let once = |p: &Prepared| diagnose_prepared(p, name, opt);
     let first = once(&prepared);
     let (d, frozen) = steps::swap::run(&mut prepared, first, &once);
@@ -50,9 +78,7 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
         format!("discovery step dropped: {}", prepared.without_discovery)
     });
     d.report.seconds = started.elapsed().as_secs_f64();
-    let judged = matches!(&opt.baseline, BaselineSource::Simulation(s) if !s.accepts_scale());
-    crate::scale_check::check(&d.report, &rec.meta, judged)?;
-    Ok(d)
+    d
 }
 
 /// One pass of the steps over `prepared` with its stretches as they are: the diagnosis, and

@@ -17,6 +17,7 @@ use crate::stretches::Stretches;
 
 /// One recording read and ready to fit: its data, stretches and fingertip. A single diagnosis
 /// and each member of a joint one (`crate::joint`) set up their fits from it alike.
+#[derive(Clone)]
 pub(crate) struct Prepared {
     pub(crate) data: Data,
     pub(crate) stretches: Stretches,

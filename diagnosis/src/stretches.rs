@@ -5,6 +5,7 @@ use crate::regimes::{self, Segment};
 
 /// The regimes of the test (found at the full rate with the load, carried onto the decimated
 /// series) and the stretch held out of the fits.
+#[derive(Clone)]
 pub(crate) struct Stretches {
     pub(crate) segments: Vec<Segment>,
     /// Start and end of the held-out stretch, s.

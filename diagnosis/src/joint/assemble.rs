@@ -24,7 +24,7 @@ pub(crate) fn report(
     let protocols = Protocols {
         contact_angles_deg: distinct(m.protocols.iter().map(|p| p.contact_angle_deg), 0.0),
         azimuths_deg: distinct(m.protocols.iter().map(|p| p.azimuth_deg), 0.0),
-        rod_speeds_mm_per_min: distinct(m.protocols.iter().map(|p| p.rod_speed_mm_per_min), 0.2),
+        rod_speeds_mm_per_min: distinct(m.protocols.iter().map(|p| p.rod_speed_mm_per_min), 0.0),
     };
     let mut shared = shared_effects(m, outcome);
     let (rotation, turned) = rotation(m, outcome, &protocols);

@@ -18,10 +18,19 @@ pub(super) fn sentence(r: &SessionReport) -> String {
     let mut parts: Vec<String> = failed(&r.recordings).into_iter().collect();
     parts.push(verdict(r));
     if r.verdict != Verdict::NoSignificantMismatch {
+        if r.shares_nothing() {
+            parts.push(NOTHING_TRANSFERS.to_string());
+        }
         parts.push(full_stop(&capital(&validation(&r.validation))));
     }
     parts.join(" ")
 }
+
+/// What the summary and the page say where the session's model shares no effect: the
+/// leave-one-out then tests no shared physics, and is not evidence of transfer.
+pub(super) const NOTHING_TRANSFERS: &str = "Nothing transfers: these tests share no physics the \
+     others can predict (no effect is shared; each recording keeps its own calibration and \
+     effects).";
 
 /// How the shared physics predicts the recordings it never saw, in words: how many held-out
 /// stretches fit better than with their own baseline, the same within the held-out test's

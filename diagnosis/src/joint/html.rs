@@ -30,7 +30,7 @@ pub fn report_html(d: &SessionDiagnosis) -> String {
     h.push_str(&tables::recordings(r));
     h.push_str(&tables::shared(r));
     h.push_str(&sensitivities(r));
-    h.push_str(&validation::section(&r.validation));
+    h.push_str(&validation::section(&r.validation, r.shares_nothing()));
     h.push_str(&undecided(r));
     h.push_str(&validation::candidates(&r.candidates));
     h.push_str(&each::section(d));
@@ -53,9 +53,15 @@ fn head(r: &SessionReport) -> String {
     let (class, words) = verdict_label(r.verdict);
     let n = r.recordings.len();
     let analysed = r.recordings.iter().filter(|x| x.error.is_none()).count();
-    let values = |v: &[f64]| {
-        let v: Vec<String> = v.iter().map(|x| headline::plain(*x)).collect();
-        v.join(", ")
+    // Each distinct value, or where there are many their range: never one value for several.
+    let values = |v: &[f64]| match v {
+        [first, .., last] if v.len() > 4 => {
+            format!("{}–{}", headline::plain(*first), headline::plain(*last))
+        }
+        _ => {
+            let v: Vec<String> = v.iter().map(|x| headline::plain(*x)).collect();
+            v.join(", ")
+        }
     };
     let p = &r.protocols;
     let summary = if r.summary.is_empty() {

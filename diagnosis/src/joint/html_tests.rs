@@ -311,3 +311,53 @@ fn evidence_reads_in_shares_and_ratios_of_the_rms_misfit() {
     );
     assert!(!w.contains("000"), "a chi-square sum in the words: {w}");
 }
+
+/// A session whose model shares no effect: the summary and the page say that nothing
+/// transfers, and neither calls the leave-one-out evidence of transfer (`session-v1.md`, "What
+/// transfers"). The same session sharing a relaxation says neither.
+#[test]
+fn a_session_that_shares_nothing_says_that_nothing_transfers() {
+    let shares = partial();
+    let mut none = partial();
+    none.shared.clear();
+    for (r, nothing) in [(shares, false), (none, true)] {
+        let s = super::headline::sentence(&r);
+        let d = SessionDiagnosis {
+            report: SessionReport {
+                summary: s.clone(),
+                ..r
+            },
+            singles: Vec::new(),
+            plots: Vec::new(),
+        };
+        let h = report_html(&d);
+        let says = "these tests share no physics the others can predict";
+        assert_eq!(s.contains(says), nothing, "{s}");
+        assert_eq!(h.matches(says).count(), if nothing { 2 } else { 0 }, "{h}");
+        assert_eq!(
+            h.contains("evidence that the physics found transfers"),
+            !nothing,
+            "{h}"
+        );
+    }
+}
+
+/// The header names each protocol's distinct values, or where there are many their range:
+/// never one value standing for several (a session at 14.7, 16.2 and 16.8 mm/min had read
+/// "rod speeds 14.7 mm/min").
+#[test]
+fn the_header_shows_each_protocol_or_the_range() {
+    let mut r = partial();
+    r.protocols.rod_speeds_mm_per_min = vec![14.7, 16.2, 16.8];
+    r.protocols.azimuths_deg = vec![0.0, 15.0, 30.0, 45.0, 60.0, 90.0];
+    let d = SessionDiagnosis {
+        report: r,
+        singles: Vec::new(),
+        plots: Vec::new(),
+    };
+    let h = report_html(&d);
+    assert!(
+        h.contains("azimuths 0–90°; rod speeds 14.7, 16.2, 16.8 mm/min"),
+        "{h}"
+    );
+}

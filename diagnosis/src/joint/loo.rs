@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use super::output::{Change, LeaveOneOut, Validation};
 use super::search::{Fitted, Search};
 use super::seen::Frame;
+use super::update::Parts;
 use super::Members;
 use crate::candidate::{heldout_needed, sum_deviation, MIN_HELDOUT_SHARE};
 use crate::fit::{Model, SCALE_AT};
@@ -25,31 +26,35 @@ pub(crate) fn leave_one_out(m: &Members, fitted: &Fitted) -> Validation {
             ),
         };
     }
-    let rows = (0..n).into_par_iter().map(|r| one(m, fitted, r)).collect();
+    let search = Search {
+        setups: m.setups.clone(),
+        tried: Vec::new(),
+    };
+    let parts = Parts::of(&search, fitted);
+    let rows = (0..n)
+        .into_par_iter()
+        .map(|r| one(m, &search, &parts, fitted, r))
+        .collect();
     Validation {
         leave_one_out: rows,
         note: None,
     }
 }
 
-fn one(m: &Members, fitted: &Fitted, r: usize) -> LeaveOneOut {
+fn one(m: &Members, search: &Search, parts: &Parts, fitted: &Fitted, r: usize) -> LeaveOneOut {
     let keep: Vec<usize> = (0..m.setups.len()).filter(|&i| i != r).collect();
-    let search = Search {
-        setups: m.setups.clone(),
-        tried: Vec::new(),
-    };
-    let others = search.without_recording(fitted, r);
+    let others = parts.without(r);
     // A scale per recording is the session's angle law, not a calibration: the left-out
     // recording's is predicted from the others' along the contact angle (or azimuth).
     let mut alone = fitted.layout.only(&[r]);
-    let mut frozen = others.fit.shared_values();
+    let mut frozen = others.shared;
     for c in std::mem::take(&mut alone.own_scales) {
         let i = SCALE_AT + c;
         let points: Vec<(usize, f64)> = keep
             .iter()
             .enumerate()
             .filter(|&(_, &k)| m.setups[k].used[c + 1])
-            .map(|(j, &k)| (k, others.fit.full[j][i]))
+            .map(|(j, &k)| (k, others.full[j][i]))
             .collect();
         if let Some(v) = predicted_scale(m, &points, r, c) {
             frozen.insert(i, v);

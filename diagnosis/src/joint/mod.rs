@@ -21,6 +21,7 @@ mod search;
 mod seen;
 mod tables;
 mod transfer;
+mod update;
 mod validation;
 mod verdict;
 
@@ -37,8 +38,8 @@ use crate::fit::{Model, Setup};
 use crate::inputs::InputError;
 use crate::options::Options;
 use crate::outcome::{Diagnosis, PlotData};
-use crate::pipeline::diagnose;
-use crate::prepared::{prepare, Prepared};
+use crate::pipeline::diagnose_kept;
+use crate::prepared::Prepared;
 use model::{JointFit, Layout};
 use output::{Protocol, SessionReport};
 use search::{Fitted, Search, OWN_ALWAYS};
@@ -147,12 +148,12 @@ pub fn diagnose_recordings(
     )?;
     let started = Instant::now();
     let files: Vec<String> = inputs.iter().map(|(f, _)| f.clone()).collect();
-    let loaded: Vec<Result<(Recording, Diagnosis), String>> = inputs
+    let loaded: Vec<Loaded> = inputs
         .into_par_iter()
         .map(|(name, rec)| {
             let rec = rec?;
-            let d = diagnose(&rec, &name, opt).map_err(|e| format!("{name}: {e}"))?;
-            Ok((rec, d))
+            let (d, p) = diagnose_kept(&rec, &name, opt).map_err(|e| format!("{name}: {e}"))?;
+            Ok((rec, d, p))
         })
         .collect();
     let ok: Vec<usize> = (0..loaded.len()).filter(|&i| loaded[i].is_ok()).collect();
@@ -172,7 +173,11 @@ pub fn diagnose_recordings(
         .map(|&i| &loaded[i].as_ref().expect("ok").0)
         .collect();
     let names: Vec<String> = ok.iter().map(|&i| files[i].clone()).collect();
-    let as_found = prepare_all(&recs, &diags, &names, opt, &[])?;
+    let read: Vec<&Prepared> = ok
+        .iter()
+        .map(|&i| &loaded[i].as_ref().expect("ok").2)
+        .collect();
+    let as_found = prepare_all(&read, &diags, &[]);
     let (mut report, as_is, mut plots) =
         session_report(&as_found, &diags, &recs, &names, opt, Vec::new());
     // A sign that a recording's own diagnosis found flipped (a wire) is that test's where the
@@ -184,7 +189,7 @@ pub fn diagnose_recordings(
     // like a flip to one recording, and there the session's shared turn fits with one scale.
     let flips = confirmed_flips(&diags, &as_is);
     if flips.iter().any(|f| !f.is_empty()) {
-        let turned = prepare_all(&recs, &diags, &names, opt, &flips)?;
+        let turned = prepare_all(&read, &diags, &flips);
         (report, _, plots) = session_report(&turned, &diags, &recs, &names, opt, flips);
     }
     report.recordings = merge_rows(&files, &loaded, report.recordings);
@@ -198,7 +203,7 @@ pub fn diagnose_recordings(
     let singles = files
         .into_iter()
         .zip(loaded)
-        .map(|(f, l)| (f, l.map(|(_, d)| d)))
+        .map(|(f, l)| (f, l.map(|(_, d, _)| d)))
         .collect();
     Ok(SessionDiagnosis {
         report,
@@ -207,27 +212,19 @@ pub fn diagnose_recordings(
     })
 }
 
-/// Each analysed recording ready for the session: without what its own diagnosis found at a
-/// stage the session does not search (a sensing element's relaxation, which a shared gel's
-/// would otherwise take up), and with the channels in `flips` (per recording, may be empty)
-/// turned back (`Prepared::for_session`).
-fn prepare_all(
-    recs: &[&Recording],
-    diags: &[&Diagnosis],
-    names: &[String],
-    opt: &Options,
-    flips: &[Vec<usize>],
-) -> Result<Vec<Prepared>, JointError> {
-    (0..recs.len())
-        .into_par_iter()
+/// Each analysed recording ready for the session (`read`: as read for its own diagnosis):
+/// without what its own diagnosis found at a stage the session does not search (a sensing
+/// element's relaxation, which a shared gel's would otherwise take up), and with the channels
+/// in `flips` (per recording, may be empty) turned back (`Prepared::for_session`).
+fn prepare_all(read: &[&Prepared], diags: &[&Diagnosis], flips: &[Vec<usize>]) -> Vec<Prepared> {
+    (0..read.len())
         .map(|r| {
-            let mut p = prepare(recs[r], &names[r], opt)
-                .map_err(|e| JointError::NothingUsable(format!("{}: {e}", names[r])))?;
+            let mut p = read[r].clone();
             p.for_session(
                 diags[r].at_stage.as_ref(),
                 flips.get(r).map_or(&[][..], Vec::as_slice),
             );
-            Ok(p)
+            p
         })
         .collect()
 }
@@ -304,7 +301,7 @@ fn inverted_channels(d: &Diagnosis) -> Vec<usize> {
 /// not be analysed.
 fn merge_rows(
     files: &[String],
-    loaded: &[Result<(Recording, Diagnosis), String>],
+    loaded: &[Loaded],
     analysed: Vec<output::RecordingRow>,
 ) -> Vec<output::RecordingRow> {
     let mut analysed = analysed.into_iter();
@@ -325,6 +322,9 @@ fn merge_rows(
         })
         .collect()
 }
+
+/// A recording of the session read, diagnosed alone and ready to fit as read, or why not.
+type Loaded = Result<(Recording, Diagnosis, Prepared), String>;
 
 /// The analysed recordings of a session, in input order.
 pub(crate) struct Members<'s, 'a> {

@@ -13,6 +13,9 @@ use std::collections::BTreeMap;
 use sim::effects::EffectKind;
 
 use crate::fit::{nth_param_index, Model, Setup, N_BASE, OFFSET_AT, SCALE_AT};
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+
 use crate::lm::{self, Problem};
 use crate::specs::{second_prony_seeds, starts};
 
@@ -73,7 +76,7 @@ impl Layout {
 
 /// Where a free parameter of the session's vector lives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-enum Slot {
+pub(super) enum Slot {
     Shared(usize),
     Own(usize, usize),
 }
@@ -84,7 +87,7 @@ pub struct Joint<'s, 'a> {
     pub models: Vec<Model<'s, 'a>>,
     /// Per recording: the session-vector index of each of its free parameters.
     map: Vec<Vec<usize>>,
-    slots: Vec<Slot>,
+    pub(super) slots: Vec<Slot>,
     /// Shared values held fixed (leave-one-out: the shared physics of the other recordings).
     frozen: BTreeMap<usize, f64>,
     /// Each recording's number of residuals on its fitting stretch.
@@ -165,7 +168,7 @@ impl<'s, 'a> Joint<'s, 'a> {
     }
 
     /// Recording `r`'s full vector from the session's vector `p`.
-    fn full_of(&self, r: usize, p: &[f64]) -> Vec<f64> {
+    pub(super) fn full_of(&self, r: usize, p: &[f64]) -> Vec<f64> {
         let m = &self.models[r];
         let free: Vec<f64> = m
             .free_indices()
@@ -186,7 +189,7 @@ impl<'s, 'a> Joint<'s, 'a> {
     /// of the values of the recordings that fit it. (A recording that does not, a moment scale
     /// at 0° where no moment shows, carries whatever its vector held: taken into a median of
     /// two, a scale of 6e5 had started a leave-one-out fit far off.)
-    fn vector_of(&self, full: &[Vec<f64>]) -> Vec<f64> {
+    pub(super) fn vector_of(&self, full: &[Vec<f64>]) -> Vec<f64> {
         self.slots
             .iter()
             .map(|&s| match s {
@@ -208,7 +211,7 @@ impl<'s, 'a> Joint<'s, 'a> {
 
     /// Bounds and step of each entry of the session's vector (from the first recording that
     /// has it).
-    fn options(&self, max_iterations: usize) -> lm::Options {
+    pub(super) fn options(&self, max_iterations: usize) -> lm::Options {
         let spec = |s: &Slot| {
             let (r, i) = match *s {
                 Slot::Own(r, i) => (r, i),
@@ -369,30 +372,107 @@ impl<'s, 'a> Joint<'s, 'a> {
 
 impl Problem for Joint<'_, '_> {
     fn residuals(&self, p: &[f64], out: &mut Vec<f64>) {
+        let blocks: Vec<Vec<f64>> = (0..self.models.len())
+            .into_par_iter()
+            .map(|i| self.block(i, p))
+            .collect();
         out.clear();
-        let mut r = Vec::new();
-        for (i, m) in self.models.iter().enumerate() {
-            m.weighted(&self.full_of(i, p), &m.setup.fit_mask, &mut r);
-            out.extend_from_slice(&r);
+        for b in blocks {
+            out.extend_from_slice(&b);
         }
     }
 
-    /// A recording's own parameter moves only its block of residuals: only it is evaluated.
-    fn difference(&self, p: &[f64], i: usize, h: f64, r: &[f64]) -> Option<Vec<f64>> {
-        let Slot::Own(rec, _) = self.slots[i] else {
-            return None;
+    /// Recording by recording: a recording's residuals move with the session's parameters and
+    /// its own alone, so its part of the Jacobian has those columns only, and JᵀJ is summed
+    /// from the parts. Held whole, the Jacobian grew as the square of the session (every
+    /// recording's own parameters a column over every residual) and JᵀJ as its cube.
+    fn normal_equations(&self, p: &[f64], r: &[f64], h: &[f64]) -> Option<lm::Normal> {
+        let k = p.len();
+        let starts: Vec<usize> = self
+            .block_len
+            .iter()
+            .scan(0, |at, &n| {
+                *at += n;
+                Some(*at - n)
+            })
+            .collect();
+        let zero = || (DMatrix::zeros(k, k), DVector::zeros(k));
+        let sum = |mut a: lm::Normal, b: lm::Normal| {
+            a.0 += b.0;
+            a.1 += b.1;
+            a
         };
-        let mut q = p.to_vec();
-        q[i] += h;
+        let normal = (0..self.models.len())
+            .into_par_iter()
+            .map(|rec| {
+                let base = &r[starts[rec]..starts[rec] + self.block_len[rec]];
+                self.part(rec, p, base, h)
+            })
+            .fold(zero, |mut acc, part| {
+                part.add_to(&mut acc);
+                acc
+            })
+            .reduce(zero, sum);
+        Some(normal)
+    }
+}
+
+impl Joint<'_, '_> {
+    /// Recording `rec`'s weighted residuals on its fitting stretch at the session's `p`.
+    pub(super) fn block(&self, rec: usize, p: &[f64]) -> Vec<f64> {
         let m = &self.models[rec];
-        let mut block = Vec::new();
-        m.weighted(&self.full_of(rec, &q), &m.setup.fit_mask, &mut block);
-        let start: usize = self.block_len[..rec].iter().sum();
-        let mut column = vec![0.0; r.len()];
-        for (k, v) in block.iter().enumerate() {
-            column[start + k] = (v - r[start + k]) / h;
+        let mut r = Vec::new();
+        m.weighted(&self.full_of(rec, p), &m.setup.fit_mask, &mut r);
+        r
+    }
+
+    /// Recording `rec`'s part of the normal equations at `p` (its residuals `base`, steps `h`).
+    pub(super) fn part(&self, rec: usize, p: &[f64], base: &[f64], h: &[f64]) -> Part {
+        let cols: Vec<usize> = self.map[rec]
+            .iter()
+            .copied()
+            .filter(|&at| at != usize::MAX)
+            .collect();
+        let mut jac = DMatrix::zeros(base.len(), cols.len());
+        for (a, &i) in cols.iter().enumerate() {
+            let mut q = p.to_vec();
+            q[i] += h[i];
+            let moved = self.block(rec, &q);
+            for (row, (x, y)) in moved.iter().zip(base).enumerate() {
+                jac[(row, a)] = (x - y) / h[i];
+            }
         }
-        Some(column)
+        let (jtj, jtr) = lm::normal_equations(&jac, base);
+        Part {
+            cols,
+            jtj,
+            jtr,
+            sse: lm::sse(base),
+            n: base.len(),
+        }
+    }
+}
+
+/// One recording's part of the session's normal equations: the session-vector indices of the
+/// parameters that move its residuals (the shared ones and its own), its JᵀJ and Jᵀr over
+/// them, and its sum of squares and number of residuals.
+pub(super) struct Part {
+    pub cols: Vec<usize>,
+    pub jtj: DMatrix<f64>,
+    pub jtr: DVector<f64>,
+    pub sse: f64,
+    pub n: usize,
+}
+
+impl Part {
+    /// This part added into the session's normal equations.
+    pub fn add_to(&self, normal: &mut lm::Normal) {
+        for (a, &i) in self.cols.iter().enumerate() {
+            normal.1[i] += self.jtr[a];
+            for (b, &j) in self.cols.iter().enumerate() {
+                normal.0[(i, j)] += self.jtj[(a, b)];
+            }
+        }
     }
 }
 

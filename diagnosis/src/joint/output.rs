@@ -190,6 +190,12 @@ impl SessionReport {
             .filter(|s| s.effect.name != ANGLE_DEPENDENCE)
     }
 
+    /// Whether the session's model shares no effect (nor an angle law): then nothing of what
+    /// was found transfers between its tests (`session-v1.md`, "What transfers").
+    pub fn shares_nothing(&self) -> bool {
+        self.shared.is_empty()
+    }
+
     /// The `angle_dependence` entries.
     pub fn angle_laws(&self) -> impl Iterator<Item = &SharedEffect> {
         self.shared

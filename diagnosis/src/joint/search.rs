@@ -20,7 +20,7 @@ use crate::fit::Setup;
 use crate::static_shape::Span;
 
 /// Iterations of a session fit (each starts at a fitted session or at calibrated recordings).
-const ITERATIONS: usize = 40;
+pub(super) const ITERATIONS: usize = 40;
 
 /// Starts of the session's first model that race (`lm::solve_best`): the recordings' medians
 /// and the recordings' own laws that misfit the session least as they stand. A recording's
@@ -63,7 +63,7 @@ impl Gain {
 
     /// From the two models' BICs, held-out chi-squares and held-out residuals (smaller,
     /// larger).
-    fn between(bic: (f64, f64), chi2: (f64, f64), r: (&[f64], &[f64])) -> Self {
+    pub(super) fn between(bic: (f64, f64), chi2: (f64, f64), r: (&[f64], &[f64])) -> Self {
         let reach: f64 = r.1.iter().zip(r.0).map(|(a, b)| (a - b) * (a - b)).sum();
         Self {
             bic: bic.0 - bic.1,
@@ -405,61 +405,14 @@ impl<'s, 'a> Search<'s, 'a> {
 }
 
 impl Search<'_, '_> {
-    /// `larger` against `smaller` across recordings, where the held-out stretches cannot test
-    /// it: each recording's fitting stretch predicted by the shared values fitted to the
-    /// other recordings alone, its own calibration (offsets, its own effects and scales)
-    /// fitted there, the chi-squares summed. Shared physics that is the truth predicts a test
-    /// it never saw; what one recording alone cannot test, the session can. `None` below two
-    /// recordings.
-    pub fn across(&self, larger: &Fitted, smaller: &Fitted) -> Option<Gain> {
-        let n = self.setups.len();
-        if n < 2 {
-            return None;
-        }
-        let each = |f: &Fitted| -> Vec<(f64, Vec<f64>)> {
-            (0..n)
-                .into_par_iter()
-                .map(|r| self.predicted(f, r))
-                .collect()
-        };
-        let (l, s) = (each(larger), each(smaller));
-        let chi2 = |v: &[(f64, Vec<f64>)]| v.iter().map(|x| x.0).sum::<f64>();
-        let flat = |v: &[(f64, Vec<f64>)]| v.iter().flat_map(|x| x.1.clone()).collect::<Vec<_>>();
-        let g = Gain::between(
-            (smaller.fit.bic(), larger.fit.bic()),
-            (chi2(&s), chi2(&l)),
-            (&flat(&s), &flat(&l)),
-        );
-        Some(Gain { across: true, ..g })
-    }
-
-    /// Recording `r`'s fitting stretch under `f`'s layout, its shared values fitted to the
-    /// others: the chi-square and the weighted residuals.
-    fn predicted(&self, f: &Fitted, r: usize) -> (f64, Vec<f64>) {
-        let others = self.without_recording(f, r);
-        let own = self.recording_alone(f, r, f.layout.only(&[r]), others.fit.shared_values());
-        let full = &own.fit.full[0];
-        let setup = self.setups[r];
-        let model = own.model(setup);
-        let mut res = Vec::new();
-        model.weighted(full, &setup.fit_mask, &mut res);
-        (res.iter().map(|x| x * x).sum(), res)
-    }
-
-    /// The session `f` fitted to its recordings other than `r`, from where `f` left them: the
-    /// shared physics a test it never saw is predicted from.
-    pub fn without_recording(&self, f: &Fitted, r: usize) -> Fitted {
-        let keep: Vec<usize> = (0..self.setups.len()).filter(|&i| i != r).collect();
-        let layout = f.layout.only(&keep);
-        let from = Fitted {
-            layout: layout.clone(),
-            fit: JointFit::start(keep.iter().map(|&i| f.fit.full[i].clone()).collect()),
-        };
+    /// The session of recordings `keep` fitted from `from` (its layout and full vectors are
+    /// theirs, in that order).
+    pub fn fit_subset(&self, from: &Fitted, keep: &[usize]) -> Fitted {
         Search {
             setups: keep.iter().map(|&i| self.setups[i]).collect(),
             tried: Vec::new(),
         }
-        .fit(layout, &from)
+        .fit(from.layout.clone(), from)
     }
 
     /// Recording `r` alone under `layout`, its shared values `frozen` held: only its own

@@ -19,15 +19,27 @@ const FONT: (&str, u32) = ("sans-serif", 16);
 const TITLE_FONT: (&str, u32) = ("sans-serif", 17);
 
 /// The leave-one-out section: what it does, its table and its bar chart.
-pub(super) fn section(v: &Validation) -> String {
-    let mut h = String::from(
+/// `shares_nothing`: the session's model shares no effect, and the validation is then no
+/// evidence of transfer.
+pub(super) fn section(v: &Validation, shares_nothing: bool) -> String {
+    let what = if shares_nothing {
+        format!(
+            "{} The validation below tests only the baseline's calibration shared across the \
+             tests; it is no evidence that anything found transfers.",
+            super::headline::NOTHING_TRANSFERS
+        )
+    } else {
+        "This is the evidence that the physics found transfers to a test it never saw.".into()
+    };
+    let mut h = format!(
         "<h2 id=validation>Leave-one-out validation</h2><p>For each recording, the session's \
          shared physics fitted to the other recordings alone; then, with those parameters \
          fixed, only the recording's own calibration fitted to its fitting stretch, and its \
          held-out stretch predicted. Before: the baseline calibrated to that recording alone, \
-         on the same stretch. This is the evidence that the physics found transfers to a test \
-         it never saw. A change counts only beyond the held-out test's own margin (twice the \
-         noise of the two misfits' difference, and half a percent of the misfit).</p>",
+         on the same stretch. {} A change counts only beyond the held-out test's own margin \
+         (twice the noise of the two misfits' difference, and half a percent of the \
+         misfit).</p>",
+        esc(&what)
     );
     let rows = &v.leave_one_out;
     if rows.is_empty() {
