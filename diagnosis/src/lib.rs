@@ -46,5 +46,7 @@ mod terms;
 mod undecided;
 
 pub use data::DataError;
-pub use pipeline::{diagnose, heldout_rmse_of, BaselineSource, Diagnosis, Options, Progress};
+pub use pipeline::{
+    diagnose, diagnose_owned, heldout_rmse_of, BaselineSource, Diagnosis, Options, Progress,
+};
 pub use preconditions::mains_visible;

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use crate::inputs::InputError;
 use crate::outputs::{write_whole, OutputError};
-use crate::pipeline::{diagnose, Diagnosis, Options};
+use crate::pipeline::{diagnose_owned, Diagnosis, Options};
 
 /// Why a session could not run or its summary could not be written (the errors of single
 /// recordings are rows, not this).
@@ -191,7 +191,7 @@ fn one(path: &Path, out_dir: &Path, opt: &Options) -> Row {
 fn diagnose_file(path: &Path, file: &str, opt: &Options) -> Result<Diagnosis, String> {
     // The reader's errors start with the file's name already.
     let rec = recording::read(path).map_err(|e| e.to_string())?;
-    diagnose(&rec, file, opt).map_err(|e| format!("{file}: {e}"))
+    diagnose_owned(rec, file, opt).map_err(|e| format!("{file}: {e}"))
 }
 
 /// `DIR/<stem>.json` and the report of one recording, written whole together.
