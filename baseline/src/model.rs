@@ -168,40 +168,132 @@ fn force_warp(w: &[f64; 3], at: Option<(usize, f64)>) -> f64 {
 }
 
 /// The drive of one evaluation: a time base and the unit response at each time.
+///
+/// Everything but the time and the temperature is a function of the rod's travel (and the
+/// response there), and a test's rod stands still most of the time (holds, rests, the encoder's
+/// quanta): the drive keeps one [`AtTravel`] per run of equal samples and each sample's run.
+/// An hour at 1 kHz held 144 bytes a sample (540 MB) before; now 12 and its runs.
 #[derive(Debug, Clone)]
 pub struct Drive {
     pub t_s: Vec<f64>,
-    pub unit: Vec<UnitResponse>,
-    /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
-    ln_rel_rod: Vec<f64>,
-    /// Where each ln(rod / rod_max) lies among the force warp's knots ([`warp_interval`]).
-    warp_at: Vec<Option<(usize, f64)>>,
-    /// ln of the power law matching the fingertip's force less ln of its force, in contact
-    /// ([`matching_power_law`]): the force-law blend's direction.
-    to_power_law: Vec<f64>,
-    /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
-    /// full load (for the outputs' map blend), 0 out of contact.
-    ln_map_departure: Vec<[f64; 3]>,
+    /// The run ([`Drive::at`]) of each sample.
+    run: Vec<u32>,
+    /// What the drive knows at each run's travel.
+    at: Vec<AtTravel>,
     /// The outputs' maps against the load, to read them at another load ([`MapByLoad`]).
     map_by_load: std::sync::Arc<MapByLoad>,
-    /// ln of the fingertip's force per Pa in contact (the load its maps are read at), else
-    /// `None`; and the table's maps there.
-    ln_unit_force: Vec<Option<f64>>,
-    map_at_own_load: Vec<[f64; 3]>,
     /// Measured temperature at each time, for a drift regressed on it.
     pub temp_c: Option<Vec<f64>>,
+}
+
+/// The drive at one travel: the unit response and what the calibration's laws read there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AtTravel {
+    unit: UnitResponse,
+    /// ln(rod / rod_max) where in contact (for the exponent shift), 0 elsewhere.
+    ln_rel_rod: f64,
+    /// Where ln(rod / rod_max) lies among the force warp's knots ([`warp_interval`]).
+    warp_at: Option<(usize, f64)>,
+    /// ln of the power law matching the fingertip's force less ln of its force, in contact
+    /// ([`matching_power_law`]): the force-law blend's direction.
+    to_power_law: f64,
+    /// ln r(F) of each output: the FE's departure from an output linear in the load, relative to
+    /// full load (for the outputs' map blend), 0 out of contact.
+    ln_map_departure: [f64; 3],
+    /// ln of the fingertip's force per Pa in contact (the load its maps are read at), else
+    /// `None`; and the table's maps there.
+    ln_unit_force: Option<f64>,
+    map_at_own_load: [f64; 3],
+}
+
+impl AtTravel {
+    /// ln of the calibrated force over the fingertip's own here: the same law as
+    /// [`Drive::contact_shape_basis`] (linear in those parameters), evaluated directly.
+    fn ln_force_warp(&self, p: &BaselineParams) -> f64 {
+        let l = self.ln_rel_rod;
+        p.exponent_shift * l
+            + p.exponent_curvature * l * l
+            + force_warp(&p.force_warp, self.warp_at)
+            + p.force_law_blend * self.to_power_law
+    }
+
+    /// The factors of the three outputs here that give them their calibrated maps: the
+    /// FE's departure r raised to 1 - b (the map blend), read at the load of
+    /// [`crate::map_by_load`] (`warp`: ln of the calibrated force over the fingertip's own).
+    fn map_factors(&self, map_by_load: &MapByLoad, p: &BaselineParams, warp: f64) -> [f64; 3] {
+        let moved = match self.ln_unit_force {
+            Some(x) if p.map_load_share != 0.0 || p.map_load_level != 0.0 => {
+                let x = x + p.map_load_share * warp + p.map_load_level;
+                Some(map_by_load.at(x))
+            }
+            _ => None,
+        };
+        std::array::from_fn(|k| {
+            let b = p.map_blend[k];
+            let mut e = -b * self.ln_map_departure[k];
+            if let Some(m) = moved {
+                e += (1.0 - b) * (m[k] - self.map_at_own_load[k]);
+            }
+            if e != 0.0 {
+                e.exp()
+            } else {
+                1.0
+            }
+        })
+    }
+
+    /// The calibrated load and chip loads here (before the mechanical effects), with the
+    /// moments turned by the azimuth shift (`sin`, `cos`).
+    fn calibrated(
+        &self,
+        map_by_load: &MapByLoad,
+        p: &BaselineParams,
+        (s, c): (f64, f64),
+    ) -> [f64; 4] {
+        let u = &self.unit;
+        let warp = self.ln_force_warp(p);
+        let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
+        let share = self.map_factors(map_by_load, p, warp);
+        let (mx, my) = (u.chip[1] * w * share[1], u.chip[2] * w * share[2]);
+        [
+            u.force_n * w,
+            u.chip[0] * w * share[0],
+            mx * c - my * s,
+            mx * s + my * c,
+        ]
+    }
+}
+
+/// The runs of samples `0..n` over which `same(i - 1, i)` holds: each sample's run, and each
+/// run's first sample.
+fn runs(n: usize, same: impl Fn(usize, usize) -> bool) -> (Vec<u32>, Vec<usize>) {
+    let mut run = Vec::with_capacity(n);
+    let mut first = Vec::new();
+    for i in 0..n {
+        if i == 0 || !same(i - 1, i) {
+            first.push(i);
+        }
+        // A drive of more than 2^32 runs would be 300 GB of them.
+        run.push(u32::try_from(first.len() - 1).expect("fewer than 2^32 runs"));
+    }
+    (run, first)
 }
 
 impl Drive {
     pub fn new(model: &dyn FingertipResponse, t_s: Vec<f64>, rod_mm: &[f64]) -> Self {
         let rod_max = rod_mm.iter().cloned().fold(0.0, f64::max);
         let law = matching_power_law(model, rod_max);
-        let (unit, power) = rod_mm
+        // Equal travels, bit for bit, have one response: it is looked up once per run.
+        let (run, first) = runs(rod_mm.len(), |i, j| {
+            rod_mm[i].to_bits() == rod_mm[j].to_bits()
+        });
+        let rods: Vec<f64> = first.iter().map(|&i| rod_mm[i]).collect();
+        let (unit, power) = rods
             .iter()
             .map(|&d| (model.unit_response(d), law.force(d)))
             .unzip();
         let map = MapByLoad::new(model, rod_max);
-        Self::with_units(t_s, rod_mm, rod_max, unit, power, map)
+        Self::with_runs(t_s, (run, &rods), rod_max, (unit, power), map)
     }
 
     /// The drive of block means: the response averaged over each block's full-rate travels
@@ -287,82 +379,84 @@ impl Drive {
         power: Vec<f64>,
         map_by_load: MapByLoad,
     ) -> Self {
-        let ln_rel_rod: Vec<f64> = rod_mm
+        let (run, first) = runs(rod_mm.len(), |i, j| {
+            rod_mm[i].to_bits() == rod_mm[j].to_bits()
+                && unit[i] == unit[j]
+                && power[i].to_bits() == power[j].to_bits()
+        });
+        let rods: Vec<f64> = first.iter().map(|&i| rod_mm[i]).collect();
+        let unit = first.iter().map(|&i| unit[i]).collect();
+        let power = first.iter().map(|&i| power[i]).collect();
+        Self::with_runs(t_s, (run, &rods), rod_max, (unit, power), map_by_load)
+    }
+
+    /// The drive of samples in runs (`run`, each sample's), with each run's travel, unit
+    /// response and matching power law's force per Pa.
+    fn with_runs(
+        t_s: Vec<f64>,
+        (run, rod_mm): (Vec<u32>, &[f64]),
+        rod_max: f64,
+        (unit, power): (Vec<UnitResponse>, Vec<f64>),
+        map_by_load: MapByLoad,
+    ) -> Self {
+        let departure = map_departure(&unit);
+        let at = rod_mm
             .iter()
-            // Frozen below 1 % of the largest travel: the warp must stay bounded as d -> 0 (a
-            // positive curvature would otherwise blow up at travels of 1e-16 mm).
-            .map(|&d| {
-                if d > 0.0 && rod_max > 0.0 {
+            .zip(unit)
+            .zip(power)
+            .zip(departure)
+            .map(|(((&d, u), p), ln_map_departure)| {
+                // Frozen below 1 % of the largest travel: the warp must stay bounded as d -> 0
+                // (a positive curvature would otherwise blow up at travels of 1e-16 mm).
+                let ln_rel_rod = if d > 0.0 && rod_max > 0.0 {
                     (d / rod_max).ln().max(MIN_LN_REL_ROD)
                 } else {
                     0.0
+                };
+                let ln_unit_force = (u.force_n > 0.0).then(|| u.force_n.ln());
+                AtTravel {
+                    unit: u,
+                    ln_rel_rod,
+                    warp_at: warp_interval(ln_rel_rod),
+                    to_power_law: if u.force_n > 0.0 && p > 0.0 {
+                        p.ln() - u.force_n.ln()
+                    } else {
+                        0.0
+                    },
+                    ln_map_departure,
+                    ln_unit_force,
+                    map_at_own_load: ln_unit_force.map_or([0.0; 3], |x| map_by_load.at(x)),
                 }
             })
-            .collect();
-        let ln_map_departure = map_departure(&unit);
-        let warp_at = ln_rel_rod.iter().map(|&l| warp_interval(l)).collect();
-        let to_power_law = unit
-            .iter()
-            .zip(&power)
-            .map(|(u, &p)| {
-                if u.force_n > 0.0 && p > 0.0 {
-                    p.ln() - u.force_n.ln()
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        let ln_unit_force: Vec<Option<f64>> = unit
-            .iter()
-            .map(|u| (u.force_n > 0.0).then(|| u.force_n.ln()))
-            .collect();
-        let map_at_own_load = ln_unit_force
-            .iter()
-            .map(|x| x.map_or([0.0; 3], |x| map_by_load.at(x)))
             .collect();
         Self {
             t_s,
-            unit,
-            ln_rel_rod,
-            warp_at,
-            to_power_law,
-            ln_map_departure,
+            run,
+            at,
             map_by_load: std::sync::Arc::new(map_by_load),
-            ln_unit_force,
-            map_at_own_load,
             temp_c: None,
         }
     }
 
-    /// The factors of the three outputs at sample `i` that give them their calibrated maps: the
-    /// FE's departure r raised to 1 - b (the map blend), read at the load of
-    /// [`crate::map_by_load`] (`warp`: ln of the calibrated force over the fingertip's own).
-    fn map_factors(&self, i: usize, p: &BaselineParams, warp: f64) -> [f64; 3] {
-        let moved = match self.ln_unit_force[i] {
-            Some(x) if p.map_load_share != 0.0 || p.map_load_level != 0.0 => {
-                let x = x + p.map_load_share * warp + p.map_load_level;
-                Some(self.map_by_load.at(x))
-            }
-            _ => None,
-        };
-        std::array::from_fn(|k| {
-            let b = p.map_blend[k];
-            let mut e = -b * self.ln_map_departure[i][k];
-            if let Some(m) = moved {
-                e += (1.0 - b) * (m[k] - self.map_at_own_load[i][k]);
-            }
-            if e != 0.0 {
-                e.exp()
-            } else {
-                1.0
-            }
-        })
+    /// What the drive knows at sample `i`'s travel.
+    fn at(&self, i: usize) -> &AtTravel {
+        &self.at[self.run[i] as usize]
     }
 
-    /// ln r of each output at each sample: the FE's departure from an output linear in the
+    /// The unit response at sample `i`.
+    pub fn unit(&self, i: usize) -> &UnitResponse {
+        &self.at(i).unit
+    }
+
+    /// The unit response at each sample, in order.
+    pub fn units(&self) -> impl Iterator<Item = &UnitResponse> + '_ {
+        self.run.iter().map(|&r| &self.at[r as usize].unit)
+    }
+
+    /// ln r of each output at sample `i`: the FE's departure from an output linear in the
     /// load, relative to full load; 0 out of contact.
-    pub fn ln_map_departure(&self) -> &[[f64; 3]] {
-        &self.ln_map_departure
+    pub fn ln_map_departure(&self, i: usize) -> [f64; 3] {
+        self.at(i).ln_map_departure
     }
 
     /// The same drive with the temperature measured at each of its times.
@@ -374,26 +468,17 @@ impl Drive {
     /// order in the fit's vector: exponent shift, curvature, the warp's knots, the force-law
     /// blend. `None` out of contact.
     pub fn contact_shape_basis(&self, i: usize) -> Option<[f64; 6]> {
-        let l = self.ln_rel_rod[i];
-        if l == 0.0 && self.unit[i].force_n <= 0.0 {
+        let a = self.at(i);
+        let l = a.ln_rel_rod;
+        if l == 0.0 && a.unit.force_n <= 0.0 {
             return None;
         }
         let knot = |j: usize| {
             let mut w = [0.0; 3];
             w[j] = 1.0;
-            force_warp(&w, self.warp_at[i])
+            force_warp(&w, a.warp_at)
         };
-        Some([l, l * l, knot(0), knot(1), knot(2), self.to_power_law[i]])
-    }
-
-    /// ln of the calibrated force over the fingertip's own at sample `i`: the same law as
-    /// [`Drive::contact_shape_basis`] (linear in those parameters), evaluated directly.
-    fn ln_force_warp(&self, i: usize, p: &BaselineParams) -> f64 {
-        let l = self.ln_rel_rod[i];
-        p.exponent_shift * l
-            + p.exponent_curvature * l * l
-            + force_warp(&p.force_warp, self.warp_at[i])
-            + p.force_law_blend * self.to_power_law[i]
+        Some([l, l * l, knot(0), knot(1), knot(2), a.to_power_law])
     }
 
     pub fn len(&self) -> usize {
@@ -517,15 +602,16 @@ pub fn evaluate(
     let mut load = Vec::with_capacity(n);
     let mut chip: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
     let (s, c) = p.azimuth_shift_deg.to_radians().sin_cos();
-    for (i, u) in drive.unit.iter().enumerate() {
-        let warp = drive.ln_force_warp(i, p);
-        let w = p.youngs_modulus_pa * if warp != 0.0 { warp.exp() } else { 1.0 };
-        load.push(u.force_n * w);
-        let share = drive.map_factors(i, p, warp);
-        let (mx, my) = (u.chip[1] * w * share[1], u.chip[2] * w * share[2]);
-        chip[0].push(u.chip[0] * w * share[0]);
-        chip[1].push(mx * c - my * s);
-        chip[2].push(mx * s + my * c);
+    // Once per run of equal travels, then spread over its samples.
+    let at: Vec<[f64; 4]> = drive
+        .at
+        .iter()
+        .map(|a| a.calibrated(&drive.map_by_load, p, (s, c)))
+        .collect();
+    for &r in &drive.run {
+        let v = &at[r as usize];
+        load.push(v[0]);
+        chip.iter_mut().zip(&v[1..]).for_each(|(x, &v)| x.push(v));
     }
     chain.apply_mechanical(&drive.t_s, &mut load, &mut chip, contact_angle_deg);
     let mut volts: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
@@ -643,7 +729,7 @@ mod tests {
         assert_eq!(of, ours);
         let blocks =
             Drive::over_blocks_of_samples(vec![0.5, 2.5], &[0.5, 2.5], &units, &[(0, 2), (2, 4)]);
-        assert_eq!(blocks.unit[1].force_n, 2.5);
-        assert_eq!(blocks.unit[0].chip[1], -0.5);
+        assert_eq!(blocks.unit(1).force_n, 2.5);
+        assert_eq!(blocks.unit(0).chip[1], -0.5);
     }
 }

@@ -105,7 +105,14 @@ pub enum DataError {
 
 impl Data {
     pub fn new(rec: &Recording) -> Result<Self, DataError> {
-        let rec = rec.without_gaps();
+        // Copied without its gaps only where it has any.
+        let whole;
+        let rec = if rec.has_gaps() {
+            whole = rec.without_gaps();
+            &whole
+        } else {
+            rec
+        };
         let c = &rec.channels;
         if c.len() < 200 {
             return Err(DataError::TooShort(c.len()));

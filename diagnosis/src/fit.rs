@@ -506,7 +506,7 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
             0.0
         }
     };
-    let e = ls(&|k| drive.unit[k].force_n, &d.y[0]).max(1.0);
+    let e = ls(&|k| drive.unit(k).force_n, &d.y[0]).max(1.0);
     let nominal = evaluate(
         drive,
         &setup.readout,
@@ -551,7 +551,7 @@ fn contact_law_start(setup: &Setup, offset: f64) -> Option<[f64; 7]> {
     let rows: Vec<([f64; 7], f64, f64)> = (0..load.len())
         .filter(|&k| setup.fit_mask[k] && load[k] - offset > 0.05 * peak)
         .filter_map(|k| {
-            let u = drive.unit[k].force_n;
+            let u = drive.unit(k).force_n;
             let b = drive.contact_shape_basis(k).filter(|_| u > 0.0)?;
             let y = (load[k] - offset).ln() - u.ln();
             Some((

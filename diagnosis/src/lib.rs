@@ -58,6 +58,6 @@ pub use data::DataError;
 pub use fit::model_evaluations;
 pub use options::{BaselineSource, Options, Progress};
 pub use outcome::Diagnosis;
-pub use pipeline::diagnose;
+pub use pipeline::{diagnose, diagnose_owned};
 pub use preconditions::mains_visible;
 pub use prepared::heldout_rmse_of;

@@ -156,7 +156,7 @@ fn loading_speeds_differ(t: &[f64], rod: &[f64], segments: &[Segment]) -> bool {
 
 /// The direction atan2(My, Mx) of the baseline's chip moment at the drive's largest moment.
 pub(crate) fn moment_direction(drive: &Drive) -> Option<f64> {
-    let m = drive.unit.iter().max_by(|a, b| {
+    let m = drive.units().max_by(|a, b| {
         a.chip[1]
             .hypot(a.chip[2])
             .total_cmp(&b.chip[1].hypot(b.chip[2]))

@@ -36,36 +36,35 @@ pub struct Span {
 impl Span {
     pub fn of(drive: &Drive, bounds: &hardware::FitBounds) -> Self {
         let blend_range = bounds.map_blend_max - bounds.map_blend_min;
-        let unit = &drive.unit;
-        let force_max = unit.iter().map(|u| u.force_n).fold(0.0, f64::max);
+        let unit = |i: usize| drive.unit(i);
+        let force_max = drive.units().map(|u| u.force_n).fold(0.0, f64::max);
         let chip_max: [f64; 3] =
-            std::array::from_fn(|k| unit.iter().map(|u| u.chip[k].abs()).fold(0.0, f64::max));
+            std::array::from_fn(|k| drive.units().map(|u| u.chip[k].abs()).fold(0.0, f64::max));
         // Where the baseline models no load (a user's simulation of the outputs alone), the
         // outputs' own levels say how loaded a sample is: read by the load, no sample would be,
         // and any bend would pass for the calibration's.
         let level = |i: usize| -> f64 {
             if force_max > 0.0 {
-                unit[i].force_n / force_max
+                unit(i).force_n / force_max
             } else {
                 (0..3)
                     .filter(|&k| chip_max[k] > 0.0)
-                    .map(|k| unit[i].chip[k].abs() / chip_max[k])
+                    .map(|k| unit(i).chip[k].abs() / chip_max[k])
                     .fold(0.0, f64::max)
             }
         };
-        let loaded: Vec<usize> = (0..unit.len())
+        let loaded: Vec<usize> = (0..drive.len())
             .filter(|&i| level(i) >= LOADED_SHARE)
             .collect();
-        let departure = drive.ln_map_departure();
         let span = std::array::from_fn(|k| {
-            blend_range * peak_to_peak(loaded.iter().map(|&i| departure[i][k]))
+            blend_range * peak_to_peak(loaded.iter().map(|&i| drive.ln_map_departure(i)[k]))
         });
         let levels = loaded
             .iter()
             .map(|&i| {
                 std::array::from_fn(|k| {
                     if chip_max[k] > 0.0 {
-                        unit[i].chip[k] / chip_max[k]
+                        unit(i).chip[k] / chip_max[k]
                     } else {
                         0.0
                     }

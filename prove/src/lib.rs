@@ -429,7 +429,7 @@ fn peak_output_v(
     let e = base.youngs_modulus_pa;
     let rod = sim::compression::rod_at_load(|d| fingertip.unit_response(d).force_n * e, peak, 60.0);
     let drive = Drive::new(fingertip, vec![0.0], &[rod]);
-    let v = readout.scaled_volts(drive.unit[0].chip.map(|c| c * e), base);
+    let v = readout.scaled_volts(drive.unit(0).chip.map(|c| c * e), base);
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 

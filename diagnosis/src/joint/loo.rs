@@ -151,8 +151,7 @@ fn predicted_scale(m: &Members, points: &[(usize, f64)], r: usize, c: usize) -> 
 fn model_share(m: &Members, k: usize, c: usize) -> Option<f64> {
     let u = m.setups[k]
         .drive
-        .unit
-        .iter()
+        .units()
         .max_by(|a, b| a.force_n.total_cmp(&b.force_n))?;
     (u.force_n > 0.0 && u.chip[c] != 0.0).then(|| (u.chip[c] / u.force_n).abs())
 }

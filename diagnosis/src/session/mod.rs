@@ -21,7 +21,7 @@ use crate::inputs::InputError;
 use crate::options::Options;
 use crate::outcome::Diagnosis;
 use crate::outputs::{write_whole, OutputError};
-use crate::pipeline::diagnose;
+use crate::pipeline::diagnose_owned;
 
 /// Why a session could not run or its summary could not be written (the errors of single
 /// recordings are rows, not this).
@@ -195,7 +195,7 @@ fn one(path: &Path, out_dir: &Path, opt: &Options) -> Row {
 fn diagnose_file(path: &Path, file: &str, opt: &Options) -> Result<Diagnosis, String> {
     // The reader's errors start with the file's name already.
     let rec = recording::read(path).map_err(|e| e.to_string())?;
-    diagnose(&rec, file, opt).map_err(|e| format!("{file}: {e}"))
+    diagnose_owned(rec, file, opt).map_err(|e| format!("{file}: {e}"))
 }
 
 /// `DIR/<stem>.json` and the report of one recording, written whole together.

@@ -16,7 +16,7 @@ use sysexit::ResultExt as _;
 use anyhow::Context;
 
 use diagnosis::simulation::Simulations;
-use diagnosis::{diagnose, report, session, BaselineSource, Options};
+use diagnosis::{diagnose_owned, report, session, BaselineSource, Options};
 
 use sysexit::{self as exit, ExitStatus};
 
@@ -281,7 +281,7 @@ fn single(
         shown.set_position(done as u64);
     }));
     let name = recording.display().to_string();
-    let diagnosed = diagnose(&rec, &name, &opt);
+    let diagnosed = diagnose_owned(rec, &name, &opt);
     bar.finish_and_clear();
     let d = diagnosed.coded().with_context(|| name.clone())?;
     let text = session::json_text(&d).context("encoding the diagnosis")?;
