@@ -358,6 +358,7 @@ fn diagnose_prepared(
             rmse: full.baseline_rmse,
             parameters: params::baseline(base, data),
             simulation: prepared.simulation.clone(),
+            sensor_unit: prepared.meta.get("sensor_unit").map(str::to_string),
         },
         mismatches: local.mismatches,
         effects,
@@ -536,6 +537,7 @@ fn describe(
         offset,
     );
     ctx.discover = setup.discover;
+    ctx.outputs_in_volts = setup.outputs_in_volts();
     ctx.loop_in_model = chosen.kinds.iter().any(|k| {
         matches!(
             k,
@@ -629,7 +631,10 @@ fn undecided_findings(
         .and_then(|phi| undecided::crosstalk_or_gains(details, phi, &setup.fit_bounds));
     // Against a user's simulation an output's scale calibrates the simulation's outputs, which
     // may be off by any factor (its own gains, a sensitivity it assumed): no finding of gains.
-    let gains = terms::sanity::gains_off(details).filter(|_| !setup.user_simulation);
+    // Nor in another unit than the metadata's volts (`sensor_unit`): a magnetometer's µT have no
+    // gain in the metadata to be off from.
+    let gains = terms::sanity::gains_off(details)
+        .filter(|_| !setup.user_simulation && setup.outputs_in_volts());
     ambiguous.into_iter().chain(gains).collect()
 }
 
@@ -977,6 +982,8 @@ fn calibration_setup<'a>(
         thermal,
         fit_bounds,
         initial: Default::default(),
+        scale_reference: Default::default(),
+        sensor_unit: meta.get("sensor_unit").unwrap_or("V").to_string(),
     }
 }
 
