@@ -62,6 +62,8 @@ pub(crate) fn calibration_setup<'a>(
         thermal,
         fit_bounds,
         initial: Default::default(),
+        scale_reference: Default::default(),
+        sensor_unit: meta.get("sensor_unit").unwrap_or("V").to_string(),
     }
 }
 

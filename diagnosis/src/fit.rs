@@ -71,6 +71,11 @@ pub struct Setup<'a> {
     pub fit_bounds: hardware::FitBounds,
     /// [`initial_baseline`], worked out once ([`Setup::initial_baseline`]).
     pub initial: std::sync::OnceLock<Vec<f64>>,
+    /// The unit the outputs hold (the recording's metadata `sensor_unit`, `V` where absent):
+    /// the metadata's gains are volts, so in another unit only the data set an output's scale.
+    pub sensor_unit: String,
+    /// [`scale_reference`], worked out once ([`Setup::scale_reference`]).
+    pub scale_reference: std::sync::OnceLock<[f64; 3]>,
 }
 
 impl Setup<'_> {
@@ -98,6 +103,17 @@ impl Setup<'_> {
     /// starts in contact start from it.
     pub fn initial_baseline(&self) -> &[f64] {
         self.initial.get_or_init(|| initial_baseline(self))
+    }
+
+    /// Whether the outputs hold volts, the unit of the metadata's gains.
+    pub fn outputs_in_volts(&self) -> bool {
+        self.sensor_unit == "V"
+    }
+
+    /// Each output's scale as its own data set it ([`scale_reference`]), worked out on first
+    /// use and kept.
+    pub fn scale_reference(&self) -> [f64; 3] {
+        *self.scale_reference.get_or_init(|| scale_reference(self))
     }
 }
 
@@ -430,10 +446,13 @@ pub struct Fitted {
 /// fit). The bounds and their reasons are `hardware/fit-bounds.toml`.
 fn base_specs(setup: &Setup, base: &[f64]) -> Vec<ParamSpec> {
     let (r, cal) = (setup.data.range, &setup.fit_bounds);
+    let reference = setup.scale_reference();
+    // The bound is the output's own scale times `scale_max`, never a number in the unit the
+    // output was logged in: a channel multiplied by a constant changes only its scale.
     let scale = |name, c: usize| {
-        let v = base[SCALE_AT + c];
-        let step = 1e-6 * v.abs().max(1e-3);
-        spec(name, -cal.scale_max, cal.scale_max, step, &[v], false)
+        let (v, bound) = (base[SCALE_AT + c], cal.scale_max * reference[c]);
+        let step = 1e-6 * v.abs().max(1e-3 * reference[c]);
+        spec(name, -bound, bound, step, &[v], false)
     };
     let offset = |name, c: usize| {
         let bound = cal.offset_range_factor * r[c].max(1e-9);
@@ -536,6 +555,40 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
         v[LAW_BLEND_AT] = law[6];
     }
     v
+}
+
+/// Each output's scale as the recording itself sets it: the ratio of the output's recorded
+/// peak-to-peak range to the model's at the metadata's gains (the modulus from the load cell),
+/// 1 where either is flat or not compared. The calibration's scale bounds are this times
+/// `scale_max` (`hardware/fit-bounds.toml`): in volts with the right gains it is about 1, and an
+/// output logged in another unit (`sensor_unit`: a magnetometer's µT or mT) moves it, and only
+/// it, by that unit's factor.
+pub fn scale_reference(setup: &Setup) -> [f64; 3] {
+    let d = &setup.data.fit;
+    let e = setup.initial_baseline()[0].exp();
+    let nominal = evaluate(
+        &setup.drive,
+        &setup.readout,
+        &BaselineParams::nominal(e),
+        &EffectSet::default(),
+        setup.contact_angle_deg,
+        None,
+    );
+    let p2p = |v: &[f64]| {
+        let fitted = v.iter().zip(&setup.fit_mask).filter(|(_, m)| **m);
+        let (lo, hi) = fitted.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (x, _)| {
+            (lo.min(*x), hi.max(*x))
+        });
+        hi - lo
+    };
+    std::array::from_fn(|c| {
+        let ratio = p2p(&d.y[c + 1]) / p2p(&nominal.volts[c]);
+        if setup.used[c + 1] && ratio.is_finite() && ratio > 0.0 {
+            ratio
+        } else {
+            1.0
+        }
+    })
 }
 
 /// The contact law straight from the load cell: ln(load - offset) - ln(unit force) is linear

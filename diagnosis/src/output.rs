@@ -65,6 +65,10 @@ pub struct Baseline {
     /// fingertip FE and chip.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub simulation: Option<SimulationReport>,
+    /// Extra: the unit the outputs hold, as the recording's metadata `sensor_unit` states it
+    /// (absent: volts). Only the fitted scales and the values in that unit depend on it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensor_unit: Option<String>,
 }
 
 /// Extra: one fitted parameter in full. The contract's `params` and `param_stderr` carry the

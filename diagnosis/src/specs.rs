@@ -52,10 +52,18 @@ pub const MIN_TAU_S: f64 = 0.05;
 pub const MAX_COUPLING_TAU_S: f64 = 1e7;
 
 /// Coding of each effect's parameters, in catalogue order. `chip_peak_v` is the largest
-/// recorded output magnitude (the saturation start and upper bound).
+/// recorded output magnitude (the saturation start and upper bound), in the unit the outputs
+/// hold (`sensor_unit`): every amplitude's bounds, step and start are in proportion to it, so
+/// that an output multiplied by a constant changes only the values in its unit.
 pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
     use EffectKind::*;
     let ln = f64::ln;
+    // The outputs' own scale; 1 where none is recorded (no output effect is then offered).
+    let u = if chip_peak_v > 0.0 && chip_peak_v.is_finite() {
+        chip_peak_v
+    } else {
+        1.0
+    };
     match kind {
         ViscoelasticRelaxation => vec![
             spec(
@@ -82,8 +90,15 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
             true,
         )],
         ThermalDrift => vec![
-            // The bridges' outputs span a few volts; a shift beyond 5 V is a rail, not a drift.
-            spec("amplitude_V", -5.0, 5.0, 1e-5, &[1e-3], false),
+            // A shift beyond ten times the largest output is a rail, not a drift.
+            spec(
+                "amplitude_V",
+                -10.0 * u,
+                10.0 * u,
+                1e-5 * u,
+                &[1e-3 * u],
+                false,
+            ),
             // Warm-up of a package takes from a second (bare die) to a day (a rig in a room).
             spec("tau_s", ln(1.0), ln(1e5), 1e-4, &[ln(10.0), ln(60.0)], true),
         ],
@@ -94,10 +109,10 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
         Crosstalk => vec![spec("angle_deg", -60.0, 60.0, 1e-3, &[5.0, -5.0], false)],
         AmplifierSaturation => vec![spec(
             "limit_V",
-            1e-3,
+            1e-3 * u,
             // A rail above twice the largest recorded output clips nothing: the identity.
-            20f64.max(2.0 * chip_peak_v),
-            1e-4,
+            2.0 * u,
+            1e-4 * u,
             &[chip_peak_v],
             false,
         )],
@@ -106,7 +121,7 @@ pub fn effect_specs(kind: EffectKind, chip_peak_v: f64) -> Vec<ParamSpec> {
         TimeOffset => vec![spec("lag_s", -2.0, 2.0, 1e-4, &[0.05, -0.05], false)],
         MainsInterference => vec![
             spec("freq_hz", 40.0, 70.0, 1e-4, &[50.0], false),
-            spec("amplitude_V", 0.0, 5.0, 1e-5, &[0.0], false),
+            spec("amplitude_V", 0.0, 5.0 * u, 1e-5 * u, &[0.0], false),
         ],
         // |q| >= 1 makes the output non-monotonic in the load within full scale.
         BridgeNonlinearity => vec![spec("quadratic", -0.9, 0.9, 1e-4, &[0.05, -0.05], false)],

@@ -47,6 +47,7 @@ pub(crate) fn run(prepared: &Prepared, name: &str, used: [bool; 4], found: Found
             rmse: full.baseline_rmse,
             parameters: params::baseline(base, data),
             simulation: prepared.simulation.clone(),
+            sensor_unit: prepared.meta.get("sensor_unit").map(str::to_string),
         },
         mismatches: local.mismatches,
         effects,

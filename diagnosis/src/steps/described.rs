@@ -177,6 +177,7 @@ fn describe(
         offset,
     );
     ctx.discover = setup.discover;
+    ctx.outputs_in_volts = setup.outputs_in_volts();
     ctx.loop_in_model = chosen.kinds.iter().any(|k| {
         matches!(
             k,

@@ -46,7 +46,10 @@ fn undecided_findings(
         .and_then(|phi| undecided::crosstalk_or_gains(details, phi, &setup.fit_bounds));
     // Against a user's simulation an output's scale calibrates the simulation's outputs, which
     // may be off by any factor (its own gains, a sensitivity it assumed): no finding of gains.
-    let gains = terms::sanity::gains_off(details).filter(|_| !setup.user_simulation);
+    // Nor in another unit than the metadata's volts (`sensor_unit`): a magnetometer's µT have no
+    // gain in the metadata to be off from.
+    let gains = terms::sanity::gains_off(details)
+        .filter(|_| !setup.user_simulation && setup.outputs_in_volts());
     ambiguous.into_iter().chain(gains).collect()
 }
 

@@ -36,6 +36,10 @@ pub(crate) struct Context<'d> {
     pub beside_catalogue: bool,
     /// Whether the discovery step runs ([`crate::fit::Setup::discover`]).
     pub discover: bool,
+    /// The outputs hold volts, the unit of the metadata's gains
+    /// ([`crate::fit::Setup::outputs_in_volts`]): only then is the model at those gains a
+    /// swing an output should show.
+    pub outputs_in_volts: bool,
     /// Beside the whole catalogue model, per channel: the directions in which the catalogue's
     /// fitted parameters move the model (its Jacobian, orthonormal on the fitting stretch with
     /// the channel's offset and scale). A term is fitted with them refitted beside it, to
@@ -94,6 +98,7 @@ impl<'d> Context<'d> {
             loop_in_model: false,
             beside_catalogue: false,
             discover: true,
+            outputs_in_volts: true,
             catalogue: Default::default(),
             forbidden: Vec::new(),
             directions: Default::default(),

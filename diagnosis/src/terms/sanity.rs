@@ -85,7 +85,7 @@ pub(crate) fn inverted_signs(
 /// disconnected; all three at once are one dead sensor.
 pub(crate) fn dead_channels(ctx: &Context, nested_n: usize) -> Vec<SanityFinding> {
     let dead: Vec<(usize, f64, f64, f64)> = (1..4)
-        .filter(|&c| !ctx.used[c])
+        .filter(|&c| !ctx.used[c] && ctx.outputs_in_volts)
         .filter_map(|c| {
             let noise = ctx.data.noise[c].sd();
             let swing = crate::data::peak_to_peak(ctx.model[c].iter().copied());

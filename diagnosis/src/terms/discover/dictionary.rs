@@ -530,6 +530,24 @@ fn ringing(q: &Quantities, since: &[Option<f64>], out: &mut Vec<Raw>) {
 
 /// Every feature for channel `c`, each scaled to unit weighted RMS on the fitting stretch;
 /// features that do not reach the fitting stretch (all zero there) are left out.
+/// Which quantities a term of this recording can depend on and be told from the travel. Where
+/// the catalogue's own precondition rejects relaxation (no hold and no change of rod speed: a
+/// single monotone ramp), the load's memory and the time since a change move with the travel,
+/// and so does time where the rod never leaves contact: a term in them is a static shape of
+/// the travel here, which only a hold, an unloading or a second speed would tell apart. They
+/// are not offered, so that discovery does not bring back what the precondition rejected.
+fn identifiable(ctx: &Context) -> impl Fn(Quantity) -> bool {
+    let one_ramp = ctx
+        .forbidden
+        .contains(&sim::effects::EffectKind::ViscoelasticRelaxation);
+    let free = (0..ctx.len()).any(|k| ctx.fit_mask[k] && ctx.data.fit.rod_mm[k] < 0.0);
+    move |q| match q {
+        Quantity::LoadHistory | Quantity::TimeSinceChange => !one_ramp,
+        Quantity::Time => !one_ramp || free,
+        _ => true,
+    }
+}
+
 pub(crate) fn features(ctx: &Context, q: &Quantities, c: usize) -> Vec<Feature> {
     let base = instantaneous(ctx, q, c);
     let mut raws = Vec::new();
@@ -539,7 +557,9 @@ pub(crate) fn features(ctx: &Context, q: &Quantities, c: usize) -> Vec<Feature> 
     level_with_memory(&base, &mut raws);
     raws.extend(base);
     let rows: Vec<usize> = (0..ctx.len()).filter(|&k| ctx.fit_mask[k]).collect();
+    let identifiable = identifiable(ctx);
     raws.into_iter()
+        .filter(|r| r.depends.iter().all(|q| identifiable(*q)))
         .filter_map(|r| {
             let ss: f64 = rows
                 .iter()

@@ -15,6 +15,8 @@
 
 mod bootstrap;
 pub(crate) mod dictionary;
+mod named;
+mod passivity;
 mod report;
 mod select;
 mod stage;
@@ -93,7 +95,9 @@ pub(crate) fn discover(ctx: &Context, nested: Nested, terms: Vec<Term>) -> Vec<T
         terms
     };
     let terms = replace_library(ctx, nested, &q, terms);
-    grow(ctx, nested, &q, terms)
+    let terms = grow(ctx, nested, &q, terms);
+    // The name first: a discovered form that a named effect describes as well is that effect.
+    named::name_first(ctx, nested, terms)
 }
 
 /// `terms` with discovered effects added while one passes, up to [`MAX_GROUPS`] in all.

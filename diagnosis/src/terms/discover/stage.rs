@@ -276,6 +276,39 @@ fn acts_out_of_contact(ctx: &Context, ch: &Channels, h: &Hypothesis) -> bool {
 
 /// The stage of hypothesis `h` and why, in words.
 pub(super) fn stage_of(ctx: &Context, ch: &Channels, h: &Hypothesis) -> (Stage, String) {
+    let (stage, note) = stage_by_sharing(ctx, ch, h);
+    if stage != Stage::Material {
+        return (stage, note);
+    }
+    // Admissible physics: a material term may not give back work over a closed cycle.
+    match load_loop(ctx, ch, h).filter(|l| l.gives_back_work()) {
+        Some(l) => (
+            Stage::Electronics,
+            format!(
+                "as the material's it would give back {:.3} N·mm of work over the {} closed loading cycles, which no passive material can: its loop runs the wrong way, as a reading that lags the rod does, so it is the instrument's timing or chain, not the material",
+                -l.work_nmm, l.cycles
+            ),
+        ),
+        None => (stage, note),
+    }
+}
+
+/// The loop of hypothesis `h`'s load part ([`super::passivity`]), where `h` acts on the load
+/// and the recording holds closed cycles (the rod out of contact before the first and after
+/// the last); `None` else.
+fn load_loop(ctx: &Context, ch: &Channels, h: &Hypothesis) -> Option<super::passivity::Loop> {
+    if h.channels.first() != Some(&0) || !matches!(h.shape, Shape::Load | Shape::Material) {
+        return None;
+    }
+    let cols = columns(ch, h, 0, &h.chosen);
+    let (beta, _) = solve(ctx, 0, &cols.joined(&ch.others[0]))?;
+    let part = cols.contribution(&beta[..cols.x.len()]);
+    super::passivity::cycle_work(&ctx.data.fit.rod_mm, &part)
+}
+
+/// The stage from how the channels share the term alone ([`stage_of`] before the passivity
+/// test).
+fn stage_by_sharing(ctx: &Context, ch: &Channels, h: &Hypothesis) -> (Stage, String) {
     let drive = h
         .chosen
         .iter()
