@@ -21,6 +21,10 @@ echo "== structure: no import circle between the modules of any crate"
 # The checker's own fixtures first (a circle behind a test module's declaration among them).
 python3 scripts/check-module-cycles.py --self-test
 python3 scripts/check-module-cycles.py
+echo "== structure: no function over 80 raw lines outside tests, in any crate"
+# clippy's too_many_lines (below) counts code lines only: comments and blank lines are free.
+python3 scripts/check-fn-lines.py --self-test
+python3 scripts/check-fn-lines.py
 # The driver library stays free of the command line's crates: the HIL tests and the fuzz
 # targets link host alone.
 for tree in "cargo tree -p hil -e normal,build --locked" "cargo tree --manifest-path fuzz/Cargo.toml -e normal,build --locked"; do

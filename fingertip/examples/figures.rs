@@ -107,9 +107,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     writeln!(summary, "E = {} Pa, nu = {}, R = {} mm, platen rod, mesh {mesh_mm} mm, peak {peak} N, phi = {phi} deg", hw.youngs_modulus_pa, hw.poisson, hw.radius_mm)?;
 
     let thetas = [0.0, 10.0, 20.0, 30.0];
+    let curves = compress(&hw, mesh_mm, &thetas, &mut summary)?;
+    compare(&curves, (peak, phi), &mut summary)?;
+    print!("{summary}");
+    std::fs::write(format!("{dir}/summary.txt"), &summary)?;
+
+    draw(dir, &thetas, &curves, (peak, phi))
+}
+
+/// One compression to `peak` per contact angle of `thetas`, each summarised in `summary`.
+fn compress(
+    hw: &hardware::Fingertip,
+    mesh_mm: f64,
+    thetas: &[f64],
+    summary: &mut String,
+) -> Result<Vec<Curve>, Box<dyn std::error::Error>> {
+    let (peak, phi) = (hw.test.peak_load_n, hw.test.azimuth_deg);
     let mut curves = Vec::new();
-    for &theta in &thetas {
-        let cfg = config(&hw, mesh_mm, theta, phi);
+    for &theta in thetas {
+        let cfg = config(hw, mesh_mm, theta, phi);
         let mut ft = Fingertip::new(cfg.clone())?;
         let c = ft.compress_to_peak(peak)?;
         let last = *c.points.last().ok_or("empty curve")?;
@@ -126,6 +142,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )?;
         curves.push(c);
     }
+    Ok(curves)
+}
+
+/// The curves at 0 and 20 deg against what the paper reports, in `summary`.
+fn compare(
+    curves: &[Curve],
+    (peak, phi): (f64, f64),
+    summary: &mut String,
+) -> Result<(), Box<dyn std::error::Error>> {
     let (c0, c20) = (&curves[0], &curves[2]);
     writeln!(
         summary,
@@ -156,9 +181,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p20.mx_nm.abs() / p20.my_nm.abs(),
         phi.to_radians().tan()
     )?;
-    print!("{summary}");
-    std::fs::write(format!("{dir}/summary.txt"), &summary)?;
+    Ok(())
+}
 
+/// The figures of the curves at the contact angles `thetas`, in `dir`.
+fn draw(
+    dir: &str,
+    thetas: &[f64],
+    curves: &[Curve],
+    (peak, phi): (f64, f64),
+) -> Result<(), Box<dyn std::error::Error>> {
+    let (c0, c20) = (&curves[0], &curves[2]);
     let xy = |c: &Curve, f: &dyn Fn(&fingertip::CurvePoint) -> f64| {
         c.points
             .iter()
@@ -190,7 +223,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let tilt: Vec<(f64, f64)> = thetas
         .iter()
-        .zip(&curves)
+        .zip(curves)
         .filter_map(|(t, c)| {
             c.points
                 .last()
@@ -199,7 +232,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let fz: Vec<(f64, f64)> = thetas
         .iter()
-        .zip(&curves)
+        .zip(curves)
         .filter_map(|(t, c)| c.points.last().map(|p| (*t, -10.0 * p.fz_n)))
         .collect();
     plot(

@@ -105,6 +105,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ))?;
     let phi = default.azimuth_deg;
 
+    plot_inclination(dir, &default, &along_z)?;
+    plot_travel(dir, &default, phi)?;
+    plot_recovery(dir, (&default, &visco), phi)?;
+    plot_lmee(dir, &base)?;
+    for card in [&default, &along_z, &visco] {
+        println!("{}: disagreements {:?}", card.label, card.disagreements());
+    }
+    Ok(())
+}
+
+/// Fz against the inclination, over Fz at 0 deg, for the jig and an upright drive.
+fn plot_inclination(
+    dir: &str,
+    default: &Scorecard,
+    along_z: &Scorecard,
+) -> Result<(), Box<dyn std::error::Error>> {
     let fz_rel = |card: &Scorecard| -> Vec<(f64, f64)> {
         let f0 = card.sweep[0].1.fz_n;
         card.sweep.iter().map(|(t, p)| (*t, p.fz_n / f0)).collect()
@@ -119,18 +135,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &[
             (
                 "default (jig, drive along the rod)".into(),
-                fz_rel(&default),
+                fz_rel(default),
                 COLORS[0],
             ),
             (
                 "drive along z (upright, inclined rod end)".into(),
-                fz_rel(&along_z),
+                fz_rel(along_z),
                 COLORS[1],
             ),
             ("cos theta_p".into(), cos, COLORS[2]),
         ],
     )?;
+    Ok(())
+}
 
+/// The chip's outputs against the rod travel, each over its peak.
+fn plot_travel(dir: &str, default: &Scorecard, phi: f64) -> Result<(), Box<dyn std::error::Error>> {
     let travel = |p: &CurvePoint| p.rod_mm;
     plot(
         &format!("{dir}/obs_moments_vs_travel.svg"),
@@ -139,27 +159,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &[
             (
                 "Fz".into(),
-                normalised(&default, travel, &|p| p.fz_n, true),
+                normalised(default, travel, &|p| p.fz_n, true),
                 COLORS[0],
             ),
             (
                 "Mx".into(),
-                normalised(&default, travel, &|p| p.mx_nm, true),
+                normalised(default, travel, &|p| p.mx_nm, true),
                 COLORS[1],
             ),
             (
                 "My".into(),
-                normalised(&default, travel, &|p| p.my_nm, true),
+                normalised(default, travel, &|p| p.my_nm, true),
                 COLORS[2],
             ),
             (
                 "tilt moment".into(),
-                normalised(&default, travel, &|p| tilt_moment_nm(p, phi), true),
+                normalised(default, travel, &|p| tilt_moment_nm(p, phi), true),
                 COLORS[3],
             ),
         ],
     )?;
+    Ok(())
+}
 
+/// The recovery after the fast return, elastic and viscoelastic.
+fn plot_recovery(
+    dir: &str,
+    (default, visco): (&Scorecard, &Scorecard),
+    phi: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
     let time = |p: &CurvePoint| p.t_s;
     plot(
         &format!("{dir}/obs_recovery.svg"),
@@ -168,27 +196,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &[
             (
                 "Fz, default (elastic)".into(),
-                normalised(&default, time, &|p| p.fz_n, false),
+                normalised(default, time, &|p| p.fz_n, false),
                 COLORS[0],
             ),
             (
                 "Fz, viscoelastic + AC coupling".into(),
-                normalised(&visco, time, &|p| p.fz_n, false),
+                normalised(visco, time, &|p| p.fz_n, false),
                 COLORS[1],
             ),
             (
                 "tilt moment, viscoelastic + AC coupling".into(),
-                normalised(&visco, time, &|p| tilt_moment_nm(p, phi), false),
+                normalised(visco, time, &|p| tilt_moment_nm(p, phi), false),
                 COLORS[2],
             ),
         ],
     )?;
+    Ok(())
+}
 
+/// The elastic energy along the inclination (LMEE), jig and upright.
+fn plot_lmee(dir: &str, base: &Config) -> Result<(), Box<dyn std::error::Error>> {
     let thetas = [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0];
     let mut lmee = Vec::new();
     for (k, (name, c)) in [
         ("jig (drive along the rod)", base.clone()),
-        ("upright (drive along z)", cause(&base, "drive_along_z")),
+        ("upright (drive along z)", cause(base, "drive_along_z")),
     ]
     .into_iter()
     .enumerate()
@@ -213,8 +245,5 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("theta_p [deg]", "U / U(0)"),
         &lmee,
     )?;
-    for card in [&default, &along_z, &visco] {
-        println!("{}: disagreements {:?}", card.label, card.disagreements());
-    }
     Ok(())
 }

@@ -388,6 +388,30 @@ fn expected(c: &SessionCase) -> Vec<String> {
     }
 }
 
+/// The effects session `r` names on the recording `file`: its shared effects that act there
+/// and the recording's own, sorted, each once.
+fn named_on(r: &SessionReport, file: &str) -> Vec<String> {
+    let mut names: Vec<String> = r
+        .shared
+        .iter()
+        .filter(|s| {
+            s.recordings
+                .as_ref()
+                .is_none_or(|f| f.iter().any(|x| x == file))
+        })
+        .map(|s| s.effect.name.clone())
+        .collect();
+    let row = r.recordings.iter().find(|x| x.file == file);
+    names.extend(
+        row.into_iter()
+            .flat_map(|x| x.effects.iter().flatten())
+            .map(|e| e.name.clone()),
+    );
+    names.sort();
+    names.dedup();
+    names
+}
+
 fn score(
     c: &SessionCase,
     report: Option<SessionReport>,
@@ -410,27 +434,7 @@ fn score(
             report: None,
         };
     };
-    let on = |file: &str| -> Vec<String> {
-        let mut names: Vec<String> = r
-            .shared
-            .iter()
-            .filter(|s| {
-                s.recordings
-                    .as_ref()
-                    .is_none_or(|f| f.iter().any(|x| x == file))
-            })
-            .map(|s| s.effect.name.clone())
-            .collect();
-        let row = r.recordings.iter().find(|x| x.file == file);
-        names.extend(
-            row.into_iter()
-                .flat_map(|x| x.effects.iter().flatten())
-                .map(|e| e.name.clone()),
-        );
-        names.sort();
-        names.dedup();
-        names
-    };
+    let on = |file: &str| named_on(&r, file);
     let rows_right = r
         .recordings
         .iter()

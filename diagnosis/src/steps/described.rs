@@ -60,36 +60,16 @@ fn described_model(
     drive: &Drive,
     forbidden: &[EffectKind],
 ) -> (terms::Described, Outputs) {
-    // Candidate `i` described: its sanity findings, and where its residual stays structured
-    // the library's terms (with `beside`, those that may stand beside the whole catalogue).
-    let of = |sel: &Selection, i: usize, beside: bool| {
-        let c = &sel.all[i];
-        let full = c.outputs(drive);
-        let dec: [Vec<f64>; 4] = std::array::from_fn(|k| c.outputs.channel(k).to_vec());
-        let details = params::baseline(c, setup.data);
-        let structured = !white(setup, &dec);
-        let d = describe(setup, c, (&full, &details), structured, (beside, forbidden));
-        (d, full)
+    let on = On {
+        setup,
+        drive,
+        forbidden,
     };
     if sel.chosen().kinds.is_empty() {
-        let (d, full) = of(sel, sel.chosen, false);
-        // Terms that describe worse, by the criterion, what a catalogue effect the held-out
-        // stretch cannot test describes are not the description either: that effect is left
-        // undecided ([`untestable`]), and the terms go (a hysteresis on one press held out at
-        // rest had been described as a power of the return's speed and a clip at the peak).
-        let beaten = untestable(sel)
-            .iter()
-            .any(|&(i, _)| sel.all[i].bic < d.found.bic);
-        if beaten && !d.found.terms.is_empty() {
-            let c = &sel.all[sel.chosen];
-            let details = params::baseline(c, setup.data);
-            let plain = describe(setup, c, (&full, &details), false, (false, forbidden));
-            return (plain, full);
-        }
-        return (d, full);
+        return nothing_named(&on, sel);
     }
     // The chosen model with what may stand beside it is what a replacement must match.
-    let (beside, beside_full) = of(sel, sel.chosen, true);
+    let (beside, beside_full) = on.candidate(sel, sel.chosen, true);
     let scores = if beside.found.terms.is_empty() {
         (sel.chosen().bic, sel.chosen().heldout_chi2)
     } else {
@@ -99,33 +79,7 @@ fn described_model(
     // One effect at a time, while one is replaced: of two effects that each took up part of
     // one piece of physics, the second is weighed against the terms that replaced the first.
     loop {
-        let (bic, held) = current.2;
-        let mut best: Option<(f64, usize, terms::Described, Outputs, EffectKind)> = None;
-        let kinds = sel.chosen().kinds.clone();
-        for (i, &kind) in kinds.iter().enumerate() {
-            let w = sel.without_index(i);
-            if w == sel.chosen || sel.all[w].kinds.len() + 1 != kinds.len() {
-                continue;
-            }
-            let (d_w, full_w) = of(sel, w, false);
-            if d_w.found.terms.is_empty() {
-                continue;
-            }
-            let bic_w = d_w.found.bic;
-            // A discovered term can write the catalogue effect's own signature: it replaces
-            // the effect only where it does better by the criterion and on the held-out
-            // stretch (by half a percent of the misfit left: `heldout_needed`), not as well.
-            let replaces = if d_w.found.terms.iter().any(|t| t.info.is_some()) {
-                bic_w < bic - MIN_BIC_GAIN
-                    && held - d_w.found.heldout_chi2 > heldout_needed(0.0, held)
-            } else {
-                bic_w - bic <= MIN_BIC_GAIN && d_w.found.heldout_chi2 <= held
-            };
-            if replaces && best.as_ref().is_none_or(|b| bic_w < b.0) {
-                best = Some((bic_w, w, d_w, full_w, kind));
-            }
-        }
-        let Some((_, w, d_w, full_w, kind)) = best else {
+        let Some((_, w, d_w, full_w, kind)) = best_replacement(&on, sel, current.2) else {
             return (current.0, current.1);
         };
         sel.replace_chosen(
@@ -138,6 +92,82 @@ fn described_model(
         let scores = (d_w.found.bic, d_w.found.heldout_chi2);
         current = (d_w, full_w, scores);
     }
+}
+
+/// What every candidate's description shares: the calibration's setup, the drive at the full
+/// rate and the catalogue entries no term may meet at another stage.
+struct On<'o, 'a> {
+    setup: &'o Setup<'a>,
+    drive: &'o Drive,
+    forbidden: &'o [EffectKind],
+}
+
+impl On<'_, '_> {
+    /// Candidate `i` described: its sanity findings, and where its residual stays structured
+    /// the library's terms (with `beside`, those that may stand beside the whole catalogue).
+    fn candidate(&self, sel: &Selection, i: usize, beside: bool) -> (terms::Described, Outputs) {
+        let (setup, forbidden) = (self.setup, self.forbidden);
+        let c = &sel.all[i];
+        let full = c.outputs(self.drive);
+        let dec: [Vec<f64>; 4] = std::array::from_fn(|k| c.outputs.channel(k).to_vec());
+        let details = params::baseline(c, setup.data);
+        let structured = !white(setup, &dec);
+        let d = describe(setup, c, (&full, &details), structured, (beside, forbidden));
+        (d, full)
+    }
+}
+
+/// The chosen model described where the catalogue named nothing.
+fn nothing_named(on: &On, sel: &Selection) -> (terms::Described, Outputs) {
+    let (d, full) = on.candidate(sel, sel.chosen, false);
+    // Terms that describe worse, by the criterion, what a catalogue effect the held-out
+    // stretch cannot test describes are not the description either: that effect is left
+    // undecided ([`untestable`]), and the terms go (a hysteresis on one press held out at
+    // rest had been described as a power of the return's speed and a clip at the peak).
+    let beaten = untestable(sel)
+        .iter()
+        .any(|&(i, _)| sel.all[i].bic < d.found.bic);
+    if beaten && !d.found.terms.is_empty() {
+        let c = &sel.all[sel.chosen];
+        let details = params::baseline(c, on.setup.data);
+        let plain = describe(on.setup, c, (&full, &details), false, (false, on.forbidden));
+        return (plain, full);
+    }
+    (d, full)
+}
+
+/// A replacement of one of the chosen model's effects: the criterion of the model without it,
+/// that model's index in the selection, its description and full-rate outputs, and the effect.
+type Replacement = (f64, usize, terms::Described, Outputs, EffectKind);
+
+/// The best replacement of one of the chosen model's effects by described terms, against the
+/// current model's criterion and held-out chi-square (`bic`, `held`), if any does as well.
+fn best_replacement(on: &On, sel: &Selection, (bic, held): (f64, f64)) -> Option<Replacement> {
+    let mut best: Option<Replacement> = None;
+    let kinds = sel.chosen().kinds.clone();
+    for (i, &kind) in kinds.iter().enumerate() {
+        let w = sel.without_index(i);
+        if w == sel.chosen || sel.all[w].kinds.len() + 1 != kinds.len() {
+            continue;
+        }
+        let (d_w, full_w) = on.candidate(sel, w, false);
+        if d_w.found.terms.is_empty() {
+            continue;
+        }
+        let bic_w = d_w.found.bic;
+        // A discovered term can write the catalogue effect's own signature: it replaces the
+        // effect only where it does better by the criterion and on the held-out stretch (by
+        // half a percent of the misfit left: `heldout_needed`), not as well.
+        let replaces = if d_w.found.terms.iter().any(|t| t.info.is_some()) {
+            bic_w < bic - MIN_BIC_GAIN && held - d_w.found.heldout_chi2 > heldout_needed(0.0, held)
+        } else {
+            bic_w - bic <= MIN_BIC_GAIN && d_w.found.heldout_chi2 <= held
+        };
+        if replaces && best.as_ref().is_none_or(|b| bic_w < b.0) {
+            best = Some((bic_w, w, d_w, full_w, kind));
+        }
+    }
+    best
 }
 
 /// What the catalogue's model leaves, described: the calibration's sanity findings

@@ -122,33 +122,10 @@ impl Plan {
             ..self.recording_spec(model.response(), truth_base, &jig)
         };
         let recording = simulate(&spec);
-        let path = RodPath {
-            schedule: spec.test.clone(),
-            turns_mm: spec
-                .peak_loads_n
-                .iter()
-                .map(|&l| rod_at(&spec, l))
-                .collect(),
-        };
         let form = draw_form(series, &mut u);
         let lacks = draw_lacks(id, kinds);
-        let written = Written {
-            model: model.response(),
-            nominal: BaselineParams::nominal(LAB_MODULUS_PA),
-            readout: lab_front_end(id, &self.readout),
-            lacks,
-            contact_angle_deg: jig.contact_angle_deg,
-            azimuth_deg: jig.azimuth_deg,
-            radius_mm: self.radius_mm,
-            source: format!("the lab's {} model", model.name()),
-        };
         let file = dir.join(format!("sim-{id:04}.csv"));
-        written
-            .write(form, &path, &file)
-            .map_err(|source| CategoryError::Write {
-                path: file.clone(),
-                source,
-            })?;
+        self.write_simulation(id, (&spec, &model, &jig), (form, lacks), &file)?;
         Ok(SimCase {
             case: Case {
                 id,
@@ -164,6 +141,37 @@ impl Plan {
             lacks,
             load_scale: jig.modulus_pa / LAB_MODULUS_PA,
         })
+    }
+
+    /// The lab's simulation of case `id` (its `spec`, the lab's `model` on the `jig`) to `file`,
+    /// in `form`, without the outputs it `lacks`.
+    fn write_simulation(
+        &self,
+        id: usize,
+        (spec, model, jig): (&SimSpec, &LabModel, &Jig),
+        (form, lacks): (Form, [bool; 4]),
+        file: &Path,
+    ) -> Result<(), CategoryError> {
+        let path = RodPath {
+            schedule: spec.test.clone(),
+            turns_mm: spec.peak_loads_n.iter().map(|&l| rod_at(spec, l)).collect(),
+        };
+        let written = Written {
+            model: model.response(),
+            nominal: BaselineParams::nominal(LAB_MODULUS_PA),
+            readout: lab_front_end(id, &self.readout),
+            lacks,
+            contact_angle_deg: jig.contact_angle_deg,
+            azimuth_deg: jig.azimuth_deg,
+            radius_mm: self.radius_mm,
+            source: format!("the lab's {} model", model.name()),
+        };
+        written
+            .write(form, &path, file)
+            .map_err(|source| CategoryError::Write {
+                path: file.to_path_buf(),
+                source,
+            })
     }
 
     /// Every case diagnosed blind against its simulation and against our own baseline.

@@ -47,15 +47,7 @@ pub(super) fn truth(inj: &Injection, spec: &SimSpec) -> Truth {
 fn shape(physics: Physics, on: Vec<&'static str>, with_outputs: Vec<&'static str>) -> Tuple {
     use Physics::*;
     match physics {
-        OffsetStep | Wander => (
-            vec![ELECTRONICS],
-            on,
-            vec![],
-            vec!["time"],
-            vec!["time"],
-            None,
-        ),
-        LineNotMains => (
+        OffsetStep | Wander | LineNotMains => (
             vec![ELECTRONICS],
             on,
             vec![],

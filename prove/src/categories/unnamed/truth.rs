@@ -90,16 +90,7 @@ fn shape(kind: Kind, hidden: &Hidden) -> Shape {
         // A force that really rings moves the outputs with the load; with the load cell alone
         // nothing tells it from the load cell's own underdamped filter ringing after a fast
         // change.
-        RigRinging => {
-            let stages = if hidden.material_alone {
-                vec![MATERIAL, ELECTRONICS]
-            } else {
-                vec![MATERIAL]
-            };
-            let mut allowed = TRAVEL.to_vec();
-            allowed.extend(["rod_speed", "load_rate"]);
-            (stages, load, vec!["time_since_change", "time"], allowed)
-        }
+        RigRinging => rig_ringing(hidden.material_alone, load),
         // The outputs are a function of the transmitted load; each output is its own carrier.
         PillarGap => (
             vec![TRANSDUCER],
@@ -117,16 +108,7 @@ fn shape(kind: Kind, hidden: &Hidden) -> Shape {
         ),
         // The supply feeds the bridges: a sag of the supply and a sensitivity of the bridges
         // falling in time are the same output on every recording of this test.
-        SupplySag => {
-            let mut allowed = TRAVEL.to_vec();
-            allowed.extend(OUTPUTS);
-            (
-                vec![TRANSDUCER, ELECTRONICS],
-                OUTPUTS.to_vec(),
-                vec!["time"],
-                allowed,
-            )
-        }
+        SupplySag => supply_sag(),
         // An additive pickup while the rod moves, out of contact too: the rod's speed only.
         MotorPickup => (vec![ELECTRONICS], on, vec!["rod_speed"], Vec::new()),
         // The load cell reads its load through a memory; it reads after the rod has left the
@@ -146,4 +128,29 @@ fn shape(kind: Kind, hidden: &Hidden) -> Shape {
             (vec![ELECTRONICS], on, MEMORY.to_vec(), allowed)
         }
     }
+}
+
+/// A ringing force (`RigRinging`) on the `load`; on the load cell alone (`material_alone`) the
+/// load cell's own filter as well.
+fn rig_ringing(material_alone: bool, load: Vec<&'static str>) -> Shape {
+    let stages = if material_alone {
+        vec![MATERIAL, ELECTRONICS]
+    } else {
+        vec![MATERIAL]
+    };
+    let mut allowed = TRAVEL.to_vec();
+    allowed.extend(["rod_speed", "load_rate"]);
+    (stages, load, vec!["time_since_change", "time"], allowed)
+}
+
+/// A sag of the bridges' supply (`SupplySag`) on every output, in time.
+fn supply_sag() -> Shape {
+    let mut allowed = TRAVEL.to_vec();
+    allowed.extend(OUTPUTS);
+    (
+        vec![TRANSDUCER, ELECTRONICS],
+        OUTPUTS.to_vec(),
+        vec!["time"],
+        allowed,
+    )
 }
