@@ -18,6 +18,7 @@
 #![cfg_attr(not(test), warn(clippy::too_many_lines))]
 
 mod candidate;
+mod certify;
 mod data;
 mod evidence;
 mod fit;

@@ -95,6 +95,8 @@ fn detail(c: &Candidate, i: usize, name: &str, unit: &str, rho: f64, data: &Data
         } else {
             stderr(model, &c.fitted, i, rho).filter(|s| s.is_finite())
         },
+        ci_low: None,
+        ci_high: None,
         unit: unit.to_string(),
         lower: phys(spec.lower),
         upper: phys(spec.upper),

@@ -14,6 +14,7 @@ use sim::effects::EffectKind;
 use sim::forward::SignalPath;
 
 use crate::candidate::{heldout_needed, Candidate, MIN_BIC_GAIN};
+use crate::certify::{channel_rmse, contract_rmse};
 use crate::data::{Data, DataError, CHANNELS};
 use crate::fit::Setup;
 use crate::localise::{self, ChannelLocalisation, Mismatch};
@@ -337,13 +338,13 @@ fn diagnose_prepared(
         local.white_after = white(&setup, &local.chosen);
     }
     let full = full_rate(&setup, &base_full, &chosen_full, stretches, mains_allowed);
-    let effects = all_effects(&sel, &full, described.effects, data);
+    let mut full = full;
+    let found = all_effects(&sel, &full, (described.effects, described.parts), &drive);
     // Below the resolution floor the baseline's residual is arithmetic, not a mismatch.
-    let verdict = verdict(
-        !effects.is_empty(),
-        local.white_after || full.fit.rmse_before < RESOLUTION_FLOOR,
-    );
+    let white = local.white_after || full.fit.rmse_before < RESOLUTION_FLOOR;
+    let (effects, verdict, demoted) = certified(data, &mut full, found, white);
     let mut undecided = undecided_findings(&setup, &effects, &details, moment_phi);
+    undecided.extend(demoted);
     // A structured residual that nothing named explains, and an effect the held-out stretch
     // cannot test would: said, not guessed.
     if effects.is_empty() && verdict != Verdict::NoSignificantMismatch {
@@ -587,29 +588,90 @@ fn unweighed(setup: &Setup, chosen: &Candidate, mask: &[bool]) -> f64 {
         .sum()
 }
 
-/// Whether `effects` names `kind`.
+/// The effects that pass the certification (`crate::certify`), the verdict, and what went to
+/// `undecided`. Where an effect went, the fit is the model's without it, and the verdict is no
+/// `explained` by an effect the answer no longer reports.
+fn certified(
+    data: &Data,
+    full: &mut FullRate,
+    found: Vec<(EffectReport, Option<crate::certify::Part>)>,
+    white_after: bool,
+) -> (Vec<EffectReport>, Verdict, Vec<Undecided>) {
+    let certified = crate::certify::certify(data, full.masks(), &full.model, found);
+    let effects = certified.effects;
+    let mut verdict = verdict(!effects.is_empty(), white_after);
+    if certified.demoted {
+        full.refit(data, &certified.model);
+        if verdict == Verdict::Explained {
+            verdict = Verdict::PartiallyExplained;
+        }
+        if effects.is_empty() {
+            verdict = Verdict::Unexplained;
+        }
+    }
+    (effects, verdict, certified.undecided)
+}
+
 /// The effects to report: the chosen catalogue effects, the mains lines on the outputs and on
-/// the load cell, and what was described beyond the catalogue.
+/// the load cell, and what was described beyond the catalogue; each with its part of the
+/// model at the full rate (`certify::Part`), which the certification tests.
 fn all_effects(
     sel: &crate::select::Selection,
     full: &FullRate,
-    described: Vec<EffectReport>,
-    data: &Data,
-) -> Vec<EffectReport> {
-    let mut effects = evidence::effect_reports(sel, data);
-    effects.extend(
-        full.mains
-            .as_ref()
-            .map(|line| evidence::mains_report(line, data)),
-    );
-    effects.extend(
-        full.load_mains
-            .as_ref()
-            .map(|line| evidence::load_mains_report(line, data)),
-    );
-    effects.extend(terms::report::fast_lines(&full.fast));
-    effects.extend(described);
+    (described, parts): (Vec<EffectReport>, Vec<Option<crate::certify::Part>>),
+    drive: &Drive,
+) -> Vec<(EffectReport, Option<crate::certify::Part>)> {
+    let data = sel.base().model.setup.data;
+    let catalogue = evidence::effect_reports(sel, data);
+    let catalogue_parts = evidence::catalogue_parts(sel, drive, &catalogue);
+    let mut effects: Vec<(EffectReport, Option<crate::certify::Part>)> = catalogue
+        .into_iter()
+        .zip(catalogue_parts.into_iter().map(Some))
+        .collect();
+    let outputs: Vec<usize> = OUTPUTS.into_iter().filter(|&c| data.modelled(c)).collect();
+    let line_part = |line: &Line, chans: &[usize]| line_part(data, line, chans);
+    if let Some(line) = &full.mains {
+        effects.push((
+            evidence::mains_report(line, data),
+            Some(line_part(line, &outputs)),
+        ));
+    }
+    if let Some(line) = &full.load_mains {
+        let part = line_part(line, &LOAD_CELL);
+        effects.push((evidence::load_mains_report(line, data), Some(part)));
+    }
+    for e in terms::report::fast_lines(&full.fast) {
+        let f = e.params.get("freq_hz").unwrap_or(f64::NAN);
+        let mut part: crate::certify::Part = std::array::from_fn(|_| Vec::new());
+        for l in full
+            .fast
+            .iter()
+            .filter(|l| (l.line.freq_hz - f).abs() < 0.01)
+        {
+            let one = line_part(&l.line, &[l.channel]);
+            part[l.channel].clone_from(&one[l.channel]);
+        }
+        effects.push((e, Some(part)));
+    }
+    effects.extend(described.into_iter().zip(parts));
     effects
+}
+
+/// A line on `chans` at the full rate, alone: its part of the model (no part elsewhere).
+fn line_part(data: &Data, line: &Line, chans: &[usize]) -> crate::certify::Part {
+    let n = data.full.len();
+    let zero = Outputs {
+        load_n: vec![0.0; n],
+        volts: std::array::from_fn(|_| vec![0.0; n]),
+    };
+    let with = add_line(data, &zero, Some(line), chans);
+    std::array::from_fn(|c| {
+        if chans.contains(&c) {
+            with.channel(c).to_vec()
+        } else {
+            Vec::new()
+        }
+    })
 }
 
 /// What the data leaves open: a turn of the moment scales that crosstalk or the gains would
@@ -1012,6 +1074,25 @@ struct FullRate {
     baseline_rmse: Numbers,
     /// RMSEs before and after, whole recording and held-out stretch.
     fit: Fit,
+    /// The final model at the full rate, the lines included.
+    model: Outputs,
+    /// The fitting and the held-out stretch at the full rate.
+    fitting: Vec<bool>,
+    heldout: Vec<bool>,
+}
+
+impl FullRate {
+    /// The fitting and the held-out stretch at the full rate.
+    fn masks(&self) -> (&[bool], &[bool]) {
+        (&self.fitting, &self.heldout)
+    }
+
+    /// The fit's `rmse_after` numbers of `model` instead.
+    fn refit(&mut self, data: &Data, model: &Outputs) {
+        self.fit.rmse_after = contract_rmse(data, model, &vec![true; data.full.len()]);
+        self.fit.heldout.rmse_after = contract_rmse(data, model, &self.heldout);
+        self.model = model.clone();
+    }
 }
 
 /// The baseline and the chosen model at the full rate; the mains line searched in the chosen
@@ -1074,6 +1155,9 @@ fn full_rate(
         fast,
         baseline_rmse,
         fit,
+        model: final_full,
+        fitting: full_fit,
+        heldout: full_heldout,
     }
 }
 
@@ -1210,28 +1294,6 @@ fn weighted(data: &Data, c: usize, r: &[f64]) -> Vec<f64> {
 
 fn diff(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
-}
-
-/// Mean over the compared channels of RMS residual / recorded peak-to-peak range.
-fn contract_rmse(data: &Data, o: &Outputs, mask: &[bool]) -> f64 {
-    let used: Vec<usize> = (0..4).filter(|&c| data.compared(c)).collect();
-    used.iter()
-        .map(|&c| channel_rmse(data, o, c, mask))
-        .sum::<f64>()
-        / used.len().max(1) as f64
-}
-
-fn channel_rmse(data: &Data, o: &Outputs, c: usize, mask: &[bool]) -> f64 {
-    let y = &data.full.y[c];
-    let m = o.channel(c);
-    let (mut s, mut n) = (0.0, 0usize);
-    for k in 0..y.len() {
-        if mask[k] {
-            s += (y[k] - m[k]).powi(2);
-            n += 1;
-        }
-    }
-    (s / n.max(1) as f64).sqrt() / data.range[c].max(1e-300)
 }
 
 /// The outputs' channels, where the mains line was first looked for, and the load cell's.

@@ -155,5 +155,6 @@ pub(crate) fn effect(terms: &[&Term], bic_gain: f64, ratio: f64) -> EffectReport
             .iter()
             .map(|(name, value, unit)| ParamDetail::unbounded(name, *value, None, unit))
             .collect(),
+        evidence_values: Some(crate::output::EvidenceValues::with_bic_gain(bic_gain)),
     }
 }
