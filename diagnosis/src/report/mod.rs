@@ -98,10 +98,10 @@ fn effects(d: &Diagnosis) -> String {
     }
     for u in &r.undecided {
         let names: Vec<String> = u.effects.iter().map(|e| words::effect_name(e)).collect();
-        let calibration = if u.calibration.is_empty() {
-            String::new()
-        } else {
-            format!(" or the calibration ({})", u.calibration.join(", "))
+        let calibration = match (names.is_empty(), u.calibration.is_empty()) {
+            (_, true) => String::new(),
+            (true, false) => format!("the calibration ({})", u.calibration.join(", ")),
+            (false, false) => format!(" or the calibration ({})", u.calibration.join(", ")),
         };
         h.push_str(&format!(
             "<h3>Undecided: {}{}</h3><p>{}.</p>",
