@@ -5,7 +5,7 @@ use sim::effects::EffectKind;
 
 use super::data::Data;
 use super::mains::Line;
-use super::output::{EffectReport, Numbers, ParamDetail};
+use super::output::{EffectReport, EvidenceValues, Numbers, ParamDetail};
 use super::select::Selection;
 
 /// The sentence for `kind` with its fitted `params`; `bic_gain` and `heldout_gain` (held-out
@@ -149,6 +149,7 @@ pub fn effect_reports(sel: &Selection, data: &Data) -> Vec<EffectReport> {
             form: None,
             inclusion: None,
             parameters,
+            evidence_values: Some(EvidenceValues::with_bic_gain(cmp.bic_gain)),
         });
     }
     out
@@ -219,6 +220,8 @@ fn mains_on(line: &Line, data: &Data, chans: &[usize]) -> EffectReport {
             name: name.into(),
             value,
             stderr: Some(se),
+            ci_low: None,
+            ci_high: None,
             unit: unit.into(),
             lower,
             upper,
@@ -266,5 +269,39 @@ fn mains_on(line: &Line, data: &Data, chans: &[usize]) -> EffectReport {
         form: None,
         inclusion: None,
         parameters,
+        evidence_values: None,
     }
+}
+
+/// Each catalogue effect of `reports` (as [`effect_reports`] gives them)'s part of the model at
+/// the full rate: the chosen model minus the chosen model refitted without it (without both
+/// Prony terms of a relaxation with two).
+pub fn catalogue_parts(
+    sel: &Selection,
+    drive: &baseline::Drive,
+    reports: &[EffectReport],
+) -> Vec<crate::certify::Part> {
+    let chosen = sel.chosen();
+    let with = chosen.outputs(drive);
+    reports
+        .iter()
+        .map(|e| {
+            let first = chosen.kinds.iter().position(|k| k.name() == e.name);
+            let others: Vec<EffectKind> = chosen
+                .kinds
+                .iter()
+                .copied()
+                .filter(|k| k.name() != e.name)
+                .collect();
+            let without = sel
+                .position_of(&others)
+                .or_else(|| first.map(|i| sel.without_index(i)))
+                .unwrap_or(sel.chosen);
+            let less = sel.all[without].outputs(drive);
+            std::array::from_fn(|c| {
+                let (a, b) = (with.channel(c), less.channel(c));
+                a.iter().zip(b).map(|(x, y)| x - y).collect()
+            })
+        })
+        .collect()
 }

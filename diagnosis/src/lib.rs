@@ -20,6 +20,7 @@
 
 mod calibration;
 mod candidate;
+mod certify;
 mod data;
 mod evidence;
 mod fit;

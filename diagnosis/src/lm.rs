@@ -200,7 +200,7 @@ fn finish(
     let (jtj, _) = linearised(problem, &p, &r, opt);
     Solution {
         n: r.len(),
-        jtj_inv: invert(jtj),
+        jtj_inv: covariance(jtj),
         p,
         sse,
         iterations,
@@ -272,6 +272,37 @@ fn factor(a: DMatrix<f64>) -> Option<LU<f64, Dyn, Dyn>> {
 /// Solve `a x = b`; `None` if `a` is singular.
 pub fn solve_linear(a: DMatrix<f64>, b: DVector<f64>) -> Option<DVector<f64>> {
     factor(a)?.solve(&b)
+}
+
+/// The unscaled covariance (JᵀJ)⁻¹ of a fit's parameters, inverted in correlation form (each
+/// parameter scaled to unit diagonal: parameters of very different units no longer make the
+/// matrix look singular). A parameter that moves nothing (a zero column) has no variance: its
+/// row and column are NaN and the others' covariance is that of the fit without it. `None`
+/// where the parameters that move something are themselves collinear.
+pub fn covariance(a: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let n = a.nrows();
+    let d: Vec<f64> = (0..n).map(|i| a[(i, i)]).collect();
+    let scale = d
+        .iter()
+        .copied()
+        .filter(|x| x.is_finite())
+        .fold(0.0, f64::max);
+    let keep: Vec<usize> = (0..n)
+        .filter(|&i| d[i].is_finite() && d[i] > 1e-24 * scale)
+        .collect();
+    let k = keep.len();
+    let s = DMatrix::from_fn(k, k, |p, q| {
+        let (i, j) = (keep[p], keep[q]);
+        a[(i, j)] / (d[i] * d[j]).sqrt()
+    });
+    let s_inv = invert(s)?;
+    let mut out = DMatrix::from_element(n, n, f64::NAN);
+    for (p, &i) in keep.iter().enumerate() {
+        for (q, &j) in keep.iter().enumerate() {
+            out[(i, j)] = s_inv[(p, q)] / (d[i] * d[j]).sqrt();
+        }
+    }
+    Some(out)
 }
 
 /// The inverse of `a`; `None` if it is singular.

@@ -80,6 +80,11 @@ pub struct ParamDetail {
     pub value: f64,
     /// Standard error; `null` when the fit could not resolve it.
     pub stderr: Option<f64>,
+    /// A 95 % interval where one was computed instead of (or beside) a standard error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ci_low: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ci_high: Option<f64>,
     pub unit: String,
     pub lower: f64,
     pub upper: f64,
@@ -97,6 +102,8 @@ impl ParamDetail {
             name: name.to_string(),
             value,
             stderr,
+            ci_low: None,
+            ci_high: None,
             unit: unit.to_string(),
             lower: f64::NEG_INFINITY,
             upper: f64::INFINITY,
@@ -134,6 +141,41 @@ pub struct EffectReport {
     /// Extra: `params` with units, bounds and bound flags.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub parameters: Vec<ParamDetail>,
+    /// The numbers behind `evidence` (the 2026-11-28 amendment), set by the certification
+    /// step (`crate::certify`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub evidence_values: Option<EvidenceValues>,
+}
+
+/// The evidence of one effect as numbers: the criterion and the held-out stretch against the
+/// model without it, and the held-out test's p-value (`docs/diagnosis-format.md`).
+#[derive(Debug, Clone, Copy, PartialEq, DeriveSerialize)]
+pub struct EvidenceValues {
+    /// BIC of the model without the effect minus the model with it (`null`: not computed).
+    pub bic_gain: f64,
+    /// The contract's RMSE on the held-out stretch without the effect and with it.
+    pub heldout_rmse_without: f64,
+    pub heldout_rmse_with: f64,
+    /// One-sided p-value of the held-out block test (`crate::certify`), before the
+    /// false-discovery control over the answer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p_value: Option<f64>,
+    /// Extension: the Benjamini–Hochberg adjusted p-value over everything the answer tested.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub q_value: Option<f64>,
+}
+
+impl EvidenceValues {
+    /// The criterion's gain alone, before the held-out test is made.
+    pub fn with_bic_gain(bic_gain: f64) -> Self {
+        EvidenceValues {
+            bic_gain,
+            heldout_rmse_without: f64::NAN,
+            heldout_rmse_with: f64::NAN,
+            p_value: None,
+            q_value: None,
+        }
+    }
 }
 
 impl EffectReport {

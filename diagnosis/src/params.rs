@@ -60,6 +60,14 @@ pub(crate) fn on_bound(spec: &ParamSpec, v: f64) -> (bool, bool) {
     (v <= spec.lower + tol, v >= spec.upper - tol)
 }
 
+/// The 95 % interval of parameter `i` of `c` where it is held fixed at a value fitted
+/// elsewhere: the drift's time constant, the measured temperature's (its profile interval).
+fn fixed_interval(c: &Candidate, i: usize) -> Option<(f64, f64)> {
+    let at = crate::fit::param_index(&c.model.kinds, EffectKind::ThermalDrift, 1)?;
+    let th = c.model.setup.thermal.as_ref()?;
+    (at == i && c.model.is_fixed(i)).then_some(th.tau_ci_s)
+}
+
 fn detail(c: &Candidate, i: usize, name: &str, unit: &str, rho: f64, data: &Data) -> ParamDetail {
     let model: &Model = &c.model;
     let spec = &model.specs()[i];
@@ -69,7 +77,9 @@ fn detail(c: &Candidate, i: usize, name: &str, unit: &str, rho: f64, data: &Data
     let value = physical(model, &c.fitted.full, i);
     let fixed = model.is_fixed(i);
     let beyond_record = i >= N_BASE && name.starts_with("tau") && value > record_s(data);
-    let note = if fixed {
+    let note = if fixed_interval(c, i).is_some() {
+        Some("the measured temperature's warm-up time constant (the drift is regressed on temp_C); the interval is its fit's 95 % profile interval".to_string())
+    } else if fixed {
         Some("held fixed, not fitted (see the effect's evidence)".to_string())
     } else if on_lower || on_upper {
         Some(format!(
@@ -95,6 +105,8 @@ fn detail(c: &Candidate, i: usize, name: &str, unit: &str, rho: f64, data: &Data
         } else {
             stderr(model, &c.fitted, i, rho).filter(|s| s.is_finite())
         },
+        ci_low: fixed_interval(c, i).map(|r| r.0),
+        ci_high: fixed_interval(c, i).map(|r| r.1),
         unit: unit.to_string(),
         lower: phys(spec.lower),
         upper: phys(spec.upper),

@@ -136,7 +136,7 @@ fn diagnose_prepared(prepared: &Prepared, name: &str, opt: &Options) -> Pass {
     let local = steps::residual::run(setup, (base, chosen), segments, &model.described);
     trace("residual", || format!("white after: {}", local.white_after));
     let (stretches, mains_allowed) = (&prepared.stretches, protocol.mains_allowed);
-    let full = steps::full_rate::run(
+    let mut full = steps::full_rate::run(
         setup,
         (base, &drive),
         &model.chosen_full,
@@ -145,12 +145,21 @@ fn diagnose_prepared(prepared: &Prepared, name: &str, opt: &Options) -> Pass {
     );
     trace("full_rate", || format!("{:?}", full.fit));
     let described = std::mem::take(&mut model.described.effects);
-    let effects = steps::effects::run(&sel, &full, described, &prepared.data);
-    trace("effects", || format!("{} effects", effects.len()));
-    let verdict = steps::verdict::run(!effects.is_empty(), local.white_after, full.fit.rmse_before);
-    trace("verdict", || format!("{verdict:?}"));
+    let parts = std::mem::take(&mut model.described.parts);
+    let found = steps::effects::run(&sel, &full, (described, parts), &drive);
+    trace("effects", || format!("{} effects found", found.len()));
+    let data = &prepared.data;
+    let (effects, verdict, demoted) =
+        steps::certified::run(data, &mut full, found, local.white_after);
+    trace("certified", || {
+        format!(
+            "{} reported, {} undecided, {verdict:?}",
+            effects.len(),
+            demoted.len()
+        )
+    });
     let open = (prepared.stretches.heldout, protocol.moment_phi);
-    let undecided = steps::undecided::run(setup, &sel, &effects, verdict, open);
+    let undecided = steps::undecided::run(setup, &sel, (&effects, demoted), verdict, open);
     trace("undecided", || format!("{} undecided", undecided.len()));
     let frozen = steps::freeze::frozen_channels(&model.described.found.terms);
     let found = steps::assemble::Found {

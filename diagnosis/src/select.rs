@@ -151,6 +151,11 @@ impl<'s, 'a> Selection<'s, 'a> {
         &self.all[self.chosen]
     }
 
+    /// The candidate of exactly `kinds`, if it was fitted.
+    pub fn position_of(&self, kinds: &[EffectKind]) -> Option<usize> {
+        self.find(kinds)
+    }
+
     fn find(&self, kinds: &[EffectKind]) -> Option<usize> {
         let key = key_of(kinds);
         self.all.iter().position(|c| c.key() == key)

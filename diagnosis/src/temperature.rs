@@ -20,6 +20,10 @@ const TAU_STEPS: usize = 80;
 pub struct ThermalFit {
     pub reference: ThermalReference,
     pub tau_s: f64,
+    /// The 95 % profile-likelihood interval of `tau_s` on its grid: every time constant whose
+    /// fit of the warm-up leaves n ln(sse) within 3.84 of the best (a chi-square of one degree),
+    /// widened to the neighbouring grid values.
+    pub tau_ci_s: (f64, f64),
 }
 
 /// White-noise deviation from first differences (a slow trend barely contributes).
@@ -50,8 +54,11 @@ pub fn fit(t_s: &[f64], temp_c: &[f64], temp_full: &[f64]) -> Option<ThermalFit>
     }
     let t0 = t_s[0];
     let mut best: Option<(f64, f64, f64, f64)> = None; // (sse, tau, a, b)
-    for i in 0..TAU_STEPS {
-        let tau = TAU_MIN_S * (TAU_MAX_S / TAU_MIN_S).powf(i as f64 / (TAU_STEPS - 1) as f64);
+    let grid =
+        |i: usize| TAU_MIN_S * (TAU_MAX_S / TAU_MIN_S).powf(i as f64 / (TAU_STEPS - 1) as f64);
+    let mut profile = vec![f64::INFINITY; TAU_STEPS];
+    for (i, slot) in profile.iter_mut().enumerate() {
+        let tau = grid(i);
         let g: Vec<f64> = t_s.iter().map(|&t| 1.0 - (-(t - t0) / tau).exp()).collect();
         let Some((a, b)) = line_fit(&g, temp_c) else {
             continue;
@@ -61,11 +68,21 @@ pub fn fit(t_s: &[f64], temp_c: &[f64], temp_full: &[f64]) -> Option<ThermalFit>
             .zip(temp_c)
             .map(|(g, y)| (y - a - b * g).powi(2))
             .sum();
+        *slot = sse;
         if best.is_none_or(|(s, ..)| sse < s) {
             best = Some((sse, tau, a, b));
         }
     }
-    let (_, tau_s, a, b) = best?;
+    let (sse_min, tau_s, a, b) = best?;
+    let n = t_s.len() as f64;
+    let inside: Vec<usize> = (0..TAU_STEPS)
+        .filter(|&i| n * (profile[i] / sse_min.max(1e-300)).ln() <= 3.84)
+        .collect();
+    let (first, last) = (inside[0], inside[inside.len() - 1]);
+    let tau_ci_s = (
+        grid(first.saturating_sub(1)),
+        grid((last + 1).min(TAU_STEPS - 1)),
+    );
     // A temperature that does not warm up (an ambient swing) still defines the scale: its
     // net change, or its range when it comes back.
     let net = temp_c[temp_c.len() - 1] - temp_c[0];
@@ -79,6 +96,7 @@ pub fn fit(t_s: &[f64], temp_c: &[f64], temp_full: &[f64]) -> Option<ThermalFit>
     Some(ThermalFit {
         reference: ThermalReference { t0_c: a, rise_c },
         tau_s,
+        tau_ci_s,
     })
 }
 

@@ -81,6 +81,8 @@ mod tests {
             name: name.into(),
             value,
             stderr: Some(1e-4),
+            ci_low: None,
+            ci_high: None,
             unit: "1".into(),
             lower: -1e3,
             upper: 1e3,

@@ -469,9 +469,28 @@ pub fn run(cases: &[Case], opt: &Options) -> Vec<Score> {
         .map(|case| {
             let name = format!("prove-{:02}.csv", case.id);
             let d = diagnose(&case.recording, &name, opt).map(|d| d.report);
+            keep_answer(&name, "", d.as_ref().ok());
             score(case, d.ok())
         })
         .collect()
+}
+
+/// The environment variable naming a folder into which every answer a proof makes is written
+/// (`<recording>.json`, `suffix` added to the stem), for `check-claims` and the scan test.
+pub const ANSWERS_ENV: &str = "TACTILE_PROVE_ANSWERS";
+
+/// Writes `report` as `name`'s answer into the folder [`ANSWERS_ENV`] names, if it names one.
+/// Best effort: a proof's score does not depend on it.
+pub fn keep_answer(name: &str, suffix: &str, report: Option<&Report>) {
+    let (Some(dir), Some(r)) = (std::env::var_os(ANSWERS_ENV), report) else {
+        return;
+    };
+    let stem = name.strip_suffix(".csv").unwrap_or(name);
+    let path = std::path::Path::new(&dir).join(format!("{stem}{suffix}.json"));
+    let _ = std::fs::create_dir_all(&dir);
+    if let Ok(text) = serde_json::to_string_pretty(r) {
+        let _ = std::fs::write(path, text);
+    }
 }
 
 fn score(case: &Case, report: Option<Report>) -> Score {

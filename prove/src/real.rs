@@ -154,6 +154,7 @@ pub fn run_mach1(
             let rec = mach1_recording(block, test.file, &plan.readout, plan.radius_mm)?;
             let d = diagnose(&rec, test.file, &plan.options)
                 .map_err(|e| format!("{}: {e}", test.file))?;
+            crate::keep_answer(test.file, "", Some(&d.report));
             Ok(score(test, &d.report))
         })
         .collect()

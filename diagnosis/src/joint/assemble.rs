@@ -145,6 +145,7 @@ fn effect_report(
         form: None,
         inclusion: None,
         parameters: Vec::new(),
+        evidence_values: None,
     }
 }
 
@@ -287,6 +288,7 @@ fn angle_dependence(
             form: None,
             inclusion: None,
             parameters: Vec::new(),
+            evidence_values: None,
         },
         channel_param: Some(channel.to_string()),
         recordings: None,

@@ -22,6 +22,7 @@ fn angle_law() -> SharedEffect {
             form: None,
             inclusion: None,
             parameters: Vec::new(),
+            evidence_values: None,
         },
         channel_param: Some("fz_V".into()),
         recordings: None,

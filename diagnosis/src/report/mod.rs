@@ -75,6 +75,7 @@ fn effects(d: &Diagnosis) -> String {
             esc(&e.evidence),
             esc(&words::effect_sentences(e, r, window))
         ));
+        h.push_str(&evidence_numbers(e));
         let rows = params::rows(&e.parameters, &e.params, Some(&e.param_stderr));
         h.push_str(&params::table(&rows));
         h.push_str(&discovered(d, e));
@@ -97,14 +98,48 @@ fn effects(d: &Diagnosis) -> String {
     }
     for u in &r.undecided {
         let names: Vec<String> = u.effects.iter().map(|e| words::effect_name(e)).collect();
+        let calibration = match (names.is_empty(), u.calibration.is_empty()) {
+            (_, true) => String::new(),
+            (true, false) => format!("the calibration ({})", u.calibration.join(", ")),
+            (false, false) => format!(" or the calibration ({})", u.calibration.join(", ")),
+        };
         h.push_str(&format!(
-            "<h3>Undecided: {} or the calibration ({})</h3><p>{}.</p>",
+            "<h3>Undecided: {}{}</h3><p>{}.</p>",
             esc(&names.join(" or ")),
-            esc(&u.calibration.join(", ")),
+            esc(&calibration),
             esc(&capital(&u.reason))
         ));
     }
     h
+}
+
+/// An effect's evidence as numbers (`evidence_values`): the criterion, the held-out misfit
+/// without and with it, the held-out test's p-value and its value after the false-discovery
+/// control.
+fn evidence_numbers(e: &crate::output::EffectReport) -> String {
+    let Some(v) = e.evidence_values else {
+        return String::new();
+    };
+    let s = |x: f64| figures::number::significant(x, 3);
+    let mut parts = vec![format!("BIC lower by {}", s(v.bic_gain))];
+    if v.heldout_rmse_with.is_finite() {
+        parts.push(format!(
+            "held-out RMSE {} without it, {} with it",
+            s(v.heldout_rmse_without),
+            s(v.heldout_rmse_with)
+        ));
+    }
+    if let (Some(p), Some(q)) = (v.p_value, v.q_value) {
+        parts.push(format!(
+            "held-out test p = {}, {} after the false-discovery control (passes at 0.05)",
+            s(p),
+            s(q)
+        ));
+    }
+    format!(
+        "<p class=evidence>Evidence: {}.</p>",
+        esc(&parts.join("; "))
+    )
 }
 
 /// `s` with its first letter in upper case.

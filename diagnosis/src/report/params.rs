@@ -52,6 +52,13 @@ pub fn detail_row(p: &ParamDetail) -> Row {
             ("≤", p.lower)
         };
         format!("{sign} {} (at bound)", bound(b))
+    } else if let (None, Some(lo), Some(hi)) = (p.stderr, p.ci_low, p.ci_high) {
+        format!(
+            "{} (95 % interval {} … {})",
+            measurement(p.value, None, unit),
+            measurement(lo, None, unit),
+            measurement(hi, None, unit)
+        )
     } else {
         measurement(p.value, p.stderr, unit)
     };
@@ -144,6 +151,8 @@ mod tests {
             name: "tau_s".into(),
             value,
             stderr: Some(0.3138),
+            ci_low: None,
+            ci_high: None,
             unit: "s".into(),
             lower: 0.1,
             upper: 200.0,

@@ -357,6 +357,7 @@ mod tests {
             form: None,
             inclusion: None,
             parameters: Vec::new(),
+            evidence_values: None,
         }
     }
 

@@ -3,7 +3,7 @@
 use baseline::{Drive, Outputs};
 
 use crate::candidate::Candidate;
-use crate::data::CHANNELS;
+use crate::data::{Data, CHANNELS};
 use crate::fit::Setup;
 use crate::mains::Line;
 use crate::misfit::{channel_rmse, contract_rmse};
@@ -41,6 +41,25 @@ pub(crate) struct FullRate {
     pub baseline_rmse: Numbers,
     /// RMSEs before and after, whole recording and held-out stretch.
     pub fit: Fit,
+    /// The final model at the full rate, the lines included.
+    pub model: Outputs,
+    /// The fitting and the held-out stretch at the full rate.
+    fitting: Vec<bool>,
+    heldout: Vec<bool>,
+}
+
+impl FullRate {
+    /// The fitting and the held-out stretch at the full rate.
+    pub(crate) fn masks(&self) -> (&[bool], &[bool]) {
+        (&self.fitting, &self.heldout)
+    }
+
+    /// The fit's `rmse_after` numbers of `model` instead (an effect left out of the answer).
+    pub(crate) fn refit(&mut self, data: &Data, model: &Outputs) {
+        self.fit.rmse_after = contract_rmse(data, model, &vec![true; data.full.len()]);
+        self.fit.heldout.rmse_after = contract_rmse(data, model, &self.heldout);
+        self.model = model.clone();
+    }
 }
 
 /// The baseline and the chosen model at the full rate; the mains line searched in the chosen
@@ -104,5 +123,8 @@ fn full_rate(
         fast,
         baseline_rmse,
         fit,
+        model: final_full,
+        fitting: full_fit,
+        heldout: full_heldout,
     }
 }

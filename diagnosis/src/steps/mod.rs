@@ -11,6 +11,7 @@ use crate::outcome::Diagnosis;
 use crate::prepared::Prepared;
 
 pub(crate) mod assemble;
+pub(crate) mod certified;
 pub(crate) mod described;
 pub(crate) mod discovery;
 pub(crate) mod effects;

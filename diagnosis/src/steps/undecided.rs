@@ -9,18 +9,19 @@ use crate::output::{EffectReport, Numbers, ParamDetail, Undecided, Verdict};
 use crate::select::Selection;
 use crate::{params, terms, undecided};
 
-/// The undecided findings of the chosen model (`sel`) with its `effects` and `verdict`; the
-/// held-out stretch `heldout` (start, end, s) and the baseline's moment direction
-/// `moment_phi` as the protocol step found them.
+/// The undecided findings of the chosen model (`sel`) with its `effects` and `verdict`, after
+/// those the certification sent here (`demoted`); the held-out stretch `heldout` (start, end,
+/// s) and the baseline's moment direction `moment_phi` as the protocol step found them.
 pub(crate) fn run(
     setup: &Setup,
     sel: &Selection,
-    effects: &[EffectReport],
+    (effects, demoted): (&[EffectReport], Vec<Undecided>),
     verdict: Verdict,
     (heldout, moment_phi): ((f64, f64), Option<f64>),
 ) -> Vec<Undecided> {
     let details = params::baseline(sel.chosen(), setup.data);
     let mut undecided = undecided_findings(setup, effects, &details, moment_phi);
+    undecided.extend(demoted);
     // A structured residual that nothing named explains, and an effect the held-out stretch
     // cannot test would: said, not guessed.
     if effects.is_empty() && verdict != Verdict::NoSignificantMismatch {

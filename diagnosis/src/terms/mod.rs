@@ -46,6 +46,7 @@ pub(crate) mod stuck_channel;
 pub(crate) mod temperature_span;
 #[cfg(test)]
 mod tests;
+mod uncertainty;
 
 pub(crate) use fitting::Context;
 pub(crate) use score::Nested;
@@ -79,6 +80,9 @@ pub struct TermCurve {
 pub(crate) struct Described {
     pub found: Found,
     pub effects: Vec<EffectReport>,
+    /// Each of `effects`' part of the model at the full rate (`crate::certify`); `None` for a
+    /// finding of the calibration's sanity, which is no term of the model.
+    pub parts: Vec<Option<[Vec<f64>; 4]>>,
     decimated: [Vec<f64>; 4],
     full: [Vec<f64>; 4],
     /// The terms that are catalogue effects at a stage other than the catalogue's
@@ -163,7 +167,12 @@ impl Described {
             .chain(&sanity::dead_channels(ctx, nested.n))
             .map(report::sanity_effect)
             .collect();
-        effects.extend(report::effects(&found));
+        let mut effect_parts: Vec<Option<[Vec<f64>; 4]>> = vec![None; effects.len()];
+        for (mut e, group) in report::effects(&found) {
+            uncertainty::fill_stderr(ctx, &found.terms, group[0], &mut e);
+            effect_parts.push(Some(uncertainty::part(ctx, &found.terms, &group)));
+            effects.push(e);
+        }
         let full_t = &ctx.data.full.t_s;
         let decimated: [Vec<f64>; 4] =
             std::array::from_fn(|c| score::contribution(ctx, &found.terms, c));
@@ -192,6 +201,7 @@ impl Described {
         Self {
             found,
             effects,
+            parts: effect_parts,
             decimated,
             full,
             at_stage,

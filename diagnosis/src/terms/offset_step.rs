@@ -44,11 +44,14 @@ pub(crate) fn describe(t: &Term, unit: &str) -> Description {
     }
 }
 
-/// A value with its unit, volts in mV.
+/// A value with its unit, volts in mV, to three significant figures (a small step is not
+/// "-0.000 N").
 pub(crate) fn with_unit(v: f64, unit: &str) -> String {
-    if unit == "V" {
-        format!("{:+.2} mV", 1e3 * v)
+    let (v, unit) = if unit == "V" {
+        (1e3 * v, "mV")
     } else {
-        format!("{v:+.3} {unit}")
-    }
+        (v, unit)
+    };
+    let sign = if v >= 0.0 { "+" } else { "" };
+    format!("{sign}{} {unit}", figures::number::significant(v, 3))
 }

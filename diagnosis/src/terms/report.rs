@@ -5,11 +5,12 @@
 use super::sanity::SanityFinding;
 use super::{line, Found, Term, TermKind};
 use crate::data::CHANNELS;
-use crate::output::{EffectReport, Numbers, ParamDetail};
+use crate::output::{EffectReport, EvidenceValues, Numbers, ParamDetail};
 use sim::effects::Stage;
 
-/// The effects the search kept, strongest evidence first.
-pub(crate) fn effects(found: &Found) -> Vec<EffectReport> {
+/// The effects the search kept, strongest evidence first, each with the indices of its terms
+/// in `found.terms` (the lead first).
+pub(crate) fn effects(found: &Found) -> Vec<(EffectReport, Vec<usize>)> {
     let mut order: Vec<usize> = (0..found.terms.len())
         .filter(|&i| found.terms[i].kind != TermKind::Recalibration)
         .collect();
@@ -27,20 +28,21 @@ pub(crate) fn effects(found: &Found) -> Vec<EffectReport> {
         }
     }
     groups
-        .iter()
-        .map(|g| {
+        .into_iter()
+        .map(|mut g| {
             let lead = &found.terms[g[0]];
             if lead.kind == TermKind::Discovered {
-                let mut members: Vec<&Term> = g.iter().map(|&i| &found.terms[i]).collect();
-                members.sort_by_key(|t| t.channel);
+                // The discovered effect reads its form and parameters off its first channel.
+                g.sort_by_key(|&i| found.terms[i].channel);
+                let members: Vec<&Term> = g.iter().map(|&i| &found.terms[i]).collect();
                 let (bic_gain, ratio) = found.evidence[g[0]];
-                return super::discover::effect(&members, bic_gain, ratio);
+                return (super::discover::effect(&members, bic_gain, ratio), g);
             }
             let mut channels: Vec<usize> = g.iter().map(|&i| found.terms[i].channel).collect();
             channels.sort_unstable();
             let stage = stage_of(lead, &channels);
             let (bic_gain, ratio) = found.evidence[g[0]];
-            effect(lead, stage, &channels, bic_gain, ratio)
+            (effect(lead, stage, &channels, bic_gain, ratio), g)
         })
         .collect()
 }
@@ -98,6 +100,7 @@ fn effect(t: &Term, stage: Stage, channels: &[usize], bic_gain: f64, ratio: f64)
         form: (!catalogue).then_some(d.form),
         inclusion: None,
         parameters,
+        evidence_values: Some(EvidenceValues::with_bic_gain(bic_gain)),
     }
 }
 
@@ -167,5 +170,6 @@ pub(crate) fn sanity_effect(f: &SanityFinding) -> EffectReport {
         form: Some(f.form.clone()),
         inclusion: None,
         parameters: Vec::new(),
+        evidence_values: Some(EvidenceValues::with_bic_gain(f.bic_gain)),
     }
 }

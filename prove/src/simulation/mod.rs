@@ -191,6 +191,8 @@ impl Plan {
                     .and_then(|r| r.baseline.params.get("load_scale"));
                 let ours =
                     diagnosis::diagnose(&c.case.recording, &name, &self.options).map(|d| d.report);
+                crate::keep_answer(&name, "-simulation", sim.as_ref().ok());
+                crate::keep_answer(&name, "-ours", ours.as_ref().ok());
                 Scored {
                     against_simulation: crate::score(&c.case, sim.ok()),
                     against_ours: crate::score(&c.case, ours.ok()),

@@ -7,6 +7,7 @@ use super::dictionary::Quantity;
 use super::FeatureInfo;
 use crate::data::CHANNELS;
 use crate::output::{EffectReport, Numbers, ParamDetail};
+use sim::effects::Stage;
 
 /// Parameter names of a term's coefficients, in the order of its features.
 const COEFFICIENTS: [&str; 3] = ["c1", "c2", "c3"];
@@ -24,16 +25,96 @@ fn depends(features: &[FeatureInfo]) -> Vec<Quantity> {
     d
 }
 
-/// The name: what it depends on, in snake case (`load_history_dependence`).
-fn name(features: &[FeatureInfo]) -> String {
-    let d: Vec<String> = depends(features)
+/// The name: what the term is, in at most four words of snake case (the contract's amendment
+/// of 2026-11-28), from where it acts and the kind of its features; `depends_on` carries the
+/// dependence. Where several kinds mix, the one that says most of the physics leads: a memory
+/// of the load, a periodic error (a ringing after a change), a settling after a change, a lag
+/// that grows with time (a rate times time), an error with the rate, a drift in time, with the
+/// temperature, with another output, a static nonlinearity. The place: the material, the load
+/// cell, the sensing element, an output (its level, where the term scales with it).
+fn name(channel: usize, stage: Stage, features: &[FeatureInfo]) -> String {
+    let d = depends(features);
+    let has = |q: Quantity| d.contains(&q);
+    let own_level = d.contains(&Quantity::Channel(channel));
+    let rate = has(Quantity::RodSpeed) || has(Quantity::LoadRate);
+    let ringing = features.iter().any(|f| matches!(f.grid, Some((_, true))));
+    let product_with_time = features
         .iter()
-        .map(|q| q.name().to_lowercase())
-        .collect();
-    if d.is_empty() {
-        "constant_term".into()
+        .any(|f| f.depends.contains(&Quantity::Time) && f.depends.len() > 1);
+    let what = if has(Quantity::LoadHistory) {
+        "memory"
+    } else if ringing {
+        "periodic_error"
+    } else if has(Quantity::TimeSinceChange) {
+        "settling"
+    } else if product_with_time && rate {
+        "lag_growing"
+    } else if rate {
+        "rate_error"
+    } else if has(Quantity::Time) {
+        "drift"
+    } else if has(Quantity::TempC) {
+        "temperature_error"
+    } else if d
+        .iter()
+        .any(|q| matches!(q, Quantity::Channel(c) if *c != channel))
+    {
+        "crosstalk"
+    } else if has(Quantity::RodMm) || has(Quantity::LoadN) || own_level {
+        "nonlinearity"
     } else {
-        format!("{}_dependence", d.join("_and_"))
+        return "constant_offset".into();
+    };
+    let place = match (channel, stage) {
+        (0, Stage::Material) => "material",
+        (0, _) => "load_cell",
+        (_, Stage::Material) => "material",
+        (_, Stage::Transducer) => "sensing_element",
+        _ if own_level && what != "nonlinearity" => "output_level",
+        _ => "output",
+    };
+    format!("{place}_{what}")
+}
+
+/// Each symbol of the dictionary's forms (`dictionary.rs`) and what it stands for, in the
+/// order a reader meets them.
+const SYMBOLS: [(&str, &str); 13] = [
+    ("h_", "h_τ(L) is the load through a first-order memory of time constant τ (dh/dt = (L - h)/τ), so L - h_τ(L) is what the load has not yet followed"),
+    ("(-dt", "dt is the time since the last change of regime (a start, stop or reversal of the rod)"),
+    ("t", "t is the time from the start of the record"),
+    ("dL/dt", "dL/dt is the load's rate"),
+    ("dL/dx", "dL/dx is the load's local stiffness against the rod's travel"),
+    ("max past x", "max past x is the deepest travel reached so far"),
+    ("sgn(v)", "sgn(v) is the direction of the rod's motion"),
+    ("|v|", "|v| is the rod's speed without its sign"),
+    ("v", "v is the rod's speed"),
+    ("x", "x is the rod's travel from first contact"),
+    ("L", "L is the recorded load"),
+    ("(T - T0)", "T - T0 is the temperature's change from the start"),
+    ("_V", "a channel name (fz_V, mx_V, my_V) stands for that output's recorded value"),
+];
+
+/// What each symbol of the features' expressions `exprs` stands for, one sentence (a
+/// one-letter symbol where it stands alone: `x` is no multiplication sign there).
+fn glossary(exprs: &str) -> String {
+    let tokens: Vec<&str> = exprs
+        .split(|c: char| c.is_whitespace() || "()^,/+-*;".contains(c))
+        .collect();
+    let words: Vec<&str> = SYMBOLS
+        .iter()
+        .filter(|(symbol, _)| {
+            if symbol.len() == 1 {
+                tokens.contains(symbol)
+            } else {
+                exprs.contains(symbol)
+            }
+        })
+        .map(|(_, meaning)| *meaning)
+        .collect();
+    if words.is_empty() {
+        String::new()
+    } else {
+        format!(" Where {}.", words.join("; "))
     }
 }
 
@@ -98,7 +179,7 @@ pub(crate) fn describe(t: &Term) -> Description {
         }
     }
     Description {
-        name: name(&info.features).into(),
+        name: name(t.channel, info.stage, &info.features).into(),
         params,
         depends_on: depends(&info.features).iter().map(|q| q.name()).collect(),
         form: expression(t, &info.features),
@@ -135,8 +216,16 @@ pub(crate) fn effect(terms: &[&Term], bic_gain: f64, ratio: f64) -> EffectReport
     let channels: Vec<usize> = terms.iter().map(|t| t.channel).collect();
     let on: Vec<&str> = channels.iter().map(|&c| channel_words(c)).collect();
     let evidence = format!(
-        "Not in the catalogue, discovered in the residual on {}: {form}. Stage: {}. (Against the model without it: BIC lower by {bic_gain:.0}, held-out misfit {ratio:.1} times smaller.)",
+        "Not in the catalogue, discovered in the residual on {}: {form}.{} Stage: {}. (Against the model without it: BIC lower by {bic_gain:.0}, held-out misfit {ratio:.1} times smaller.)",
         on.join(", "),
+        glossary(
+            &terms
+                .iter()
+                .filter_map(|t| t.info.as_ref())
+                .flat_map(|i| i.features.iter().map(|f| f.expr.as_str()))
+                .collect::<Vec<_>>()
+                .join(" ; ")
+        ),
         info.stage_note
     );
     EffectReport {
@@ -155,5 +244,6 @@ pub(crate) fn effect(terms: &[&Term], bic_gain: f64, ratio: f64) -> EffectReport
             .iter()
             .map(|(name, value, unit)| ParamDetail::unbounded(name, *value, None, unit))
             .collect(),
+        evidence_values: Some(crate::output::EvidenceValues::with_bic_gain(bic_gain)),
     }
 }

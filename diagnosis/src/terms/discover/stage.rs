@@ -237,23 +237,37 @@ fn trim(ctx: &Context, ch: &Channels, h: &mut Hypothesis, rows: &Rows) {
     };
 }
 
-/// Whether the term of `h` acts where the rod does not touch (its travel at or below zero, the
-/// contract's first contact): the term as it is fits the channels better, by more than the
-/// criterion's margin, than the same term held at zero there. Neither the material nor the
-/// transducer acts without a load: such a term is the electronics' (a motor's pickup moves with
-/// the rod, touching or not).
-fn acts_out_of_contact(ctx: &Context, ch: &Channels, h: &Hypothesis) -> bool {
-    // The contract's travel is zero at first contact: at or below it the rod does not touch.
-    let touching: Vec<f64> = ctx
-        .data
-        .fit
-        .rod_mm
-        .iter()
-        .map(|&x| if x > 0.0 { 1.0 } else { 0.0 })
+/// Where the term of `h` acts where the rod does not touch: the seconds of the fitting stretch
+/// out of contact and the chi-square the term gains there, when the term as it is fits the
+/// channels better, by more than the criterion's margin, than the same term held at zero
+/// there. Neither the material nor the transducer acts without a load: such a term is the
+/// electronics' (a motor's pickup moves with the rod, touching or not).
+fn acts_out_of_contact(ctx: &Context, ch: &Channels, h: &Hypothesis) -> Option<(f64, f64)> {
+    // The contract's travel is zero at first contact: at or below it the rod does not touch,
+    // unless the load cell says it does (a test that starts under a preload has its first
+    // contact before the record).
+    let data = ctx.data;
+    let load_clear =
+        |k: usize| !ctx.used[0] || data.fit.y[0][k] - ctx.offset[0] <= 3.0 * data.noise[0].sd();
+    let touching: Vec<f64> = (0..ctx.len())
+        .map(|k| {
+            if data.fit.rod_mm[k] <= 0.0 && load_clear(k) {
+                0.0
+            } else {
+                1.0
+            }
+        })
         .collect();
-    if !(0..ctx.len()).any(|k| ctx.fit_mask[k] && touching[k] == 0.0) {
-        return false;
+    let clear: Vec<usize> = (0..ctx.len())
+        .filter(|&k| ctx.fit_mask[k] && touching[k] == 0.0)
+        .collect();
+    if clear.is_empty() {
+        return None;
     }
+    let seconds: f64 = clear
+        .iter()
+        .map(|&k| ctx.block_span[k].1 - ctx.block_span[k].0)
+        .sum();
     let material_outputs = matches!(h.shape, Shape::Material);
     let gain: f64 = (0..h.channels.len())
         .filter(|&b| !(material_outputs && b > 0))
@@ -271,7 +285,7 @@ fn acts_out_of_contact(ctx: &Context, ch: &Channels, h: &Hypothesis) -> bool {
             }
         })
         .sum();
-    gain > MIN_BIC_GAIN
+    (gain > MIN_BIC_GAIN).then_some((seconds, gain))
 }
 
 /// The stage of hypothesis `h` and why, in words.
@@ -321,10 +335,15 @@ fn stage_by_sharing(ctx: &Context, ch: &Channels, h: &Hypothesis) -> (Stage, Str
             .iter()
             .any(|q| matches!(q, Quantity::LoadHistory | Quantity::TimeSinceChange))
     });
-    if drive && !memory && acts_out_of_contact(ctx, ch, h) {
+    if let Some((seconds, gain)) = (drive && !memory)
+        .then(|| acts_out_of_contact(ctx, ch, h))
+        .flatten()
+    {
         return (
             Stage::Electronics,
-            "it acts where the rod does not touch, which neither the material nor the transducer does: the electronics".into(),
+            format!(
+                "it acts over the {seconds:.1} s of the fitting stretch where the rod does not touch (travel at or below first contact, the load within its noise of its offset; chi-square {gain:.0} lower with it there), which neither the material nor the transducer does: the electronics"
+            ),
         );
     }
     let by_drive = if drive {
