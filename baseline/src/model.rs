@@ -171,7 +171,7 @@ fn force_warp(w: &[f64; 3], at: Option<(usize, f64)>) -> f64 {
 ///
 /// Everything but the time and the temperature is a function of the rod's travel (and the
 /// response there), and a test's rod stands still most of the time (holds, rests, the encoder's
-/// quanta): the drive keeps one [`AtTravel`] per run of equal samples and each sample's run.
+/// quanta): the drive keeps one `AtTravel` per run of equal samples and each sample's run.
 /// An hour at 1 kHz held 144 bytes a sample (540 MB) before; now 12 and its runs.
 #[derive(Debug, Clone)]
 pub struct Drive {
