@@ -227,7 +227,9 @@ fn a_load_without_noise_is_no_mismatch_and_its_relaxation_is_named() {
 /// An offset step on Fz in the last cycle, the held-out stretch: nothing fitted to the first
 /// cycle can show it, and the recording came back `unexplained`. With the stretches swapped
 /// (the end fitted, the start held out) the step is found, and the report says which stretch
-/// it held out.
+/// it held out. A step at the end cannot be tested on a held-out start (diagnosis-v1,
+/// 2026-11-28: reported only when the held-out misfit falls with it), so it is either reported
+/// or listed in `undecided` with its time and size and the test that would decide.
 #[test]
 fn a_step_in_the_held_out_stretch_is_found_with_the_stretches_swapped() {
     let (mut rec, opt) = recording(&[], |s| s.peak_loads_n = vec![50.0, 50.0]);
@@ -240,35 +242,35 @@ fn a_step_in_the_held_out_stretch_is_found_with_the_stretches_swapped() {
     }
     let d = diagnosis::diagnose(&rec, "a late offset step on Fz", &opt).unwrap();
     let r = &d.report;
-    let step = r
-        .effects
-        .iter()
-        .find(|e| e.name == "offset_step")
-        .unwrap_or_else(|| {
-            panic!(
-                "{:?}",
-                r.effects.iter().map(|e| &e.name).collect::<Vec<_>>()
-            )
-        });
-    assert_eq!(step.channels, ["fz_V"]);
-    let t0 = step.params.0.iter().find(|(k, _)| k == "t0_s").unwrap().1;
-    let all: Vec<_> = r
-        .effects
-        .iter()
-        .map(|e| (&e.name, &e.channels, &e.params.0))
-        .collect();
+    let names: Vec<_> = r.effects.iter().map(|e| &e.name).collect();
+    let reported = r.effects.iter().find(|e| e.name == "offset_step");
+    let (t0, size) = match reported {
+        Some(step) => {
+            assert_eq!(step.channels, ["fz_V"]);
+            (step.params.get("t0_s"), step.params.get("step"))
+        }
+        None => {
+            let open = r
+                .undecided
+                .iter()
+                .find(|u| u.effects.iter().any(|e| e == "offset_step"))
+                .unwrap_or_else(|| panic!("{names:?}, undecided {:?}", r.undecided));
+            assert!(open.reason.contains("would decide"), "{}", open.reason);
+            (open.params.get("t0_s"), open.params.get("step"))
+        }
+    };
+    let (t0, size) = (t0.unwrap(), size.unwrap());
     assert!(
         (t0 - t_step_s).abs() < 0.5,
-        "{t0} for {t_step_s}: {all:?} {:?} {:?}",
+        "{t0} for {t_step_s}: {names:?} {:?} {:?}",
         r.verdict,
         r.fit
     );
     assert!(r.fit.heldout.t_end_s < t_step_s);
-    let size = step.params.0.iter().find(|(k, _)| k == "step").unwrap().1;
-    assert!((size - 0.02).abs() < 0.002, "{all:?}");
+    assert!((size - 0.02).abs() < 0.002, "{size}: {names:?}");
     assert!(
-        r.fit.heldout.rmse_after < r.fit.heldout.rmse_before,
-        "{all:?} {:?}",
+        r.fit.heldout.rmse_after <= r.fit.heldout.rmse_before,
+        "{names:?} {:?}",
         r.fit
     );
 }

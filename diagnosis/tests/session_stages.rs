@@ -58,7 +58,15 @@ fn a_sensing_element_that_creeps_stays_at_the_transducer_in_a_session() {
         .map(|s| (s.effect.name.as_str(), s.effect.stage.name()))
         .collect();
     assert!(shared.is_empty(), "{shared:?}");
-    assert!(r.undecided.is_empty(), "{:?}", r.undecided);
+    // Nothing the session cannot separate; a recording's own term that its held-out stretch
+    // did not certify (diagnosis-v1, 2026-11-28) is listed as such, not reported.
+    assert!(
+        r.undecided
+            .iter()
+            .all(|u| u.reason.contains("not certified")),
+        "{:?}",
+        r.undecided
+    );
     for row in &r.recordings {
         let effects: Vec<_> = row.effects.iter().flatten().collect();
         let at: Vec<(&str, &str)> = effects
