@@ -557,12 +557,15 @@ pub fn initial_baseline(setup: &Setup) -> Vec<f64> {
     v
 }
 
-/// Each output's scale as the recording itself sets it: the ratio of the output's recorded
-/// peak-to-peak range to the model's at the metadata's gains (the modulus from the load cell),
-/// 1 where either is flat or not compared. The calibration's scale bounds are this times
-/// `scale_max` (`hardware/fit-bounds.toml`): in volts with the right gains it is about 1, and an
-/// output logged in another unit (`sensor_unit`: a magnetometer's µT or mT) moves it, and only
-/// it, by that unit's factor.
+/// The outputs' scale as the recording itself sets it: the largest recorded peak-to-peak range
+/// of a compared output over the model's largest at the metadata's gains (the modulus from the
+/// load cell), 1 where either is flat. One factor for every output, since they share one unit
+/// (`sensor_unit`): an output the model leaves nearly flat (a moment across the load's plane,
+/// which only a turned chip fills) would otherwise get a ratio of noise to nothing, and with it
+/// bounds and steps thousands of times too wide. The calibration's scale bounds are this times
+/// `scale_max` (`hardware/fit-bounds.toml`): in volts with the right gains it is about 1, and
+/// outputs logged in another unit (a magnetometer's µT or mT) move it, and only it, by that
+/// unit's factor.
 pub fn scale_reference(setup: &Setup) -> [f64; 3] {
     let d = &setup.data.fit;
     let e = setup.initial_baseline()[0].exp();
@@ -581,14 +584,15 @@ pub fn scale_reference(setup: &Setup) -> [f64; 3] {
         });
         hi - lo
     };
-    std::array::from_fn(|c| {
-        let ratio = p2p(&d.y[c + 1]) / p2p(&nominal.volts[c]);
-        if setup.used[c + 1] && ratio.is_finite() && ratio > 0.0 {
-            ratio
-        } else {
-            1.0
-        }
-    })
+    let used: Vec<usize> = (0..3).filter(|&c| setup.used[c + 1]).collect();
+    let widest = |of: &dyn Fn(usize) -> f64| used.iter().map(|&c| of(c)).fold(0.0, f64::max);
+    let ratio = widest(&|c| p2p(&d.y[c + 1])) / widest(&|c| p2p(&nominal.volts[c]));
+    let reference = if ratio.is_finite() && ratio > 0.0 {
+        ratio
+    } else {
+        1.0
+    };
+    [reference; 3]
 }
 
 /// The contact law straight from the load cell: ln(load - offset) - ln(unit force) is linear
