@@ -160,7 +160,7 @@ fn broken_exports_exit_65_naming_line_and_field() {
             &[needle],
         );
     }
-    let input = d.join("c.csv");
+    let input = d.join("unknown-unit.csv");
     std::fs::write(&input, "t,d,f\n0,0,0\n1,1,1\n").unwrap();
     // A unit the command does not know is a usage error, named with the flag.
     fails(
