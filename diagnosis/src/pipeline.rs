@@ -33,9 +33,7 @@ use crate::steps::{self, trace, Pass};
 /// discovery step dropped where the held-out stretch does not support it (`steps::discovery`).
 pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis, DataError> {
     let started = Instant::now();
-    let d = diagnose_from(prepare(rec, name, opt)?, name, opt, started);
-    judge_scale(&d, rec, opt)?;
-    Ok(d)
+    diagnose_from(prepare(rec, name, opt)?, name, opt, started)
 }
 
 /// [`diagnose`], with the recording dropped once it is prepared: the diagnosis reads its own
@@ -45,13 +43,8 @@ pub fn diagnose(rec: &Recording, name: &str, opt: &Options) -> Result<Diagnosis,
 pub fn diagnose_owned(rec: Recording, name: &str, opt: &Options) -> Result<Diagnosis, DataError> {
     let started = Instant::now();
     let prepared = prepare(&rec, name, opt)?;
-    let unit = rec.meta.get(recording::SENSOR_UNIT_KEY).map(str::to_string);
     drop(rec);
-    let d = diagnose_from(prepared, name, opt, started);
-    if judged_scale(opt) {
-        crate::scale_check::check_scales(&d.report, unit.as_deref().unwrap_or("V"))?;
-    }
-    Ok(d)
+    diagnose_from(prepared, name, opt, started)
 }
 
 /// [`diagnose`], and `rec` as read, ready to fit (before the diagnosis's own refits moved its
@@ -63,25 +56,19 @@ pub(crate) fn diagnose_kept(
 ) -> Result<(Diagnosis, Prepared), DataError> {
     let started = Instant::now();
     let prepared = prepare(rec, name, opt)?;
-    let d = diagnose_from(prepared.clone(), name, opt, started);
-    judge_scale(&d, rec, opt)?;
+    let d = diagnose_from(prepared.clone(), name, opt, started)?;
     Ok((d, prepared))
 }
 
-/// A user's simulation whose calibration had to absorb an implausible factor is refused
+/// The steps over `prepared`, begun at `started`, with the refits around them. A user's
+/// simulation whose calibration had to absorb an implausible factor is refused
 /// (`crate::scale_check`), unless the user accepted the factor.
-fn judge_scale(d: &Diagnosis, rec: &Recording, opt: &Options) -> Result<(), DataError> {
-    crate::scale_check::check(&d.report, &rec.meta, judged_scale(opt))?;
-    Ok(())
-}
-
-/// Whether the baseline is a user's simulation whose scale was not accepted on purpose.
-fn judged_scale(opt: &Options) -> bool {
-    matches!(&opt.baseline, BaselineSource::Simulation(s) if !s.accepts_scale())
-}
-
-/// The steps over `prepared`, begun at `started`, with the refits around them.
-fn diagnose_from(mut prepared: Prepared, name: &str, opt: &Options, started: Instant) -> Diagnosis {
+fn diagnose_from(
+    mut prepared: Prepared,
+    name: &str,
+    opt: &Options,
+    started: Instant,
+) -> Result<Diagnosis, DataError> {
     let once = |p: &Prepared| diagnose_prepared(p, name, opt);
     let first = once(&prepared);
     let (d, frozen) = steps::swap::run(&mut prepared, first, &once);
@@ -98,7 +85,9 @@ fn diagnose_from(mut prepared: Prepared, name: &str, opt: &Options, started: Ins
         format!("discovery step dropped: {}", prepared.without_discovery)
     });
     d.report.seconds = started.elapsed().as_secs_f64();
-    d
+    let judged = matches!(&opt.baseline, BaselineSource::Simulation(s) if !s.accepts_scale());
+    crate::scale_check::check(&d.report, &prepared.meta, judged)?;
+    Ok(d)
 }
 
 /// One pass of the steps over `prepared` with its stretches as they are: the diagnosis, and

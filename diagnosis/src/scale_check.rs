@@ -24,7 +24,7 @@ pub(crate) fn check(
 /// the plausible factor: the load scale, and each compared output's scale where the
 /// simulation's outputs are in the recording's unit (`sensor_unit`, volts by default; another
 /// unit's scale is a conversion, any size). A scale the fit could not resolve is not judged.
-pub(crate) fn check_scales(report: &Report, sensor_unit: &str) -> Result<(), SimulationError> {
+fn check_scales(report: &Report, sensor_unit: &str) -> Result<(), SimulationError> {
     let Some(sim) = &report.baseline.simulation else {
         return Ok(());
     };
