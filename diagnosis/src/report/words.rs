@@ -84,15 +84,19 @@ pub fn verdict_sentence(r: &Report, remains: &[Remains]) -> String {
         pct(h.rmse_before),
         pct(h.rmse_after)
     );
-    let effects = if n == 1 { "effect" } else { "effects" };
+    let (effects, explain) = if n == 1 {
+        ("effect", "explains")
+    } else {
+        ("effects", "explain")
+    };
     match r.verdict {
         Verdict::NoSignificantMismatch => "The baseline model explains this recording: what it leaves is indistinguishable from noise, so no missing physics was needed.".to_string(),
         Verdict::Explained => format!(
-            "The baseline misses physics; {} {effects} ({}) explain it: {heldout}, and what remains is noise.",
+            "The baseline misses physics; {} {effects} ({}) {explain} it: {heldout}, and what remains is noise.",
             count(n), names.join(" and ")
         ),
         Verdict::PartiallyExplained => format!(
-            "The baseline misses physics; {} {effects} ({}) explain most of it ({heldout}), but {} remains.",
+            "The baseline misses physics; {} {effects} ({}) {explain} most of it ({heldout}), but {} remains.",
             count(n), names.join(" and "), remainder_phrase(remains)
         ),
         Verdict::Unexplained => format!(
